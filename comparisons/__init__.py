@@ -1,0 +1,1 @@
+"""Studies: one module per scene kind (``study = "<module>"`` in scenes/*.toml)."""

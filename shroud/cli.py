@@ -1,0 +1,139 @@
+"""The ``shroud`` command (shared/spec/interface.md).
+
+Bad input of any kind ends with one line on stderr naming the key and what is
+allowed, and exit status 2; nothing is written before the input is checked.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from shroud.errors import InputError
+
+EXIT_BAD_INPUT = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str):          # one line, exit 2 (argparse prints usage too)
+        raise InputError("command line", message)
+
+
+def _common(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a parameter (repeatable), e.g. --set speed.rpm=8500")
+    p.add_argument("--scene", help="TOML scene whose values the --set options override")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from shroud.api import MODAL_MODELS, SWEEP_MODELS, TRANSIENT_MODELS
+    parser = _Parser(prog="shroud", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("modal", help="natural frequencies and mode labels at one speed")
+    _common(p)
+    p.add_argument("--model", choices=MODAL_MODELS, default="reduced")
+    p.add_argument("--rpm", type=float)
+    p.add_argument("--modes", type=int, default=6)
+    p.add_argument("--coriolis", action=argparse.BooleanOptionalAction, default=True)
+
+    p = sub.add_parser("transient", help="time response with impact and friction")
+    _common(p)
+    p.add_argument("--model", choices=TRANSIENT_MODELS, default="reduced")
+    p.add_argument("--rpm", type=float)
+    p.add_argument("--out", default="out/transient", help="folder for the time-series CSV")
+
+    p = sub.add_parser("sweep", help="steady-state amplitude over a speed range")
+    _common(p)
+    p.add_argument("--model", choices=SWEEP_MODELS, default="reduced")
+    p.add_argument("--rpm-from", type=float, required=True)
+    p.add_argument("--rpm-to", type=float, required=True)
+    p.add_argument("--rpm-count", type=int, required=True)
+
+    p = sub.add_parser("run", help="run a whole scene (a study) into a folder")
+    p.add_argument("scene")
+    p.add_argument("--out", help="output folder (default out/<scene name>)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    p.add_argument("--quick", action="store_true", help="a coarse, minute-scale version")
+    p.add_argument("--json", action="store_true")
+    return parser
+
+
+def _params(args):
+    from shroud.scene import load_scene
+    overrides = list(args.set)
+    if getattr(args, "rpm", None) is not None:
+        overrides.append(f"speed.rpm={args.rpm}")
+    return load_scene(args.scene, overrides).params
+
+
+def _emit(args, payload: dict, text: str) -> None:
+    if args.json:
+        print(json.dumps(payload))
+    else:
+        print(text)
+
+
+def cmd_modal(args) -> None:
+    from shroud.api import modal
+    if args.modes < 1:
+        raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
+    params = _params(args)
+    result = modal(params, args.model, rpm=params.speed.rpm, n_modes=args.modes, coriolis=args.coriolis)
+    rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in result.modes)
+    _emit(args, result.to_json(),
+          f"{result.model} model, {result.rpm:g} r/min, {result.dofs} DOF, "
+          f"Coriolis {'on' if result.coriolis else 'off'}, {result.elapsed_s:.3f} s\n{rows}")
+
+
+def cmd_transient(args) -> None:
+    from shroud.api import transient
+    params = _params(args)
+    if params.speed.rpm <= 0:
+        raise InputError("speed.rpm", f"{params.speed.rpm!r} is out of range; allowed: a speed > 0 r/min for a transient")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    result = transient(params, args.model, csv_path=out / f"transient_{args.model}.csv")
+    payload = result.to_json()
+    _emit(args, payload, json.dumps(payload, indent=1))
+
+
+def cmd_sweep(args) -> None:
+    from shroud.api import sweep
+    params = _params(args)
+    if args.rpm_count < 1:
+        raise InputError("--rpm-count", f"{args.rpm_count} is out of range; allowed: an integer >= 1")
+    if not 0 < args.rpm_from <= args.rpm_to:
+        raise InputError("--rpm-from", "allowed: 0 < rpm-from <= rpm-to")
+    result = sweep(params, args.model, np.linspace(args.rpm_from, args.rpm_to, args.rpm_count))
+    payload = result.to_json()
+    _emit(args, payload, json.dumps(payload, indent=1))
+
+
+def cmd_run(args) -> None:
+    from shroud.runner import run_scene
+    summary = run_scene(args.scene, out=args.out, overrides=args.set, quick=args.quick)
+    _emit(args, summary, f"wrote {summary['out']}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    try:
+        args = build_parser().parse_args(argv)
+        {"modal": cmd_modal, "transient": cmd_transient, "sweep": cmd_sweep,
+         "run": cmd_run}[args.command](args)
+    except InputError as exc:
+        print(exc.line(), file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,331 @@
+"""Parameters of the shrouded blade, its contact and its runs.
+
+One schema serves scene files, ``--set key=value`` and the Python API. Every
+value is checked here, once; model builders downstream trust what they get.
+Units are SI (m, kg, s, N, Pa) unless the key says otherwise (``*_deg``,
+``rpm``). Defaults are the paper's Table 2 and Sect. 2.2
+(shared/spec/geometry.md).
+
+Example
+-------
+>>> p = Parameters.from_mapping({"contact": {"gap": 1e-4}})
+>>> round(p.contact.N0, 6)
+-1000.0
+>>> p.with_overrides(["speed.rpm=8500"]).speed.rpm
+8500.0
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import math
+from dataclasses import dataclass, field, fields
+from typing import Any, Mapping
+
+from shroud.errors import InputError
+
+
+@dataclass(frozen=True)
+class Blade:
+    disk_radius: float = 0.150   # R_d, m
+    length: float = 0.150        # L, m
+    width: float = 0.040         # b, chord (along e_w), m
+    thickness: float = 0.007     # h, thickness (along e_v), m
+    stagger_deg: float = 30.0    # beta_1
+    twist_deg: float = 10.0      # beta_t: beta(x) = beta_1 + beta_t x / L
+
+    @property
+    def area(self) -> float:
+        return self.width * self.thickness
+
+    @property
+    def I_v(self) -> float:
+        """Second moment for bending along e_v (flap, about e_w), m^4."""
+        return self.width * self.thickness**3 / 12.0
+
+    @property
+    def I_w(self) -> float:
+        """Second moment for bending along e_w (chord, about e_v), m^4."""
+        return self.thickness * self.width**3 / 12.0
+
+    def beta(self, x):
+        """Section angle beta(x) in rad (geometry.md)."""
+        return math.radians(self.stagger_deg) + math.radians(self.twist_deg) * x / self.length
+
+
+@dataclass(frozen=True)
+class Material:
+    E: float = 200e9      # Pa
+    rho: float = 7800.0   # kg/m^3
+    nu: float = 0.3
+
+    @property
+    def G(self) -> float:
+        return self.E / (2.0 * (1.0 + self.nu))
+
+
+@dataclass(frozen=True)
+class Shroud:
+    length: float = 0.040     # l_s, along e_ws, m
+    width: float = 0.020      # b_s, along e_vs (between the two contact faces), m
+    thickness: float = 0.007  # t_s, along X, m; 0 = no shroud
+
+
+@dataclass(frozen=True)
+class Contact:
+    enabled: bool = True
+    kn: float = 1e7           # N/m, total per side
+    kt: float = 1e7           # N/m, total per side
+    mu: float = 0.3
+    alpha_deg: float = 15.0   # shroud inclination
+    N0: float = 0.0           # N per side; < 0 is a gap of -N0/kn
+    gap: float | None = None  # m; if given, N0 = -kn * gap (validated: not both)
+
+    @property
+    def gap_m(self) -> float:
+        """Initial gap Delta = -N0/kn (0 when preloaded or touching), m."""
+        return max(0.0, -self.N0 / self.kn)
+
+
+@dataclass(frozen=True)
+class Damping:
+    xi1: float = 0.02
+    xi2: float = 0.04
+
+
+@dataclass(frozen=True)
+class Load:
+    F0: float = 150.0   # N/m, amplitude per unit length along e_v
+    ke: int = 2         # excitation order: F0 sin(ke * Omega * t)
+
+
+@dataclass(frozen=True)
+class Speed:
+    rpm: float = 10000.0          # the Fig. 8 case
+    rpm_per_s: float = 0.0        # angular acceleration; 0 = constant speed (no K_acc)
+
+    @property
+    def omega(self) -> float:
+        """Rotation speed Omega, rad/s."""
+        return 2.0 * math.pi * self.rpm / 60.0
+
+
+@dataclass(frozen=True)
+class Time:
+    periods: int = 100
+    steps_per_period: int = 256
+    contact: str = "implicit"    # "implicit" | "explicit"
+
+
+@dataclass(frozen=True)
+class Reduced:
+    N: int = 6       # shape functions per field (5N DOF)
+    nr: int = 6      # kept free-interface modes; 0 = full model
+
+
+@dataclass(frozen=True)
+class FE:
+    mesh_size: float = 0.006   # m; chosen by the mesh-convergence scene
+    order: int = 2             # polynomial degree of the displacement
+    cms_modes: int = 24        # kept modes of the reduced FE model
+
+
+SECTIONS: dict[str, type] = {
+    "blade": Blade, "material": Material, "shroud": Shroud, "contact": Contact,
+    "damping": Damping, "load": Load, "speed": Speed, "time": Time,
+    "reduced": Reduced, "fe": FE,
+}
+
+
+def _positive(v): return v > 0
+def _nonneg(v): return v >= 0
+
+
+# key -> (predicate, what is allowed). Keys absent here only need the right type.
+_RULES: dict[str, tuple[Any, str]] = {
+    "blade.disk_radius": (_nonneg, "a length >= 0 m"),
+    "blade.length": (_positive, "a length > 0 m"),
+    "blade.width": (_positive, "a length > 0 m"),
+    "blade.thickness": (_positive, "a length > 0 m"),
+    "blade.stagger_deg": (lambda v: -180 <= v <= 180, "an angle in [-180, 180] deg"),
+    "blade.twist_deg": (lambda v: -90 < v < 90, "an angle in (-90, 90) deg"),
+    "material.E": (_positive, "a modulus > 0 Pa"),
+    "material.rho": (_positive, "a density > 0 kg/m^3"),
+    "material.nu": (lambda v: -1.0 < v < 0.5, "a Poisson ratio in (-1, 0.5)"),
+    "shroud.length": (_nonneg, "a length >= 0 m"),
+    "shroud.width": (_nonneg, "a length >= 0 m"),
+    "shroud.thickness": (_nonneg, "a length >= 0 m (0 = no shroud)"),
+    "contact.kn": (_positive, "a stiffness > 0 N/m"),
+    "contact.kt": (_nonneg, "a stiffness >= 0 N/m"),
+    "contact.mu": (_nonneg, "a friction coefficient >= 0"),
+    "contact.alpha_deg": (lambda v: -90 < v < 90, "an angle in (-90, 90) deg"),
+    "contact.N0": (math.isfinite, "a finite force in N (negative = gap)"),
+    "contact.gap": (lambda v: v is None or v >= 0, "a gap >= 0 m"),
+    "damping.xi1": (lambda v: 0 <= v < 1, "a damping ratio in [0, 1)"),
+    "damping.xi2": (lambda v: 0 <= v < 1, "a damping ratio in [0, 1)"),
+    "load.F0": (math.isfinite, "a finite load in N/m"),
+    "load.ke": (lambda v: v >= 1, "an integer excitation order >= 1"),
+    "speed.rpm": (_nonneg, "a speed >= 0 r/min"),
+    "speed.rpm_per_s": (math.isfinite, "a finite angular acceleration in r/min/s"),
+    "time.periods": (lambda v: v >= 1, "an integer >= 1"),
+    "time.steps_per_period": (lambda v: v >= 16, "an integer >= 16 steps per excitation period"),
+    "time.contact": (lambda v: v in ("implicit", "explicit"), '"implicit" or "explicit"'),
+    "reduced.N": (lambda v: 1 <= v <= 40, "an integer in [1, 40]"),
+    "reduced.nr": (lambda v: v >= 0, "an integer >= 0 (0 = full model)"),
+    "fe.mesh_size": (_positive, "an element size > 0 m"),
+    "fe.order": (lambda v: v in (1, 2), "1 or 2"),
+    "fe.cms_modes": (lambda v: v >= 1, "an integer >= 1"),
+}
+
+
+def all_keys() -> list[str]:
+    return [f"{s}.{f.name}" for s, cls in SECTIONS.items() for f in fields(cls)]
+
+
+def _type_of(section: str, name: str) -> type:
+    hint = {f.name: f for f in fields(SECTIONS[section])}[name].type
+    return {"float": float, "int": int, "bool": bool, "str": str,
+            "float | None": float}[hint]
+
+
+def _coerce(key: str, value: Any, typ: type) -> Any:
+    """Convert a scene or --set value to the key's type, or raise InputError."""
+    if value is None and key == "contact.gap":
+        return None
+    if isinstance(value, str) and typ is not str:
+        text = value.strip()
+        if typ is bool:
+            if text.lower() in ("true", "1", "yes", "on"):
+                return True
+            if text.lower() in ("false", "0", "no", "off"):
+                return False
+            raise InputError(key, f"{value!r} is not a boolean; allowed: true or false")
+        try:
+            value = float(text) if typ is float else int(text)
+        except ValueError:
+            raise InputError(key, f"{value!r} is not a number; allowed: {_allowed(key, typ)}") from None
+    if typ is bool:
+        if not isinstance(value, bool):
+            raise InputError(key, f"{value!r} is not a boolean; allowed: true or false")
+        return value
+    if typ is str:
+        if not isinstance(value, str):
+            raise InputError(key, f"{value!r} is not a string; allowed: {_allowed(key, typ)}")
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(key, f"{value!r} is not a number; allowed: {_allowed(key, typ)}")
+    if typ is int:
+        if float(value) != int(value):
+            raise InputError(key, f"{value!r} is not an integer; allowed: {_allowed(key, typ)}")
+        return int(value)
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(key, f"{value!r} is not finite; allowed: {_allowed(key, typ)}")
+    return value
+
+
+def _allowed(key: str, typ: type) -> str:
+    rule = _RULES.get(key)
+    return rule[1] if rule else typ.__name__
+
+
+def unknown_key(key: str, known: list[str]) -> InputError:
+    near = difflib.get_close_matches(key, known, n=1)
+    hint = f" (did you mean {near[0]}?)" if near else ""
+    return InputError(key, f"unknown key{hint}; allowed keys: " + ", ".join(known))
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """The whole, validated parameter set (geometry.md defaults)."""
+
+    blade: Blade = field(default_factory=Blade)
+    material: Material = field(default_factory=Material)
+    shroud: Shroud = field(default_factory=Shroud)
+    contact: Contact = field(default_factory=Contact)
+    damping: Damping = field(default_factory=Damping)
+    load: Load = field(default_factory=Load)
+    speed: Speed = field(default_factory=Speed)
+    time: Time = field(default_factory=Time)
+    reduced: Reduced = field(default_factory=Reduced)
+    fe: FE = field(default_factory=FE)
+
+    # --- construction -----------------------------------------------------
+    @classmethod
+    def from_mapping(cls, tables: Mapping[str, Any], base: "Parameters | None" = None) -> "Parameters":
+        """Build from nested tables ``{"blade": {"length": 0.15}, ...}`` over ``base``."""
+        flat: dict[str, Any] = {}
+        for section, table in tables.items():
+            if section not in SECTIONS:
+                raise unknown_key(section, all_keys())
+            if not isinstance(table, Mapping):
+                raise InputError(section, "must be a table of keys, e.g. [%s]" % section)
+            for name, value in table.items():
+                flat[f"{section}.{name}"] = value
+        return (base or cls()).updated(flat)
+
+    def with_overrides(self, assignments: list[str]) -> "Parameters":
+        """Apply ``--set key=value`` strings."""
+        flat = {}
+        for text in assignments:
+            key, sep, value = text.partition("=")
+            if not sep:
+                raise InputError(text, "--set needs key=value, e.g. --set speed.rpm=8500")
+            flat[key.strip()] = value
+        return self.updated(flat)
+
+    def updated(self, flat: Mapping[str, Any]) -> "Parameters":
+        """A copy with ``{"section.name": value}`` replaced, validated."""
+        known = all_keys()
+        sections = {s: dataclasses.asdict(getattr(self, s)) for s in SECTIONS}
+        touched: set[str] = set()
+        for key, value in flat.items():
+            section, _, name = key.partition(".")
+            if key not in known:
+                raise unknown_key(key, known)
+            sections[section][name] = _coerce(key, value, _type_of(section, name))
+            touched.add(key)
+        contact = sections["contact"]
+        if "contact.gap" in touched and "contact.N0" in touched and contact["gap"] is not None:
+            raise InputError("contact.gap", "give contact.N0 or contact.gap, not both")
+        if "contact.N0" in touched:
+            contact["gap"] = None          # a new preload replaces an inherited gap
+        for key in known:
+            section, _, name = key.partition(".")
+            rule = _RULES.get(key)
+            value = sections[section][name]
+            if rule and value is not None and not rule[0](value):
+                raise InputError(key, f"{value!r} is out of range; allowed: {rule[1]}")
+        if contact["gap"] is not None:
+            contact["N0"] = -contact["kn"] * contact["gap"]
+        new = Parameters(**{s: SECTIONS[s](**sections[s]) for s in SECTIONS})
+        new._check_geometry()
+        return new
+
+    def _check_geometry(self) -> None:
+        b, s = self.blade, self.shroud
+        if s.thickness > 0 and s.width < b.thickness:
+            raise InputError("shroud.width",
+                             f"{s.width!r} is narrower than blade.thickness {b.thickness!r}; "
+                             "allowed: a shroud at least as wide as the blade is thick")
+        if s.thickness > 0 and s.length <= 0:
+            raise InputError("shroud.length", "must be > 0 m when shroud.thickness > 0")
+
+    # --- views -------------------------------------------------------------
+    def flat(self) -> dict[str, Any]:
+        return {f"{s}.{k}": v for s in SECTIONS for k, v in dataclasses.asdict(getattr(self, s)).items()}
+
+    def as_tables(self) -> dict[str, dict[str, Any]]:
+        return {s: dataclasses.asdict(getattr(self, s)) for s in SECTIONS}
+
+    @property
+    def shroud_mass(self) -> float:
+        """m_s = rho l_s b_s t_s, the tip mass of the beam model, kg."""
+        s = self.shroud
+        return self.material.rho * s.length * s.width * s.thickness
+
+    @property
+    def time_step(self) -> float:
+        """dt = 60 / (steps_per_period * ke * rpm), s (256 per period as the paper)."""
+        return 60.0 / (self.time.steps_per_period * self.load.ke * self.speed.rpm)

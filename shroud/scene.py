@@ -1,0 +1,135 @@
+"""Scenes: TOML files that name a study, its parameters and its options.
+
+Layout of a scene file::
+
+    study = "table1"              # runs comparisons/table1.py
+    title = "Table 1: ..."
+    [speed]                       # any parameter section (shroud.params)
+    rpm = 8500
+    [options]                     # the study's own options (its OPTIONS dict)
+    N_values = [4, 5, 6, 7]
+    [quick.options]               # applied by --quick: a coarse, minute-scale run
+    N_values = [4, 6]
+    [quick.time]
+    periods = 20
+
+``--set key=value`` overrides either a parameter (``speed.rpm=9000``) or an
+option (``options.N_values=[4,6]``; values are read as TOML).
+Everything is validated before any output is written.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+from shroud.errors import InputError
+from shroud.params import SECTIONS, Parameters, unknown_key
+
+_TOP_KEYS = {"study", "title", "description", "options", "quick"}
+
+
+@dataclass(frozen=True)
+class Scene:
+    study: str
+    title: str
+    params: Parameters
+    options: dict[str, Any] = field(default_factory=dict)
+    quick: bool = False
+    path: Path | None = None
+    description: str = ""
+
+
+def read_toml(path: Path) -> dict[str, Any]:
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise InputError(str(path), "no such scene file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(str(path), f"does not parse as TOML ({exc})") from None
+
+
+def study_module(name: str):
+    """The module ``comparisons.<name>`` that runs study ``name``."""
+    if not isinstance(name, str) or not name.replace("_", "").isalnum():
+        raise InputError("study", f"{name!r} is not a study name")
+    if importlib.util.find_spec(f"comparisons.{name}") is None:
+        raise InputError("study", f"unknown study {name!r}; allowed: " + ", ".join(available_studies()))
+    return importlib.import_module(f"comparisons.{name}")
+
+
+def available_studies() -> list[str]:
+    folder = Path(importlib.util.find_spec("comparisons").origin).parent
+    return sorted(p.stem for p in folder.glob("*.py")
+                  if not p.stem.startswith("_") and "OPTIONS" in p.read_text())
+
+
+def _parse_value(text: str) -> Any:
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text          # bare words are strings
+
+
+def _check_options(study: str, given: Mapping[str, Any], defaults: Mapping[str, Any]) -> dict[str, Any]:
+    out = dict(defaults)
+    for key, value in given.items():
+        if key not in defaults:
+            raise unknown_key(f"options.{key}", [f"options.{k}" for k in defaults] or ["(study takes no options)"])
+        want = defaults[key]
+        if want is not None and not _same_kind(value, want):
+            raise InputError(f"options.{key}", f"{value!r} has the wrong type; allowed: "
+                             f"{type(want).__name__} like {want!r}")
+        out[key] = value
+    return out
+
+
+def _same_kind(value: Any, want: Any) -> bool:
+    if isinstance(want, bool) or isinstance(value, bool):
+        return isinstance(value, bool) and isinstance(want, bool)
+    if isinstance(want, (int, float)):
+        return isinstance(value, (int, float))
+    if isinstance(want, list):
+        return isinstance(value, list) and all(
+            not want or _same_kind(v, want[0]) for v in value)
+    return isinstance(value, type(want))
+
+
+def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool = False,
+               study: str | None = None) -> Scene:
+    """Read, merge and validate a scene (or the bare defaults when ``path`` is None)."""
+    data = read_toml(Path(path)) if path else {}
+    for key in data:
+        if key not in _TOP_KEYS and key not in SECTIONS:
+            raise unknown_key(key, sorted(_TOP_KEYS | set(SECTIONS)))
+    name = study or data.get("study")
+    params = Parameters.from_mapping({k: v for k, v in data.items() if k in SECTIONS})
+    options_given = dict(data.get("options", {}))
+    quick_table = data.get("quick", {})
+    if not isinstance(quick_table, dict):
+        raise InputError("quick", "must be a table of parameter sections and options")
+    if quick:
+        params = Parameters.from_mapping({k: v for k, v in quick_table.items() if k != "options"}, base=params)
+        options_given.update(quick_table.get("options", {}))
+    param_sets = []
+    for text in overrides:
+        key, sep, value = text.partition("=")
+        if key.strip().startswith("options."):
+            options_given[key.strip()[len("options."):]] = _parse_value(value.strip())
+        else:
+            param_sets.append(text)
+    params = params.with_overrides(param_sets)
+    options: dict[str, Any] = {}
+    if name:
+        module = study_module(name)
+        options = _check_options(name, options_given, getattr(module, "OPTIONS", {}))
+    elif options_given:
+        raise InputError("options", "options need a study (scene key 'study')")
+    return Scene(study=name or "", title=str(data.get("title", name or "")), params=params,
+                 options=options, quick=quick, path=Path(path) if path else None,
+                 description=str(data.get("description", "")))
