@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from shroud.errors import InputError
+from shroud.errors import InputError, RunDiverged
 
 EXIT_BAD_INPUT = 2
 
@@ -55,9 +55,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rpm-to", type=float, required=True)
     p.add_argument("--rpm-count", type=int, required=True)
 
-    p = sub.add_parser("run", help="run a whole scene (a study) into a folder")
-    p.add_argument("scene")
-    p.add_argument("--out", help="output folder (default out/<scene name>)")
+    p = sub.add_parser("run", help="run a whole scene (a study), or a campaign of scenes, into a folder")
+    p.add_argument("scene", help="scene file, or campaign file (it has campaign = [...])")
+    p.add_argument("--out", help="output folder (default out/<file name>)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     p.add_argument("--quick", action="store_true", help="a coarse, minute-scale version")
     p.add_argument("--json", action="store_true")
@@ -116,9 +116,11 @@ def cmd_sweep(args) -> None:
 
 
 def cmd_run(args) -> None:
+    from shroud.campaign import is_campaign, run_campaign
     from shroud.runner import run_scene
-    summary = run_scene(args.scene, out=args.out, overrides=args.set, quick=args.quick)
-    _emit(args, summary, f"wrote {summary['out']}")
+    run = run_campaign if is_campaign(args.scene) else run_scene
+    summary = run(args.scene, out=args.out, overrides=args.set, quick=args.quick)
+    _emit(args, summary, f"{summary['status']}: {summary['out']}/report.md ({summary['elapsed_s']:.1f} s)")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -130,8 +132,11 @@ def main(argv: list[str] | None = None) -> int:
         print(exc.line(), file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        print("error: interrupted", file=sys.stderr)
+        print("error: interrupted (any output folder holds a result marked partial)", file=sys.stderr)
         return 130
+    except RunDiverged as exc:
+        print(f"error: run diverged: {exc}", file=sys.stderr)
+        return 1
     return 0
 
 

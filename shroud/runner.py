@@ -4,14 +4,29 @@ Each study module (``comparisons/<study>.py``) has ``OPTIONS`` (defaults of
 its own options) and ``run(scene, out) -> dict`` returning every number its
 figures show; it writes its figures, CSVs and ``report.md`` into ``out``.
 The runner adds ``results.json``: those numbers plus the parameters, options,
-versions, cost and status (``complete`` or ``partial``).
+versions, cost and status (``complete``, ``partial`` or ``failed``).
+
+Nothing is written before the whole input is checked. An interrupted run
+(Ctrl-C, or SIGTERM from a batch system at its time limit) leaves a marked
+partial result: ``results.json`` says ``partial``, every CSV the run wrote
+starts with an ``# INCOMPLETE`` line, and ``report.md`` says so at the top.
+Under ``mpirun`` all ranks run the study together and only rank 0 writes.
 """
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
+import datetime
 import json
+import os
 import platform
+import shutil
+import signal
+import subprocess
 import sys
+import tempfile
+import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -19,62 +34,180 @@ from typing import Any
 import numpy as np
 
 from shroud.errors import InputError
-from shroud.log import info
-from shroud.scene import load_scene, study_module
+from shroud.log import info, warn
+from shroud.parallel import mpi_rank, mpi_size
+from shroud.scene import Scene, load_scene, study_module
+
+INCOMPLETE_MARK = "# INCOMPLETE"
 
 
 def versions() -> dict[str, str]:
     """Versions of what produced a result (FE stack only if it was loaded)."""
     out = {"python": platform.python_version(), "numpy": np.__version__}
-    for name in ("scipy", "numba", "matplotlib", "dolfinx", "petsc4py", "slepc4py", "gmsh"):
+    for name in ("scipy", "numba", "matplotlib", "dolfinx", "petsc4py", "slepc4py", "gmsh", "pyvista"):
         module = sys.modules.get(name)
         if module is not None:
             out[name] = str(getattr(module, "__version__", "?"))
+    revision = _git_revision()
+    if revision:
+        out["workbench"] = revision
     return out
 
 
-def _jsonable(value: Any) -> Any:
+def _git_revision() -> str:
+    root = Path(__file__).resolve().parents[1]
+    try:
+        head = subprocess.run(["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
+                              capture_output=True, text=True, timeout=10)
+        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.TimeoutExpired):
+        return ""
+    if head.returncode != 0:
+        return ""
+    return head.stdout.strip() + ("+local changes" if dirty.stdout.strip() else "")
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` in plain JSON types (NaN and inf become null)."""
+    if hasattr(value, "to_json"):
+        return jsonable(value.to_json())
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return jsonable(dataclasses.asdict(value))
     if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
+        return [jsonable(v) for v in value]
     if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
+        return jsonable(value.tolist())
     if isinstance(value, (np.floating, float)):
         return None if not np.isfinite(value) else float(value)
-    if isinstance(value, np.integer):
-        return int(value)
+    if isinstance(value, (np.integer, np.bool_)):
+        return value.item()
     if isinstance(value, Path):
         return str(value)
     return value
 
 
-def write_results(out: Path, scene, status: str, elapsed: float, results: dict) -> Path:
+def write_results(out: Path, scene: Scene, status: str, elapsed: float, results: dict,
+                  overrides=(), extra: dict | None = None) -> Path:
+    """``out/results.json``: the study's numbers and everything that produced them."""
     path = out / "results.json"
     payload = {
         "study": scene.study, "title": scene.title, "status": status, "quick": scene.quick,
-        "elapsed_s": round(elapsed, 3), "parameters": scene.params.as_tables(),
-        "options": scene.options, "versions": versions(), "results": results,
+        "elapsed_s": round(elapsed, 3),
+        "finished": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
+        "scene": str(scene.path) if scene.path else None, "overrides": list(overrides),
+        "command": sys.argv, "host": {"cores": len(os.sched_getaffinity(0)), "mpi_ranks": mpi_size()},
+        "parameters": scene.params.as_tables(), "options": scene.options,
+        "versions": versions(), **(extra or {}), "results": results,
     }
-    path.write_text(json.dumps(_jsonable(payload), indent=1))
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(jsonable(payload), indent=1))
+    os.replace(tmp, path)            # never a half-written results.json
     return path
 
 
-def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), quick: bool = False) -> dict:
+def output_folder(scene_path: str | Path, out: str | Path | None) -> Path:
+    """``out`` or ``out/<scene name>``; refused if it names an existing file."""
+    folder = Path(out) if out else Path("out") / Path(scene_path).stem
+    if folder.exists() and not folder.is_dir():
+        raise InputError("--out", f"{str(folder)!r} is an existing file; allowed: a folder path")
+    return folder
+
+
+@contextlib.contextmanager
+def sigterm_as_interrupt():
+    """A batch system's SIGTERM ends the run like Ctrl-C: with a marked partial result."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), quick: bool = False,
+              writer: bool | None = None) -> dict:
+    """Validate scene ``path`` with ``overrides``, run its study into ``out``.
+
+    A study may define ``check(scene)`` for cross-checks of its options; it
+    runs before anything is written. ``writer`` (default: rank 0) says
+    whether this process writes files; the other ranks of an MPI job run the same study into a scratch folder that
+    is removed afterwards. Returns a summary: study, out, status, elapsed_s.
+    """
     scene = load_scene(path, list(overrides), quick=quick)
     if not scene.study:
         raise InputError("study", f"scene {path} names no study; allowed: study = \"<name>\"")
     module = study_module(scene.study)
-    out = Path(out) if out else Path("out") / Path(path).stem
-    out.mkdir(parents=True, exist_ok=True)
+    check = getattr(module, "check", None)
+    if check is not None:
+        check(scene)                 # a study's own cross-checks of its options, before any write
+    out = output_folder(path, out)
+    writer = mpi_rank() == 0 if writer is None else writer
+    target = out if writer else Path(tempfile.mkdtemp(prefix=f"shroud-rank{mpi_rank()}-"))
+    fresh = not target.exists()
+    target.mkdir(parents=True, exist_ok=True)
     info(f"scene {path}: study {scene.study}{' (quick)' if quick else ''} -> {out}")
+    started = time.time()
     t0 = time.perf_counter()
+    status = "complete"
     try:
-        results = module.run(scene, out)
+        with sigterm_as_interrupt():
+            results = module.run(scene, target) or {}
     except KeyboardInterrupt:
-        write_results(out, scene, "partial (interrupted)", time.perf_counter() - t0, {})
+        elapsed = time.perf_counter() - t0
+        marked = mark_incomplete(target, started, f"run interrupted after {elapsed:.1f} s")
+        write_results(target, scene, "partial (interrupted)", elapsed, {}, overrides,
+                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]})
+        warn(f"interrupted: partial result in {out} (results.json says partial; "
+             f"{len(marked)} file(s) marked incomplete)")
         raise
+    except InputError:
+        if fresh:
+            shutil.rmtree(target, ignore_errors=True)   # bad input found late: leave nothing behind
+        raise
+    except Exception as exc:
+        elapsed = time.perf_counter() - t0
+        marked = mark_incomplete(target, started, f"run failed: {type(exc).__name__}")
+        write_results(target, scene, f"failed ({type(exc).__name__}: {exc})", elapsed, {}, overrides,
+                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]})
+        raise
+    finally:
+        if not writer:
+            shutil.rmtree(target, ignore_errors=True)
     elapsed = time.perf_counter() - t0
-    write_results(out, scene, "complete", elapsed, results or {})
+    if writer:
+        write_results(target, scene, status, elapsed, results, overrides)
     info(f"scene {scene.study} done in {elapsed:.1f} s")
-    return {"study": scene.study, "out": str(out), "elapsed_s": round(elapsed, 3), "status": "complete"}
+    return {"study": scene.study, "title": scene.title, "out": str(out),
+            "elapsed_s": round(elapsed, 3), "status": status}
+
+
+def mark_incomplete(folder: Path, since: float, why: str) -> list[Path]:
+    """Mark every CSV and report written since ``since`` (epoch s) as incomplete.
+
+    A CSV gets a first line ``# INCOMPLETE: <why>`` (comment-aware readers
+    such as numpy.loadtxt skip it; anyone reading the file sees it first).
+    """
+    marked = []
+    for csv in sorted(folder.rglob("*.csv")):
+        if csv.stat().st_mtime >= since - 1.0:
+            text = csv.read_text()
+            if not text.startswith(INCOMPLETE_MARK):
+                csv.write_text(f"{INCOMPLETE_MARK}: {why}; rows stop where it stopped\n{text}")
+            marked.append(csv)
+    report = folder / "report.md"
+    note = f"> **Partial result** ({why}): figures and tables below may be missing or cut short.\n\n"
+    if report.exists() and report.stat().st_mtime >= since - 1.0:
+        report.write_text(note + report.read_text())
+    else:
+        report.write_text(f"# Partial result\n\n{note}")
+    marked.append(report)
+    return marked

@@ -76,14 +76,17 @@ def _parse_value(text: str) -> Any:
         return text          # bare words are strings
 
 
-def _check_options(study: str, given: Mapping[str, Any], defaults: Mapping[str, Any]) -> dict[str, Any]:
+def _check_options(given: Mapping[str, Any], defaults: Mapping[str, Any],
+                   prefix: str = "options") -> dict[str, Any]:
+    """The study's defaults updated by ``given``; each value of its default's kind."""
     out = dict(defaults)
     for key, value in given.items():
         if key not in defaults:
-            raise unknown_key(f"options.{key}", [f"options.{k}" for k in defaults] or ["(study takes no options)"])
+            raise unknown_key(f"{prefix}.{key}", [f"{prefix}.{k}" for k in defaults]
+                              or ["(study takes no options)"])
         want = defaults[key]
         if want is not None and not _same_kind(value, want):
-            raise InputError(f"options.{key}", f"{value!r} has the wrong type; allowed: "
+            raise InputError(f"{prefix}.{key}", f"{value!r} has the wrong type; allowed: "
                              f"{type(want).__name__} like {want!r}")
         out[key] = value
     return out
@@ -102,23 +105,39 @@ def _same_kind(value: Any, want: Any) -> bool:
 
 def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool = False,
                study: str | None = None) -> Scene:
-    """Read, merge and validate a scene (or the bare defaults when ``path`` is None)."""
+    """Read, merge and validate a scene (or the bare defaults when ``path`` is None).
+
+    The ``[quick]`` table is checked whether or not ``quick`` is asked for, so
+    a typo in it fails on the first run, not on the first quick run.
+    """
     data = read_toml(Path(path)) if path else {}
     for key in data:
         if key not in _TOP_KEYS and key not in SECTIONS:
             raise unknown_key(key, sorted(_TOP_KEYS | set(SECTIONS)))
     name = study or data.get("study")
+    if name is not None and not isinstance(name, str):
+        raise InputError("study", f"{name!r} is not a study name; allowed: study = \"<name>\"")
     params = Parameters.from_mapping({k: v for k, v in data.items() if k in SECTIONS})
-    options_given = dict(data.get("options", {}))
-    quick_table = data.get("quick", {})
-    if not isinstance(quick_table, dict):
-        raise InputError("quick", "must be a table of parameter sections and options")
+    options_given = _table(data, "options")
+    quick_table = _table(data, "quick")
+    for key in quick_table:
+        if key != "options" and key not in SECTIONS:
+            raise unknown_key(f"quick.{key}", ["quick.options"] + [f"quick.{s}" for s in SECTIONS])
+    try:
+        quick_params = Parameters.from_mapping(
+            {k: v for k, v in quick_table.items() if k != "options"}, base=params)
+    except InputError as exc:
+        raise InputError(f"quick.{exc.key}", exc.message) from None
+    quick_options = _table(quick_table, "options", "quick.options")
     if quick:
-        params = Parameters.from_mapping({k: v for k, v in quick_table.items() if k != "options"}, base=params)
-        options_given.update(quick_table.get("options", {}))
+        params = quick_params
+        options_given.update(quick_options)
     param_sets = []
     for text in overrides:
         key, sep, value = text.partition("=")
+        if not sep or not key.strip():
+            raise InputError("--set", f"{text!r} is not key=value; allowed: e.g. --set speed.rpm=8500 "
+                             "or --set options.periods=20")
         if key.strip().startswith("options."):
             options_given[key.strip()[len("options."):]] = _parse_value(value.strip())
         else:
@@ -126,10 +145,18 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
     params = params.with_overrides(param_sets)
     options: dict[str, Any] = {}
     if name:
-        module = study_module(name)
-        options = _check_options(name, options_given, getattr(module, "OPTIONS", {}))
-    elif options_given:
+        defaults = getattr(study_module(name), "OPTIONS", {})
+        _check_options(quick_options, defaults, prefix="quick.options")
+        options = _check_options(options_given, defaults)
+    elif options_given or quick_options:
         raise InputError("options", "options need a study (scene key 'study')")
     return Scene(study=name or "", title=str(data.get("title", name or "")), params=params,
                  options=options, quick=quick, path=Path(path) if path else None,
                  description=str(data.get("description", "")))
+
+
+def _table(data: Mapping[str, Any], key: str, name: str | None = None) -> dict[str, Any]:
+    value = data.get(key, {})
+    if not isinstance(value, dict):
+        raise InputError(name or key, f"{value!r} is not a table; allowed: a [{name or key}] table")
+    return dict(value)

@@ -1,0 +1,179 @@
+"""Campaigns: one TOML file that lists scenes, runs them all, and writes one report.
+
+Layout of a campaign file::
+
+    title = "The paper's studies"
+    campaign = ["table1", "fig3", "fig8.toml"]   # scene names (scenes/<name>.toml) or paths
+    quick = false                               # true = every scene's coarse version
+    [overrides]                                 # per-scene --set lists
+    fig8 = ["time.periods=50"]
+
+``shroud run CAMPAIGN.toml --out DIR`` checks every listed scene (with its
+overrides and the command line's ``--set``) before it runs any, then runs
+them over local processes, or over MPI ranks under ``mpirun`` (one scene per
+rank at a time, each on its own communicator), into ``DIR/<scene>/``, and
+stitches ``DIR/report.md`` from their reports. A scene that fails does not
+stop the others; its status says why.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+
+from shroud.errors import InputError
+from shroud.log import info, warn
+from shroud.params import unknown_key
+from shroud.parallel import map_parallel, mpi_rank, mpi_size, workers
+from shroud.report import SceneOutcome, seconds, stitch
+from shroud.runner import jsonable, output_folder, run_scene, versions
+from shroud.scene import load_scene, read_toml
+
+_TOP_KEYS = ("campaign", "title", "description", "quick", "overrides")
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One scene of a campaign."""
+
+    name: str                     # output subfolder, the scene file's stem
+    path: Path
+    overrides: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Campaign:
+    title: str
+    description: str
+    entries: tuple[Entry, ...]
+    quick: bool
+    path: Path
+
+
+def is_campaign(path: str | Path) -> bool:
+    """True if ``path`` is a campaign file (it has a ``campaign`` list)."""
+    return "campaign" in read_toml(Path(path))
+
+
+def load_campaign(path: str | Path, overrides=(), quick: bool = False) -> Campaign:
+    """Read a campaign and validate every scene in it, as it will run."""
+    path = Path(path)
+    data = read_toml(path)
+    for key in data:
+        if key not in _TOP_KEYS:
+            raise unknown_key(key, list(_TOP_KEYS))
+    names = data["campaign"]
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise InputError("campaign", f"{names!r} is not a list of scenes; allowed: "
+                         'campaign = ["table1", "fig8", ...] (names in scenes/ or .toml paths)')
+    flag = data.get("quick", False)
+    if not isinstance(flag, bool):
+        raise InputError("quick", f"{flag!r} is not a boolean; allowed: true or false")
+    per_scene = data.get("overrides", {})
+    if not isinstance(per_scene, dict):
+        raise InputError("overrides", "must be a table: <scene> = [\"key=value\", ...]")
+    entries = [Entry(name=_scene_path(path, n).stem, path=_scene_path(path, n),
+                     overrides=tuple(per_scene.get(_scene_path(path, n).stem, ())) + tuple(overrides))
+               for n in names]
+    stems = [e.name for e in entries]
+    for name, sets in per_scene.items():
+        if name not in stems:
+            raise InputError(f"overrides.{name}", f"names no scene of this campaign; allowed: {', '.join(stems)}")
+        if not isinstance(sets, list) or not all(isinstance(s, str) for s in sets):
+            raise InputError(f"overrides.{name}", f"{sets!r} is not a list of \"key=value\" strings")
+    if len(set(stems)) != len(stems):
+        raise InputError("campaign", f"lists a scene twice ({', '.join(stems)}); each needs its own folder")
+    quick = quick or flag
+    for entry in entries:
+        try:
+            scene = load_scene(entry.path, list(entry.overrides), quick=quick)
+        except InputError as exc:
+            raise InputError(f"{entry.name}: {exc.key}", exc.message) from None
+        if not scene.study:
+            raise InputError(f"{entry.name}: study", "the scene names no study")
+    return Campaign(title=str(data.get("title", path.stem)), description=str(data.get("description", "")),
+                    entries=tuple(entries), quick=quick, path=path)
+
+
+def _scene_path(campaign_path: Path, name: str) -> Path:
+    """``name`` as a scene file: a .toml path (relative to the campaign file), or scenes/<name>.toml."""
+    if not isinstance(name, str) or not name:
+        raise InputError("campaign", f"{name!r} is not a scene name")
+    candidate = Path(name if name.endswith(".toml") else f"{name}.toml")
+    for base in (campaign_path.parent, Path.cwd(), Path.cwd() / "scenes"):
+        full = candidate if candidate.is_absolute() else base / candidate
+        if full.is_file():
+            return full
+    raise InputError("campaign", f"no scene {name!r} (looked for {candidate} next to {campaign_path} "
+                     "and in scenes/)")
+
+
+def _run_entry(task: tuple[str, str, tuple[str, ...], bool]) -> dict:
+    """Run one scene of a campaign; a failure is recorded, not raised."""
+    path, out, overrides, quick = task
+    t0 = time.perf_counter()
+    try:
+        return run_scene(path, out=out, overrides=overrides, quick=quick, writer=True)
+    except Exception as exc:      # noqa: BLE001 - one scene's failure must not stop the others
+        warn(f"scene {path} failed: {type(exc).__name__}: {exc}")
+        Path(out).mkdir(parents=True, exist_ok=True)
+        (Path(out) / "error.txt").write_text(traceback.format_exc())
+        return {"status": f"failed ({type(exc).__name__}: {exc})", "out": out,
+                "elapsed_s": round(time.perf_counter() - t0, 3)}
+
+
+def run_campaign(path: str | Path, out: str | Path | None = None, overrides=(), quick: bool = False) -> dict:
+    """Validate then run every scene of campaign ``path``; write ``out/report.md``."""
+    campaign = load_campaign(path, overrides, quick)
+    out = output_folder(path, out)
+    writer = mpi_rank() == 0
+    if writer:
+        out.mkdir(parents=True, exist_ok=True)
+    size = mpi_size()
+    spread = f"{size} MPI ranks" if size > 1 else f"{min(workers(), len(campaign.entries))} local process(es)"
+    info(f"campaign {path}: {len(campaign.entries)} scenes{' (quick)' if campaign.quick else ''} "
+         f"over {spread} -> {out}")
+    tasks = [(str(e.path), str(out / e.name), e.overrides, campaign.quick) for e in campaign.entries]
+    t0 = time.perf_counter()
+    status = "complete"
+    try:
+        map_parallel(_run_entry, tasks)
+    except KeyboardInterrupt:
+        status = "partial (interrupted)"
+        raise
+    finally:
+        elapsed = time.perf_counter() - t0
+        if writer:
+            outcomes = [_outcome(e, out / e.name) for e in campaign.entries]
+            if any(o.status != "complete" for o in outcomes) and status == "complete":
+                status = "complete with failures"
+            _write_campaign(out, campaign, outcomes, status, elapsed, spread)
+    info(f"campaign done in {seconds(elapsed)}: {out / 'report.md'}")
+    return {"campaign": campaign.title, "out": str(out), "status": status, "elapsed_s": round(elapsed, 3)}
+
+
+def _outcome(entry: Entry, folder: Path) -> SceneOutcome:
+    """What the scene's own results.json says (or that it never ran)."""
+    try:
+        record = json.loads((folder / "results.json").read_text())
+    except (FileNotFoundError, json.JSONDecodeError):
+        return SceneOutcome(entry.name, "?", entry.name, "not run", None, folder)
+    return SceneOutcome(entry.name, record.get("study", "?"), record.get("title", entry.name),
+                        record.get("status", "?"), record.get("elapsed_s"), folder)
+
+
+def _write_campaign(out: Path, campaign: Campaign, outcomes: list[SceneOutcome], status: str,
+                    elapsed: float, spread: str) -> None:
+    preamble = (f"{campaign.description}\n\n" if campaign.description else "") + (
+        f"Campaign `{campaign.path}`{' (quick versions)' if campaign.quick else ''}: "
+        f"{len(outcomes)} scenes over {spread}, {status}, wall time {seconds(elapsed)}.\n\n")
+    stitch(out, campaign.title, outcomes, preamble)
+    payload = {"campaign": campaign.title, "file": str(campaign.path), "status": status,
+               "quick": campaign.quick, "elapsed_s": round(elapsed, 3), "spread": spread,
+               "versions": versions(),
+               "scenes": [{"name": o.name, "study": o.study, "status": o.status,
+                           "elapsed_s": o.elapsed_s, "results": f"{o.name}/results.json"} for o in outcomes]}
+    (out / "results.json").write_text(json.dumps(jsonable(payload), indent=1))
