@@ -8,7 +8,7 @@ imported when the process was started by an MPI launcher.
 from __future__ import annotations
 
 import os
-from concurrent.futures import ProcessPoolExecutor
+import signal
 from multiprocessing import get_context
 from typing import Callable, Iterable, TypeVar
 
@@ -16,6 +16,7 @@ T = TypeVar("T")
 R = TypeVar("R")
 
 _MPI_ENV = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "MPI_LOCALNRANKS", "PMIX_RANK")
+_IN_TASK = False
 
 
 def mpi_size() -> int:
@@ -24,6 +25,30 @@ def mpi_size() -> int:
         return 1
     from mpi4py import MPI
     return MPI.COMM_WORLD.size
+
+
+def mpi_rank() -> int:
+    """This process's MPI rank (0 outside mpirun)."""
+    if mpi_size() == 1:
+        return 0
+    from mpi4py import MPI
+    return MPI.COMM_WORLD.rank
+
+
+def in_task() -> bool:
+    """True while running one item of ``map_parallel`` (a run on its own)."""
+    return _IN_TASK
+
+
+def task_comm():
+    """The MPI communicator an FE build should use.
+
+    The whole job (COMM_WORLD) when all ranks run one scene together; the
+    rank alone (COMM_SELF) inside a ``map_parallel`` item, where each rank
+    runs a different scene and a collective call would deadlock.
+    """
+    from mpi4py import MPI
+    return MPI.COMM_SELF if _IN_TASK else MPI.COMM_WORLD
 
 
 def workers() -> int:
@@ -38,19 +63,42 @@ def map_parallel(func: Callable[[T], R], items: Iterable[T], processes: int | No
     Under mpirun each rank takes every size-th item and the results are
     gathered on all ranks. Otherwise a fork-based process pool is used when
     more than one worker and more than one item are available. ``func`` must
-    be a module-level function (it is pickled).
+    be a module-level function (it is pickled). Inside an item of an outer
+    map (a sweep within a campaign) the map runs serially in place.
     """
     items = list(items)
+    if _IN_TASK:
+        return [func(x) for x in items]
     size = mpi_size()
     if size > 1:
         from mpi4py import MPI
         comm = MPI.COMM_WORLD
-        mine = [(i, func(x)) for i, x in enumerate(items) if i % size == comm.rank]
+        mine = [(i, _as_task(func, x)) for i, x in enumerate(items) if i % size == comm.rank]
         merged = dict(pair for part in comm.allgather(mine) for pair in part)
         return [merged[i] for i in range(len(items))]
     n = min(processes or workers(), len(items))
     if n <= 1:
         return [func(x) for x in items]
     chunk = max(1, len(items) // (4 * n))
-    with ProcessPoolExecutor(max_workers=n, mp_context=get_context("fork")) as pool:
-        return list(pool.map(func, items, chunksize=chunk))
+    # Leaving the block terminates the workers: an interrupted map stops at
+    # once instead of finishing every queued item first.
+    with get_context("fork").Pool(n, initializer=_enter_worker) as pool:
+        return pool.map(func, items, chunksize=chunk)
+
+
+def _as_task(func: Callable[[T], R], item: T) -> R:
+    global _IN_TASK
+    _IN_TASK = True
+    try:
+        return func(item)
+    finally:
+        _IN_TASK = False
+
+
+def _enter_worker() -> None:
+    # A worker runs its items on its own (no nested pools, FE on COMM_SELF);
+    # Ctrl-C is the parent's to handle, and a terminate ends the worker.
+    global _IN_TASK
+    _IN_TASK = True
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
