@@ -1,0 +1,321 @@
+"""The 3D solid blade on DOLFINx 0.11: mesh, space, clamp and rotating-frame operators.
+
+Linear elasticity in the rotating frame O-XYZ (rotation Omega about +Z),
+root face X = R_d clamped. With u the displacement relative to the disk,
+virtual work gives (paper Eq. 1, term by term)
+
+    M u'' + G u' + (K_e + K_sigma + K_spin) u = f_c + F_e(t) f_aero
+
+    M        int rho u . v                                   mass
+    K_e      int sigma(u) : eps(v)                           elastic stiffness
+    f_c      int rho Omega^2 (X, Y, 0) . v                   centrifugal load  (= -rho Om x (Om x x))
+    K_sigma  int sigma0 : (grad(u)^T grad(v))                stress stiffening (centrifugal)
+    K_spin   -int rho (Om x u) . (Om x v)                    spin softening    (= -rho Om^2 on X, Y)
+    G        int 2 rho (Om x u) . v                          Coriolis          (skew-symmetric)
+    f_aero   int_blade e_v(x) / (b h) . v                    F_e = 1 N/m along e_v(x) over the blade
+
+sigma0 is the prestress of the linear static solve K_e u0 = f_c. Index
+check of K_sigma: (grad(u)^T grad(v))_ij = sum_k du_k/dX_i dv_k/dX_j, so the
+form is sigma0_ij du_k,i v_k,j: the second variation of the Green strain
+under sigma0. Every rotation term is a power of Omega times a unit-speed
+operator (linear prestress): K(Omega) = K_e + Omega^2 (K_sigma1 + K_spin1),
+G(Omega) = Omega G1. The unit operators are assembled once per mesh and
+material; a speed only rescales them.
+
+Contract (used by engineer D's transient and CMS; names are stable)
+------------------------------------------------------------------
+``solid_model(params) -> SolidModel``
+    mesh, vector space ``V`` (Lagrange, degree ``fe.order``), ``cell_tags``
+    (meshes.blade.BLADE / SHROUD), ``facet_tags`` (ROOT, CONTACT_SIDE1,
+    CONTACT_SIDE2), ``contact_tags``, ``bcs`` (root clamp),
+    ``clamped_dofs`` (local unrolled indices), ``tip_dofs`` (unrolled
+    indices of the embedded tip nodes: centre, centre -/+ b/4 e_w(L); -1 on
+    ranks that do not own them). Built once per process for a mesh/material.
+``rotating_operators(params, rpm) -> RotatingOperators``
+    ``M``, ``K`` (= K_e + K_sigma + K_spin), ``G`` (Coriolis) as PETSc Mats
+    (clamped rows: diag 1 on K, 0 on M and G, so they add no finite
+    eigenvalue), ``K_e``, the load vectors ``f_c`` and ``f_aero`` (PETSc Vecs,
+    zero on clamped rows) and ``u0`` (the prestatic displacement, a Function).
+``RotatingOperators.free() -> FreeOperators`` (serial only)
+    scipy CSR ``M, K, G, K_e`` and arrays ``f_c, f_aero`` on the free DOFs;
+    ``free`` (free -> unrolled index), ``free_index`` (unrolled -> free, -1
+    when clamped), ``coords`` (n_free, 3) and ``component`` (n_free,) of each
+    free DOF.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import dolfinx_solver  # noqa: F401  (must precede dolfinx / petsc4py)
+import numpy as np
+import scipy.sparse as sp
+import ufl
+from dolfinx import fem, mesh as dmesh
+from dolfinx.fem import petsc as fem_petsc
+from dolfinx.io import gmsh as gmshio
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, check_geometry,
+                          mesh_file, tip_points)
+from shroud.log import info
+from shroud.params import Material, Parameters
+
+
+@dataclass(frozen=True, eq=False)      # identity hash: one per process and mesh
+class SolidModel:
+    """Mesh, space and clamp of one blade geometry (one per process and mesh)."""
+
+    spec: MeshSpec
+    material: Material
+    mesh: Any
+    V: Any
+    cell_tags: Any
+    facet_tags: Any
+    bcs: tuple
+    clamped_dofs: np.ndarray     # local unrolled indices of clamped DOFs (owned and ghost)
+    tip_dofs: np.ndarray         # (3, 3) unrolled local indices of the tip nodes, -1 if not owned here
+    contact_tags: tuple[int, int] = (CONTACT_SIDE1, CONTACT_SIDE2)
+
+    @property
+    def comm(self):
+        return self.mesh.comm
+
+    @property
+    def global_dofs(self) -> int:
+        imap = self.V.dofmap.index_map
+        return imap.size_global * self.V.dofmap.index_map_bs
+
+    @property
+    def owned_dofs(self) -> int:
+        return self.V.dofmap.index_map.size_local * self.V.dofmap.index_map_bs
+
+
+@dataclass(frozen=True)
+class UnitOperators:
+    """Speed-independent pieces: K_e, M, and the rotation operators at Omega = 1 rad/s."""
+
+    M: Any
+    K_e: Any
+    K_rot1: Any        # K_sigma + K_spin at 1 rad/s (scales with Omega^2)
+    G1: Any            # Coriolis at 1 rad/s (scales with Omega)
+    f_c1: Any          # centrifugal load at 1 rad/s
+    f_aero: Any
+    u0_1: Any          # prestatic displacement at 1 rad/s
+
+
+@dataclass(frozen=True)
+class FreeOperators:
+    """Serial scipy copies on the free (unclamped) DOFs, SI units."""
+
+    M: sp.csr_matrix
+    K: sp.csr_matrix
+    G: sp.csr_matrix
+    K_e: sp.csr_matrix
+    f_c: np.ndarray
+    f_aero: np.ndarray
+    free: np.ndarray          # (n_free,) unrolled DOF index of each free DOF
+    free_index: np.ndarray    # (n_all,) free index of each unrolled DOF, -1 if clamped
+    coords: np.ndarray        # (n_free, 3) position of each free DOF's node, m
+    component: np.ndarray     # (n_free,) 0, 1, 2 for X, Y, Z
+
+    @property
+    def n(self) -> int:
+        return int(self.free.size)
+
+
+@dataclass(frozen=True)
+class RotatingOperators:
+    """The solid's operators at one constant speed (PETSc, distributed)."""
+
+    model: SolidModel
+    rpm: float
+    omega: float       # rad/s
+    M: Any
+    K: Any             # K_e + K_sigma + K_spin
+    G: Any             # Coriolis
+    K_e: Any
+    f_c: Any
+    f_aero: Any
+    u0: Any            # prestatic displacement (fem.Function), m
+
+    def free(self) -> FreeOperators:
+        """scipy CSR operators on the free DOFs (serial runs only)."""
+        if self.model.comm.size > 1:
+            raise RuntimeError("FreeOperators is a serial export; run without mpirun")
+        n_all = self.model.owned_dofs
+        free = np.setdiff1d(np.arange(n_all), self.model.clamped_dofs)
+        free_index = np.full(n_all, -1, dtype=np.int64)
+        free_index[free] = np.arange(free.size)
+        nodes = self.model.V.tabulate_dof_coordinates()
+        return FreeOperators(
+            M=_csr(self.M, free), K=_csr(self.K, free), G=_csr(self.G, free), K_e=_csr(self.K_e, free),
+            f_c=self.f_c.getArray()[free].copy(), f_aero=self.f_aero.getArray()[free].copy(),
+            free=free, free_index=free_index, coords=nodes[free // 3], component=free % 3)
+
+
+def _csr(A, keep: np.ndarray) -> sp.csr_matrix:
+    indptr, indices, data = A.getValuesCSR()
+    full = sp.csr_matrix((data, indices, indptr), shape=A.getSize())
+    return full[keep][:, keep].tocsr()
+
+
+def epsilon(u):
+    return ufl.sym(ufl.grad(u))
+
+
+def sigma(u, material: Material):
+    """Isotropic Hooke's law, Pa."""
+    E, nu = material.E, material.nu
+    lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+    mu = E / (2 * (1 + nu))
+    return 2 * mu * epsilon(u) + lam * ufl.tr(epsilon(u)) * ufl.Identity(3)
+
+
+def solid_model(params: Parameters) -> SolidModel:
+    """The (cached) solid for ``params``' geometry, mesh size, order and material."""
+    spec = MeshSpec.from_params(params)
+    check_geometry(spec)      # on every rank, before any gmsh work
+    return _solid_model(spec, params.material)
+
+
+@functools.lru_cache(maxsize=4)
+def _solid_model(spec: MeshSpec, material: Material) -> SolidModel:
+    comm = MPI.COMM_WORLD
+    path = mesh_file(spec) if comm.rank == 0 else None
+    path = comm.bcast(path, root=0)
+    data = _read_mesh(path, comm)
+    msh = data.mesh
+    V = fem.functionspace(msh, ("Lagrange", spec.order, (3,)))
+    fdim = msh.topology.dim - 1
+    root_facets = data.facet_tags.find(ROOT)
+    root_blocks = fem.locate_dofs_topological(V, fdim, root_facets)
+    bc = fem.dirichletbc(np.zeros(3, dtype=PETSc.ScalarType), root_blocks, V)
+    clamped = (3 * root_blocks[:, None] + np.arange(3)[None, :]).ravel()
+    info(f"solid: {comm.allreduce(msh.topology.index_map(3).size_local)} cells, "
+         f"{V.dofmap.index_map.size_global * 3} DOF (order {spec.order}, size {spec.size:g} m)")
+    return SolidModel(spec=spec, material=material, mesh=msh, V=V, cell_tags=data.cell_tags,
+                      facet_tags=data.facet_tags, bcs=(bc,), clamped_dofs=np.sort(clamped),
+                      tip_dofs=_tip_dofs(V, tip_points(spec), spec.size))
+
+
+def _read_mesh(path, comm):
+    """gmshio.read_from_msh without gmsh's console output (stdout is kept for --json)."""
+    import gmsh
+    if comm.rank != 0:
+        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.merge(str(path))
+        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)
+    finally:
+        gmsh.finalize()
+
+
+def _tip_dofs(V, points: np.ndarray, size: float) -> np.ndarray:
+    """Unrolled DOFs (x, y, z) of the nodes at ``points`` owned by this rank (-1 elsewhere)."""
+    owned = V.dofmap.index_map.size_local
+    nodes = V.tabulate_dof_coordinates()[:owned]
+    out = np.full((len(points), 3), -1, dtype=np.int64)
+    for i, p in enumerate(points):
+        dist = np.linalg.norm(nodes - p, axis=1) if owned else np.array([np.inf])
+        j = int(np.argmin(dist))
+        if dist[j] < 1e-8 * size:
+            out[i] = 3 * j + np.arange(3)
+    return out
+
+
+def _dx(model: SolidModel):
+    """Volume measure knowing the blade/shroud cell tags."""
+    return ufl.Measure("dx", domain=model.mesh, subdomain_data=model.cell_tags)
+
+
+def _unit_forms(model: SolidModel):
+    """UFL forms of the unit-speed operators (Omega = e_Z x 1 rad/s)."""
+    msh, V, mat = model.mesh, model.V, model.material
+    spec = model.spec
+    du, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+    X = ufl.SpatialCoordinate(msh)
+    rho = mat.rho
+    Om = ufl.as_vector((0.0, 0.0, 1.0))
+    dx = _dx(model)
+    beta = spec.stagger + spec.twist * (X[0] - spec.disk_radius) / spec.length
+    e_v = ufl.as_vector((0.0, ufl.cos(beta), ufl.sin(beta)))
+    return dict(
+        m=rho * ufl.inner(du, v) * dx,
+        k_e=ufl.inner(sigma(du, mat), epsilon(v)) * dx,
+        k_spin=-rho * ufl.inner(ufl.cross(Om, du), ufl.cross(Om, v)) * dx,
+        g=2.0 * rho * ufl.inner(ufl.cross(Om, du), v) * dx,
+        f_c=rho * ufl.inner(ufl.as_vector((X[0], X[1], 0.0)), v) * dx,
+        f_aero=ufl.inner(e_v / (spec.width * spec.thickness), v) * dx(BLADE),
+    )
+
+
+def _assemble_matrix(form, bcs, diag: float):
+    A = fem_petsc.assemble_matrix(fem.form(form), bcs=list(bcs), diag=diag)
+    A.assemble()
+    return A
+
+
+def _assemble_vector(form, model: SolidModel):
+    """Load vector with clamped rows set to zero (the prescribed value)."""
+    b = fem_petsc.assemble_vector(fem.form(form))
+    b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    fem_petsc.set_bc(b, list(model.bcs))
+    return b
+
+
+def lu_solver(A, comm, prefix: str, symmetric: bool = True):
+    """A direct (MUMPS) KSP on A, factorized once and reused; Cholesky (LDL^T) if symmetric."""
+    ksp = PETSc.KSP().create(comm)
+    ksp.setOptionsPrefix(prefix)
+    ksp.setOperators(A)
+    ksp.setType("preonly")
+    ksp.getPC().setType("cholesky" if symmetric else "lu")
+    ksp.getPC().setFactorSolverType("mumps")
+    ksp.setFromOptions()
+    return ksp
+
+
+@functools.lru_cache(maxsize=4)
+def _unit_operators(model: SolidModel) -> UnitOperators:
+    forms = _unit_forms(model)
+    bcs = model.bcs
+    M = _assemble_matrix(forms["m"], bcs, 0.0)
+    K_e = _assemble_matrix(forms["k_e"], bcs, 1.0)
+    f_c1 = _assemble_vector(forms["f_c"], model)
+    f_aero = _assemble_vector(forms["f_aero"], model)
+    # Prestress at 1 rad/s: K_e u0 = f_c (linear static, clamped root).
+    u0 = fem.Function(model.V, name="prestatic_displacement_1rad_s")
+    ksp = lu_solver(K_e, model.comm, "shroud_prestress_")
+    ksp.solve(f_c1, u0.x.petsc_vec)
+    u0.x.scatter_forward()
+    ksp.destroy()
+    du, v = ufl.TrialFunction(model.V), ufl.TestFunction(model.V)
+    k_sigma = ufl.inner(sigma(u0, model.material), ufl.dot(ufl.grad(du).T, ufl.grad(v))) * _dx(model)
+    K_rot1 = _assemble_matrix(k_sigma + forms["k_spin"], bcs, 0.0)
+    G1 = _assemble_matrix(forms["g"], bcs, 0.0)
+    return UnitOperators(M=M, K_e=K_e, K_rot1=K_rot1, G1=G1, f_c1=f_c1, f_aero=f_aero, u0_1=u0)
+
+
+def rotating_operators(params: Parameters, rpm: float | None = None) -> RotatingOperators:
+    """M, K(Omega), G(Omega), the loads and the prestatic displacement at ``rpm`` (SI)."""
+    rpm = params.speed.rpm if rpm is None else float(rpm)
+    omega = 2.0 * math.pi * rpm / 60.0
+    model = solid_model(params)
+    unit = _unit_operators(model)
+    K = unit.K_e.copy()
+    K.axpy(omega**2, unit.K_rot1, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+    G = unit.G1.copy()
+    G.scale(omega)
+    f_c = unit.f_c1.copy()
+    f_c.scale(omega**2)
+    u0 = fem.Function(model.V, name="prestatic_displacement")
+    u0.x.array[:] = omega**2 * unit.u0_1.x.array
+    return RotatingOperators(model=model, rpm=rpm, omega=omega, M=unit.M, K=K, G=G, K_e=unit.K_e,
+                             f_c=f_c, f_aero=unit.f_aero, u0=u0)
