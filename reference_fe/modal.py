@@ -1,0 +1,214 @@
+"""Natural frequencies of the rotating solid blade, with and without Coriolis.
+
+Without Coriolis (paper Eq. 1 with G = 0, D = 0), the generalized symmetric
+problem
+
+    (K_e + K_sigma + K_spin) phi = omega^2 M phi
+
+is solved by SLEPc (Krylov-Schur, shift-invert about 0, MUMPS). With
+Coriolis, the gyroscopic quadratic problem
+
+    (lambda^2 M + lambda G + K) x = 0,   G^T = -G,   lambda = +/- i omega
+
+is solved by SLEPc's PEP (TOAR, shift-invert about 0, problem type
+GYROSCOPIC). Clamped rows carry diag 1 on K and 0 on M and G: they only add
+infinite eigenvalues, far from the shift.
+
+Modes are named by the kinematics of the tip section (shroud.modes): flap =
+displacement of the tip-section centre along e_v(L), chord = along e_w(L),
+axial = along X, torsion = rotation about X times b/2 (the chord-edge
+displacement it causes). The tip-section centre (x = L on the blade axis) is
+where the beam model's v_L, w_L live; the shroud box above it (t_s/2
+further out) is part of the solid. Each gyroscopic mode inherits the label
+of the undamped mode it matches best (MAC), so the Coriolis shift of every
+mode is reported by name.
+
+Everything is PETSc/SLEPc-native: the same code runs serially or under
+``mpirun -n P``; rank-local tip values are summed over ranks.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from mpi4py import MPI
+from slepc4py import SLEPc
+
+from meshes.blade import section_frame
+from reference_fe.solid import RotatingOperators, SolidModel, rotating_operators
+from shroud.log import Progress, info
+from shroud.modes import label_modes
+from shroud.params import Parameters
+from shroud.results import ModalResult, Mode
+
+
+@dataclass(frozen=True)
+class SolidModes:
+    """Modes of the solid at one speed, in frequency order of the undamped problem."""
+
+    rpm: float
+    dofs: int
+    f_undamped: np.ndarray          # (k,) Hz, G = 0
+    f_coriolis: np.ndarray | None   # (k,) Hz of the gyroscopic mode matched to each, or None
+    mac_coriolis: np.ndarray | None  # (k,) MAC of that match
+    labels: tuple[str, ...]
+    participation: tuple[dict[str, float], ...]
+    tip: np.ndarray                 # (k, 4) tip components [flap, chord, torsion*b/2, axial], m
+    vectors: tuple                  # undamped mode shapes (PETSc Vecs, mass-normalized)
+    operators: RotatingOperators
+    solve_s: float                  # wall time of operators + eigen-solves, s
+
+    @property
+    def coriolis_shift(self) -> np.ndarray | None:
+        """Relative frequency change due to Coriolis, (f_cor - f) / f."""
+        if self.f_coriolis is None:
+            return None
+        return self.f_coriolis / self.f_undamped - 1.0
+
+
+def tip_components(model: SolidModel, xr, xi=None) -> np.ndarray:
+    """[flap, chord, torsion * b/2, axial] of one (possibly complex) shape, m.
+
+    Nodal values at the embedded tip nodes (meshes.blade.tip_points): centre
+    c and c -/+ (b/4) e_w(L). A twist theta about X moves c +/- d e_w by
+    -/+ theta d e_v (X x e_w = -e_v), so theta = -(u_+ - u_-).e_v / (2 d).
+    """
+    spec = model.spec
+    e_v, e_w = section_frame(spec.beta_tip)
+    values = np.zeros((3, 3), dtype=complex)
+    owned = model.tip_dofs[:, 0] >= 0
+    for part, scale in ((xr, 1.0), (xi, 1j)):
+        if part is None:
+            continue
+        local = part.getArray(readonly=True)
+        values[owned] += scale * local[model.tip_dofs[owned]]
+    values = model.comm.allreduce(values, op=MPI.SUM)
+    centre, minus, plus = values
+    d = 0.25 * spec.width
+    theta = -((plus - minus) @ e_v) / (2.0 * d)
+    return np.array([centre @ e_v, centre @ e_w, theta * 0.5 * spec.width, centre[0]])
+
+
+def _undamped(ops: RotatingOperators, n_modes: int):
+    comm = ops.model.comm
+    eps = SLEPc.EPS().create(comm)
+    eps.setOptionsPrefix("shroud_modal_")
+    eps.setOperators(ops.K, ops.M)
+    eps.setProblemType(SLEPc.EPS.ProblemType.GHEP)
+    eps.setType(SLEPc.EPS.Type.KRYLOVSCHUR)
+    eps.setDimensions(nev=n_modes)
+    eps.setTarget(0.0)
+    eps.setWhichEigenpairs(SLEPc.EPS.Which.TARGET_REAL)
+    eps.setTolerances(tol=1e-10, max_it=200)
+    _shift_invert(eps.getST())
+    eps.setFromOptions()
+    eps.solve()
+    nconv = eps.getConverged()
+    if nconv < n_modes:
+        raise RuntimeError(f"SLEPc EPS converged {nconv} of {n_modes} modes")
+    pairs = []
+    for i in range(nconv):
+        x = ops.M.createVecRight()
+        lam = eps.getEigenpair(i, x).real
+        if np.isfinite(lam) and lam > 0:
+            pairs.append((lam, x))
+    pairs.sort(key=lambda p: p[0])
+    pairs = pairs[:n_modes]
+    eps.destroy()
+    vectors = []
+    for _, x in pairs:       # mass-normalize: x^T M x = 1
+        Mx = ops.M.createVecLeft()
+        ops.M.mult(x, Mx)
+        x.scale(1.0 / np.sqrt(x.dot(Mx)))
+        vectors.append(x)
+    return np.sqrt([p[0] for p in pairs]) / (2 * np.pi), vectors
+
+
+def _shift_invert(st) -> None:
+    st.setType(SLEPc.ST.Type.SINVERT)
+    st.setShift(0.0)
+    ksp = st.getKSP()
+    ksp.setType("preonly")
+    pc = ksp.getPC()
+    pc.setType("lu")
+    pc.setFactorSolverType("mumps")
+
+
+def _gyroscopic(ops: RotatingOperators, n_modes: int):
+    """(f Hz, xr, xi) of the first ``n_modes`` gyroscopic modes (Im lambda > 0)."""
+    comm = ops.model.comm
+    pep = SLEPc.PEP().create(comm)
+    pep.setOptionsPrefix("shroud_gyro_")
+    pep.setOperators([ops.K, ops.G, ops.M])
+    pep.setProblemType(SLEPc.PEP.ProblemType.GYROSCOPIC)
+    pep.setType(SLEPc.PEP.Type.TOAR)
+    pep.setDimensions(nev=2 * n_modes)      # each mode is a pair +/- i omega
+    pep.setTarget(0.0)
+    pep.setWhichEigenpairs(SLEPc.PEP.Which.TARGET_MAGNITUDE)
+    pep.setTolerances(tol=1e-10, max_it=200)
+    _shift_invert(pep.getST())
+    pep.setFromOptions()
+    pep.solve()
+    found = []
+    for i in range(pep.getConverged()):
+        xr, xi = ops.M.createVecRight(), ops.M.createVecRight()
+        lam = pep.getEigenpair(i, xr, xi)
+        if lam.imag > 0:
+            found.append((lam.imag / (2 * np.pi), xr, xi))
+    pep.destroy()
+    found.sort(key=lambda t: t[0])
+    if len(found) < n_modes:
+        raise RuntimeError(f"SLEPc PEP converged {len(found)} of {n_modes} gyroscopic modes")
+    return found[:n_modes]
+
+
+def _mac(phi, xr, xi) -> float:
+    """MAC between a real shape and a complex one (xr + i xi)."""
+    a, b = phi.dot(xr), phi.dot(xi)
+    return float((a * a + b * b) / (phi.dot(phi) * (xr.dot(xr) + xi.dot(xi))))
+
+
+def solve_modes(params: Parameters, rpm: float | None = None, n_modes: int = 6,
+                coriolis: bool = True) -> SolidModes:
+    """Undamped (and gyroscopic) modes of the prestressed solid at ``rpm``."""
+    rpm = params.speed.rpm if rpm is None else float(rpm)
+    t0 = time.perf_counter()
+    progress = Progress(f"FE modes at {rpm:g} r/min", 3)
+    ops = rotating_operators(params, rpm)
+    progress.update(1)
+    f0, vectors = _undamped(ops, n_modes)
+    progress.update(2)
+    model = ops.model
+    tip = np.array([tip_components(model, x) for x in vectors]).real
+    labels, parts = label_modes(tip)
+    f_cor = mac_cor = None
+    if coriolis and ops.omega > 0:
+        gyro = _gyroscopic(ops, n_modes)
+        macs = np.array([[_mac(phi, xr, xi) for _, xr, xi in gyro] for phi in vectors])
+        best = np.argmax(macs, axis=1)
+        f_cor = np.array([gyro[j][0] for j in best])
+        mac_cor = macs[np.arange(len(vectors)), best]
+    elif coriolis:
+        f_cor, mac_cor = f0.copy(), np.ones_like(f0)      # no rotation, no Coriolis
+    progress.update(3)
+    elapsed = time.perf_counter() - t0
+    progress.done()
+    info(f"FE modes at {rpm:g} r/min: " + ", ".join(f"{l} {f:.1f} Hz" for l, f in zip(labels, f0)))
+    return SolidModes(rpm=rpm, dofs=model.global_dofs, f_undamped=f0, f_coriolis=f_cor,
+                      mac_coriolis=mac_cor, labels=tuple(labels), participation=tuple(parts),
+                      tip=tip, vectors=tuple(vectors), operators=ops, solve_s=elapsed)
+
+
+def modal_analysis(params: Parameters, rpm: float | None = None, n_modes: int = 6,
+                   coriolis: bool = True) -> ModalResult:
+    """shroud.api entry: the solid's modes as a ModalResult (Coriolis frequencies if asked)."""
+    modes = solve_modes(params, rpm, n_modes, coriolis)
+    f = modes.f_coriolis if coriolis else modes.f_undamped
+    order = np.argsort(f, kind="stable")
+    return ModalResult(model="fe", rpm=modes.rpm, dofs=modes.dofs, elapsed_s=modes.solve_s,
+                       coriolis=coriolis,
+                       modes=tuple(Mode(f_hz=float(f[i]), label=modes.labels[i],
+                                        participation=modes.participation[i],
+                                        damping_ratio=0.0 if coriolis else None) for i in order))
