@@ -73,6 +73,9 @@ def _params(args):
 
 
 def _emit(args, payload: dict, text: str) -> None:
+    from shroud.parallel import mpi_rank
+    if mpi_rank() != 0:          # under mpirun every rank holds the result; one prints it
+        return
     if args.json:
         print(json.dumps(payload))
     else:
