@@ -1,0 +1,306 @@
+"""Impact and stick/slip friction between the shroud and its neighbours (paper Eqs. 3-8).
+
+The law is written once, here, as small compiled pure functions on arrays,
+and serves every model: the reduced and full beam (two elements, one per
+side, on the rows [v_s, w_s] of Eq. 7) and the solid FE models (one element
+per contact-face node, weighted by its area share).
+
+Each element j acts on two projected coordinates of ``y = W q``: its normal
+displacement ``v = y[normal_row[j]]`` (along e_vs) and its tangential
+displacement ``w = y[tangent_row[j]]`` (along e_ws). With ``s = -1`` on side 1
+and ``s = +1`` on side 2 (shared/spec/geometry.md):
+
+* normal force, Eq. 3: ``N = max(0, N0 + s kn v)``; it pushes the blade along
+  ``-s e_vs`` (side 1 pushes +e_vs), so Eq. 8's ``N1 - N2`` is the sum of
+  ``-s N`` over both sides;
+* friction, Eqs. 4-6, as a return mapping on the slider (the contact point
+  ``z``, z_s2 / z_s3 of the paper): trial ``F = kt (z - w)``; stick if
+  ``|F| <= mu N`` (slider stays), else slip with ``F = mu N sign(z - w)`` and
+  the slider dragged to ``z = w + F / kt``; separated: ``F = 0``, ``z = w``.
+  ``F`` is the force on the blade along e_ws, so friction opposes relative
+  slip and dissipates (CONTRIBUTING.md sign note; Eq. 4 printed literally
+  would be a negative stiffness).
+
+Forces back on the projected coordinates: ``lam[normal_row] += -s N`` and
+``lam[tangent_row] += F``; the generalized force is ``W^T lam`` (Eq. 8 for the
+beam, where ``W`` carries the rotation by alpha).
+
+The implicit step needs ``y`` such that ``y = y_pred + Cc lam(y)`` (``Cc`` the
+contact compliance of the factorized Newmark operator). The law is piecewise
+linear, so for a fixed set of element states ``lam`` is affine in ``y`` and
+the equation is solved exactly; :func:`solve_contact` iterates over the
+states (a semi-smooth Newton / active-set method) until they reproduce
+themselves, with a residual line search as a guard against cycling.
+
+Units: N, m, N/m.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from shroud.params import Contact
+from shroud.system import ContactElements
+
+SEPARATE, STICK, SLIP = 0, 1, 2
+STATE_NAMES = ("separate", "stick", "slip")
+
+# Columns of ContactLaw.props.
+SIGN, KN, KT, MU, N0 = range(5)
+
+_PLAIN_ITERATIONS = 25     # full Newton (active-set) steps before the line search guard
+_MAX_ITERATIONS = 200
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """Per-element contact data in the compiled functions' layout.
+
+    rows[j] = (normal_row, tangent_row); props[j] = (s, kn, kt, mu, N0) with
+    s = -1 (side 1) or +1 (side 2), and kn, kt (N/m), N0 (N) the element's
+    weight times the side's totals; side[j] in {1, 2}; m the number of
+    projected coordinates.
+    """
+
+    rows: np.ndarray
+    props: np.ndarray
+    side: np.ndarray
+    weight: np.ndarray
+    m: int
+
+    @property
+    def count(self) -> int:
+        return int(self.side.size)
+
+
+def contact_law(elements: ContactElements | None, contact: Contact, m: int | None = None) -> ContactLaw:
+    """Element data from a model's contact points and the side totals of ``contact``.
+
+    ``elements=None`` or ``contact.enabled = False`` gives the empty law (free blade).
+    """
+    if elements is None or not contact.enabled:
+        return ContactLaw(rows=np.zeros((0, 2), np.int64), props=np.zeros((0, 5)),
+                          side=np.zeros(0, np.int64), weight=np.zeros(0), m=int(m or 0))
+    side = np.asarray(elements.side, dtype=np.int64)
+    weight = np.asarray(elements.weight, dtype=float)
+    props = np.empty((side.size, 5))
+    props[:, SIGN] = np.where(side == 1, -1.0, 1.0)
+    props[:, KN] = weight * contact.kn
+    props[:, KT] = weight * contact.kt
+    props[:, MU] = contact.mu
+    props[:, N0] = weight * contact.N0
+    rows = np.column_stack([np.asarray(elements.normal_row, np.int64),
+                            np.asarray(elements.tangent_row, np.int64)])
+    return ContactLaw(rows=rows, props=props, side=side, weight=weight, m=int(elements.W.shape[0]))
+
+
+@njit(cache=True)
+def normal_force(v, N0, kn, s):
+    """Eq. 3: N = max(0, N0 + s kn v_s), N (s = -1 side 1, +1 side 2)."""
+    N = N0 + s * kn * v
+    return N if N > 0.0 else 0.0
+
+
+@njit(cache=True)
+def friction_return_map(w, z, N, kt, mu):
+    """Eqs. 4-6 as a return mapping: (F on the blade along e_ws, new slider z, state)."""
+    if N <= 0.0:
+        return 0.0, w, SEPARATE
+    trial = kt * (z - w)
+    limit = mu * N
+    if abs(trial) <= limit:
+        return trial, z, STICK
+    F = limit if trial > 0.0 else -limit
+    return F, w + F / kt, SLIP          # kt > 0 here: |trial| > limit >= 0
+
+
+@njit(cache=True)
+def evaluate(y, z_old, rows, props, lam, N, F, z, state):
+    """The law at projected displacements ``y`` from sliders ``z_old``.
+
+    Fills per element N, F, z (new slider), state, and the forces ``lam`` on
+    the projected coordinates.
+    """
+    lam[:] = 0.0
+    for j in range(rows.shape[0]):
+        nr, tr = rows[j, 0], rows[j, 1]
+        s = props[j, SIGN]
+        N[j] = normal_force(y[nr], props[j, N0], props[j, KN], s)
+        F[j], z[j], state[j] = friction_return_map(y[tr], z_old[j], N[j], props[j, KT], props[j, MU])
+        lam[nr] -= s * N[j]
+        lam[tr] += F[j]
+
+
+@njit(cache=True)
+def _residual_norm(y, y_pred, Cc, lam):
+    r = 0.0
+    for i in range(y.size):
+        ri = y[i] - y_pred[i]
+        for l in range(y.size):
+            ri -= Cc[i, l] * lam[l]
+        r += ri * ri
+    return np.sqrt(r)
+
+
+@njit(cache=True)
+def _gauss_solve(A, b, n):
+    """Solve A[:n, :n] x = b[:n] in place (partial pivoting); x returned in b."""
+    for c in range(n):
+        p = c
+        for i in range(c + 1, n):
+            if abs(A[i, c]) > abs(A[p, c]):
+                p = i
+        if p != c:
+            for l in range(n):
+                A[c, l], A[p, l] = A[p, l], A[c, l]
+            b[c], b[p] = b[p], b[c]
+        for i in range(c + 1, n):
+            f = A[i, c] / A[c, c]
+            for l in range(c, n):
+                A[i, l] -= f * A[c, l]
+            b[i] -= f * b[c]
+    for c in range(n - 1, -1, -1):
+        acc = b[c]
+        for l in range(c + 1, n):
+            acc -= A[c, l] * b[l]
+        b[c] = acc / A[c, c]
+
+
+@njit(cache=True)
+def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, active, A, b):
+    """Exact y of ``y = y_pred + Cc lam(y)`` with the element states held fixed.
+
+    For fixed states lam = D y + e (D: -kn on contacting normals, -kt on
+    sticking tangents, mu sign(F) s kn coupling a slipping tangent to its
+    normal). D has non-zero columns only on the active coordinates A, so
+    (I - Cc D)[A, A] y_A = y_pred_A + (Cc e)_A is solved, then
+    y = y_pred + Cc e + (Cc D)[:, A] y_A.
+    """
+    m = y_pred.size
+    G[:, :] = 0.0                       # G = Cc D, built column by column
+    e[:] = 0.0
+    is_active = active                  # flags first, compacted below
+    is_active[:] = 0
+    for j in range(rows.shape[0]):
+        if state[j] == SEPARATE:
+            continue
+        nr, tr = rows[j, 0], rows[j, 1]
+        s, kn, kt, mu, n0 = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU], props[j, N0]
+        e[nr] -= s * n0
+        for i in range(m):
+            G[i, nr] -= kn * Cc[i, nr]
+        is_active[nr] = 1
+        if state[j] == STICK:
+            e[tr] += kt * z_old[j]
+            for i in range(m):
+                G[i, tr] -= kt * Cc[i, tr]
+            is_active[tr] = 1
+        else:
+            sigma = 1.0 if F[j] > 0.0 else -1.0
+            e[tr] += mu * sigma * n0
+            for i in range(m):
+                G[i, nr] += mu * sigma * s * kn * Cc[i, tr]
+    na = 0
+    for i in range(m):
+        if is_active[i]:
+            active[na] = i
+            na += 1
+    for i in range(m):                  # y_out = y_pred + Cc e
+        acc = y_pred[i]
+        for l in range(m):
+            acc += Cc[i, l] * e[l]
+        y_out[i] = acc
+    for a in range(na):
+        b[a] = y_out[active[a]]
+        for c in range(na):
+            A[a, c] = (1.0 if a == c else 0.0) - G[active[a], active[c]]
+    _gauss_solve(A, b, na)
+    for i in range(m):
+        acc = y_out[i]
+        for c in range(na):
+            acc += G[i, active[c]] * b[c]
+        y_out[i] = acc
+
+
+def workspace(law: ContactLaw):
+    """Scratch arrays for :func:`solve_contact` (allocated once per run)."""
+    m, k = law.m, law.count
+    return (np.zeros((m, m)), np.zeros(m), np.zeros(m, np.int64), np.zeros((m, m)), np.zeros(m),
+            np.zeros(m), np.zeros(m), np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k, np.int64),
+            np.zeros(k, np.int64), np.zeros(k))
+
+
+@njit(cache=True)
+def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
+    """The implicit contact step: y with ``y = y_pred + Cc lam(y)``, to round-off.
+
+    Starts from the predictor's states (the trial of a return mapping), then
+    repeats: evaluate the states at y, solve the affine problem they define
+    exactly, until the states reproduce themselves. Plain active-set steps
+    first; if they have not settled (a cycle between state sets), each step
+    is shortened until the residual decreases. Returns (iterations, converged).
+    On return ``lam, N, F, z, state`` are the law evaluated at ``y``.
+    """
+    G, e, active, A, b, y_try, lam_try, N_try, F_try, z_try, st_used, st_try, F_used = ws
+    y[:] = y_pred
+    evaluate(y, z_old, rows, props, lam, N, F, z, state)
+    r = _residual_norm(y, y_pred, Cc, lam)
+    scale = 0.0
+    for i in range(y.size):
+        scale = max(scale, abs(y_pred[i]))
+    for it in range(1, _MAX_ITERATIONS + 1):
+        st_used[:] = state
+        F_used[:] = F
+        _affine_solution(y_pred, Cc, z_old, rows, props, st_used, F_used, y_try, G, e, active, A, b)
+        evaluate(y_try, z_old, rows, props, lam_try, N_try, F_try, z_try, st_try)
+        r_try = _residual_norm(y_try, y_pred, Cc, lam_try)
+        if it > _PLAIN_ITERATIONS and r_try > r:
+            t = 0.5                      # guard: shorten the step until the residual drops
+            while t > 1e-12 and r_try > r:
+                for i in range(y.size):
+                    y_try[i] = y[i] + t * (y_try[i] - y[i])
+                evaluate(y_try, z_old, rows, props, lam_try, N_try, F_try, z_try, st_try)
+                r_try = _residual_norm(y_try, y_pred, Cc, lam_try)
+                t *= 0.5
+        y[:] = y_try
+        lam[:] = lam_try
+        N[:] = N_try
+        F[:] = F_try
+        z[:] = z_try
+        state[:] = st_try
+        r = r_try
+        same = True
+        for j in range(state.size):
+            if state[j] != st_used[j] or (state[j] == SLIP and (F[j] > 0.0) != (F_used[j] > 0.0)):
+                same = False
+                break
+        if same or r <= 1e-13 * (scale + 1e-300):
+            return it, True
+    return _MAX_ITERATIONS, False
+
+
+@njit(cache=True)
+def contact_energy(N, F, props):
+    """Energy stored in the contact springs: sum N^2/(2 kn) + F^2/(2 kt), J."""
+    E = 0.0
+    for j in range(N.size):
+        E += N[j] * N[j] / (2.0 * props[j, KN])
+        if props[j, KT] > 0.0:
+            E += F[j] * F[j] / (2.0 * props[j, KT])
+    return E
+
+
+@njit(cache=True)
+def friction_dissipation(F_old, F_new, z_old, z_new):
+    """Work dissipated by the sliders over one step, -sum mean(F) dz, J (>= 0 in slip).
+
+    With F = kt (z - w) at both ends of the step this closes the discrete
+    energy balance exactly: mean(F) dw = mean(F) dz - d(F^2 / 2 kt).
+    """
+    D = 0.0
+    for j in range(F_old.size):
+        D -= 0.5 * (F_old[j] + F_new[j]) * (z_new[j] - z_old[j])
+    return D

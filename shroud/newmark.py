@@ -1,0 +1,504 @@
+"""Newmark time integration with impact and stick/slip friction (paper Sect. 2.1, Eq. 9).
+
+    M q'' + C q' + K q = f_const + f_aero sin(omega_e t) + W^T lam(W q)
+
+Average-acceleration Newmark (gamma = 1/2, beta = 1/4, the paper's values)
+from a zero state. The linear step operator
+``K_eff = K + gamma/(beta dt) C + 1/(beta dt^2) M`` is factorized once; with
+``S = K_eff^-1``, ``Phi = S W^T`` and the contact compliance ``Cc = W Phi``
+one step is
+
+    q_pred = S (f(t+dt) + M (a0 q + a2 v + a3 a) + C (a1 q + a4 v + a5 a))
+    y      = W q_pred + Cc lam          (lam: contact forces of the step)
+    q'     = q_pred + Phi lam
+
+with ``lam = lam(y)`` solved exactly (``implicit``: the step's end state
+satisfies the contact law, shroud.contact.solve_contact) or taken from the
+start of the step (``explicit``, as the paper's scheme does).
+
+Two code paths, one per backend, doing the same arithmetic:
+
+* :func:`_reference_loop`: a plain Python loop, line by line the equations
+  above, with ``@`` products and a factorization's ``solve``. It is the
+  reference the tests hold the kernel to, and the backend for sparse or
+  PETSc-backed FE systems (``M, C, K`` support ``@``, ``+`` and scalar ``*``;
+  ``factorize(K_eff) -> solve`` may be a MUMPS factorization).
+* :func:`_dense_kernel`: the same step compiled with numba for dense systems
+  (reduced and full beam, reduced FE), multiplying by the precomputed inverse.
+
+Both record the tip displacements, the per-side resultants of the contact
+forces and states, and the energy balance over a final window. Units: SI.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+import scipy.sparse.linalg
+from numba import njit
+
+from shroud.contact import (SLIP, STICK, ContactLaw, contact_energy, evaluate,
+                            friction_dissipation, solve_contact, workspace)
+from shroud.errors import RunDiverged
+from shroud.log import Progress, warn
+from shroud.system import StructuralSystem
+
+OK, NOT_FINITE, UNBOUNDED = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class NewmarkScheme:
+    """Newmark-beta coefficients for step ``dt`` (s); defaults: average acceleration."""
+
+    dt: float
+    gamma: float = 0.5
+    beta: float = 0.25
+
+    def coefficients(self) -> tuple[float, ...]:
+        """(a0 .. a5) of the displacement form of the Newmark step."""
+        g, b, dt = self.gamma, self.beta, self.dt
+        return (1.0 / (b * dt * dt), g / (b * dt), 1.0 / (b * dt), 1.0 / (2.0 * b) - 1.0,
+                g / b - 1.0, dt * (g / (2.0 * b) - 1.0))
+
+
+@dataclass(frozen=True)
+class EnergyBalance:
+    """Energy flows over the window [start_step, end_step], J.
+
+    input_work (the load's) = damping + friction + change of kinetic, strain
+    and contact-spring energy + residual. The residual is what the time
+    discretization leaves: round-off for a smooth run, the trapezoidal error
+    of the steps that cross an impact kink, and the lag of the explicit
+    treatment.
+    """
+
+    start_step: int
+    end_step: int
+    input_work: float
+    damping: float
+    friction: float
+    kinetic_change: float
+    strain_change: float
+    contact_change: float
+    contact_work: float         # work of the contact forces as applied in the steps
+
+    @property
+    def residual(self) -> float:
+        return (self.input_work - self.damping - self.friction - self.kinetic_change
+                - self.strain_change - self.contact_change)
+
+    @property
+    def relative_error(self) -> float:
+        """|residual| / |input work| (input work > 0 in a forced steady state)."""
+        return abs(self.residual) / max(abs(self.input_work), 1e-300)
+
+    def to_json(self) -> dict[str, float]:
+        return {"input_work": self.input_work, "damping": self.damping, "friction": self.friction,
+                "kinetic_change": self.kinetic_change, "strain_change": self.strain_change,
+                "contact_change": self.contact_change,
+                "contact_work": self.contact_work, "relative_error": self.relative_error}
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """What one integration recorded, one row per step (row 0 is t = 0).
+
+    Per-side columns (side 1, side 2) are resultants over the side's
+    elements: normal force N and friction F (N), weighted mean w_s (m), and
+    the side's state (0 separate: no element touches; 2 slip: some element
+    slips; 1 stick otherwise).
+    """
+
+    dt: float
+    steps: int                  # steps completed
+    tip: np.ndarray             # (steps+1, 2): v_L, w_L, m
+    normal: np.ndarray          # (steps+1, 2): N1, N2, N
+    friction: np.ndarray        # (steps+1, 2): Ff1, Ff2, N
+    tangential: np.ndarray      # (steps+1, 2): w_s of side 1, 2, m
+    state: np.ndarray           # (steps+1, 2) int8
+    energy: EnergyBalance | None
+    contact_iterations: int     # most active-set iterations in one step
+    contact_unconverged: int    # steps whose contact solve hit the iteration limit
+    diverged: str | None        # cause, if the run left the bounded regime
+    elapsed_s: float
+    method: str                 # "kernel" | "reference"
+
+    @property
+    def t(self) -> np.ndarray:
+        return self.dt * np.arange(self.steps + 1)
+
+
+# --- pieces shared by both loops ---------------------------------------------------
+
+@njit(cache=True)
+def side_resultants(y, N, F, state, rows, side, weight, out_N, out_F, out_w, out_state):
+    """Per-side totals of N and F, weighted mean w_s, and side state, into out_*[0:2]."""
+    for s in range(2):
+        out_N[s] = 0.0
+        out_F[s] = 0.0
+        out_w[s] = 0.0
+        out_state[s] = 0
+    wsum = np.zeros(2)
+    for j in range(N.size):
+        s = side[j] - 1
+        out_N[s] += N[j]
+        out_F[s] += F[j]
+        out_w[s] += weight[j] * y[rows[j, 1]]
+        wsum[s] += weight[j]
+        if state[j] == SLIP:
+            out_state[s] = SLIP
+        elif state[j] == STICK and out_state[s] == 0:
+            out_state[s] = STICK
+    for s in range(2):
+        if wsum[s] > 0.0:
+            out_w[s] /= wsum[s]
+
+
+def contact_resolution(Cc: np.ndarray, law: ContactLaw) -> float:
+    """Steps per period of the stiffest contact motion, estimated from Cc.
+
+    With every element stuck, kn Cc ~ beta (omega_c dt)^2 for a contact mode
+    of frequency omega_c; the spectral radius rho of Cc D gives
+    omega_c dt ~ 2 sqrt(rho), i.e. 2 pi / (omega_c dt) steps per period.
+    """
+    if law.count == 0:
+        return math.inf
+    D = np.zeros((law.m, law.m))
+    for (nr, tr), p in zip(law.rows, law.props):
+        D[nr, nr] += p[1]
+        D[tr, tr] += p[2]
+    rho = float(np.max(np.abs(np.linalg.eigvals(Cc @ D))))
+    return math.inf if rho <= 0 else math.pi / math.sqrt(rho)
+
+
+def _dense(A) -> np.ndarray:
+    return A.toarray() if scipy.sparse.issparse(A) else np.asarray(A, dtype=float)
+
+
+def _is_dense(system: StructuralSystem) -> bool:
+    return all(isinstance(A, np.ndarray) for A in (system.M, system.C, system.K))
+
+
+def default_factorize(A) -> Callable[[np.ndarray], np.ndarray]:
+    """``solve(b)`` with ``A x = b``: LU for ndarray, SuperLU for scipy.sparse."""
+    if scipy.sparse.issparse(A):
+        return scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(A)).solve
+    lu = scipy.linalg.lu_factor(np.asarray(A, dtype=float))
+    return lambda b: scipy.linalg.lu_solve(lu, b)
+
+
+@dataclass(frozen=True)
+class _Step:
+    """The factorized step operator and its contact projections."""
+
+    solve: Callable[[np.ndarray], np.ndarray]
+    W: Any                     # (m, n)
+    Phi: np.ndarray            # (n, m) = S W^T
+    Cc: np.ndarray             # (m, m) = W S W^T
+
+
+def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme,
+                    factorize: Callable | None) -> _Step:
+    a0, a1 = scheme.coefficients()[:2]
+    K_eff = system.K + a0 * system.M + a1 * system.C
+    solve = (factorize or default_factorize)(K_eff)
+    n = system.dofs
+    if law.count:
+        W = system.contact.W
+        Wt = _dense(W.T)
+        Phi = np.column_stack([solve(Wt[:, i]) for i in range(Wt.shape[1])]).reshape(n, -1)
+        Cc = np.asarray(W @ Phi)
+    else:
+        W, Phi, Cc = np.zeros((0, n)), np.zeros((n, 0)), np.zeros((0, 0))
+    return _Step(solve=solve, W=W, Phi=Phi, Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc)
+
+
+def _symmetric(system: StructuralSystem) -> bool:
+    """C symmetric (no Coriolis) makes K_eff, hence Cc, symmetric: symmetrize round-off away."""
+    C = system.C
+    diff = C - C.T
+    return (abs(diff).max() if scipy.sparse.issparse(diff) else np.abs(diff).max()) == 0
+
+
+# --- the two loops ------------------------------------------------------------------
+
+@dataclass
+class _Record:
+    tip: np.ndarray
+    normal: np.ndarray
+    friction: np.ndarray
+    tangential: np.ndarray
+    state: np.ndarray
+    energy: np.ndarray         # input, damping, friction, contact work, contact energy at start, end
+    snap_q: np.ndarray         # q, v at the start of the energy window
+    snap_v: np.ndarray
+
+    @classmethod
+    def empty(cls, steps: int, n: int) -> "_Record":
+        return cls(tip=np.zeros((steps + 1, 2)), normal=np.zeros((steps + 1, 2)),
+                   friction=np.zeros((steps + 1, 2)), tangential=np.zeros((steps + 1, 2)),
+                   state=np.zeros((steps + 1, 2), np.int8), energy=np.zeros(6),
+                   snap_q=np.zeros(n), snap_v=np.zeros(n))
+
+
+def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q, v, rec, progress):
+    """Newmark step by step, as written in the module docstring (Python; any backend)."""
+    a0, a1, a2, a3, a4, a5 = scheme.coefficients()
+    dt, gamma, w_e = scheme.dt, scheme.gamma, system.omega_e
+    M, C, K, W, Phi, Cc = system.M, system.C, system.K, step.W, step.Phi, step.Cc
+    tip = system.tip
+    k, m = law.count, law.m
+    ws = workspace(law)
+    a = np.zeros_like(q)                               # zero initial acceleration (paper)
+    z = np.asarray(W @ q)[law.rows[:, 1]].copy() if k else np.zeros(0)
+    N, F, state, lam = np.zeros(k), np.zeros(k), np.zeros(k, np.int64), np.zeros(m)
+    y = np.asarray(W @ q) if k else np.zeros(0)
+    evaluate(y, z, law.rows, law.props, lam, N, F, z, state)
+    lam_eq = lam.copy()                                # contact force in Eq. 9 at the current time
+    _record_row(rec, 0, tip @ q, y, N, F, state, law)
+    iterations, unconverged = 0, 0
+    for i in range(steps):
+        t0, t1 = i * dt, (i + 1) * dt
+        f0 = system.f_const + math.sin(w_e * t0) * system.f_aero
+        f1 = system.f_const + math.sin(w_e * t1) * system.f_aero
+        rhs = f1 + M @ (a0 * q + a2 * v + a3 * a) + C @ (a1 * q + a4 * v + a5 * a)
+        q_pred = step.solve(rhs)
+        z_old, F_old, N_old, y_old = z.copy(), F.copy(), N.copy(), y.copy()
+        if k and implicit:                              # the law holds at t + dt
+            it, ok = solve_contact(np.asarray(W @ q_pred), Cc, z_old, law.rows, law.props,
+                                   y, lam, N, F, z, state, ws)
+            iterations, unconverged = max(iterations, it), unconverged + (not ok)
+        lam_step = lam.copy()                           # explicit: the law at t
+        q_new = q_pred + Phi @ lam_step
+        if k and not implicit:                          # the law at t + dt, for the next step
+            y = np.asarray(W @ q_new)
+            evaluate(y, z_old, law.rows, law.props, lam, N, F, z, state)
+        a_new = a0 * (q_new - q) - a2 * v - a3 * a
+        v_new = v + dt * ((1.0 - gamma) * a + gamma * a_new)
+        if i == window:
+            rec.snap_q[:], rec.snap_v[:] = q, v
+            rec.energy[4] = contact_energy(N_old, F_old, law.props)
+        if i >= window:
+            v_mid = 0.5 * (v + v_new)
+            rec.energy[:4] += (float((q_new - q) @ (0.5 * (f0 + f1))), dt * float(v_mid @ (C @ v_mid)),
+                               friction_dissipation(F_old, F, z_old, z) if k else 0.0,
+                               float((y - y_old) @ (0.5 * (lam_eq + lam_step))) if k else 0.0)
+        lam_eq = lam_step
+        q, v, a = q_new, v_new, a_new
+        tip_now = tip @ q
+        _record_row(rec, i + 1, tip_now, y, N, F, state, law)
+        if not np.all(np.isfinite(tip_now)):
+            return i + 1, NOT_FINITE, q, v, iterations, unconverged
+        if np.max(np.abs(tip_now)) > bound:
+            return i + 1, UNBOUNDED, q, v, iterations, unconverged
+        progress.update(i + 1)
+    rec.energy[5] = contact_energy(N, F, law.props)
+    return steps, OK, q, v, iterations, unconverged
+
+
+def _record_row(rec, i, tip_now, y, N, F, state, law):
+    rec.tip[i] = tip_now
+    out_state = np.zeros(2, np.int64)
+    side_resultants(y, N, F, state, law.rows, law.side, law.weight,
+                    rec.normal[i], rec.friction[i], rec.tangential[i], out_state)
+    rec.state[i] = out_state
+
+
+@njit(cache=True)
+def _dense_kernel(Aq, Av, Aa, Sfc, Sfa, fc, fa, C, w_e, dt, gamma, a0, a2, a3, steps,
+                  W, Phi, Cc, tip, rows, props, side, weight, implicit, bound, window,
+                  q, v, r_tip, r_N, r_F, r_w, r_state, energy, snap_q, snap_v, ws):
+    """The step of _reference_loop with S folded into Aq, Av, Aa, Sfc, Sfa (dense, compiled)."""
+    n, m, k = q.size, Cc.shape[0], rows.shape[0]
+    a = np.zeros(n)
+    q_new, v_new, a_new = np.zeros(n), np.zeros(n), np.zeros(n)
+    y, y_pred, y_old = np.zeros(m), np.zeros(m), np.zeros(m)
+    lam, lam_eq, lam_step = np.zeros(m), np.zeros(m), np.zeros(m)
+    N, F, F_old, N_old = np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k)
+    z, z_old = np.zeros(k), np.zeros(k)
+    state = np.zeros(k, np.int64)
+    out_state = np.zeros(2, np.int64)
+    for l in range(m):
+        y[l] = 0.0
+        for c in range(n):
+            y[l] += W[l, c] * q[c]
+    for j in range(k):
+        z[j] = y[rows[j, 1]]
+    z_old[:] = z
+    evaluate(y, z_old, rows, props, lam, N, F, z, state)
+    lam_eq[:] = lam
+    for s in range(2):
+        r_tip[0, s] = tip[s] @ q
+    side_resultants(y, N, F, state, rows, side, weight, r_N[0], r_F[0], r_w[0], out_state)
+    r_state[0, :] = out_state
+    iterations, unconverged = 0, 0
+    for i in range(steps):
+        s0 = math.sin(w_e * i * dt)
+        s1 = math.sin(w_e * (i + 1) * dt)
+        for r in range(n):
+            acc = Sfc[r] + s1 * Sfa[r]
+            for c in range(n):
+                acc += Aq[r, c] * q[c] + Av[r, c] * v[c] + Aa[r, c] * a[c]
+            q_new[r] = acc
+        z_old[:] = z
+        F_old[:] = F
+        N_old[:] = N
+        y_old[:] = y
+        if k > 0 and implicit:
+            for l in range(m):
+                acc = 0.0
+                for c in range(n):
+                    acc += W[l, c] * q_new[c]
+                y_pred[l] = acc
+            it, ok = solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws)
+            iterations = max(iterations, it)
+            if not ok:
+                unconverged += 1
+        lam_step[:] = lam
+        for r in range(n):
+            acc = q_new[r]
+            for l in range(m):
+                acc += Phi[r, l] * lam_step[l]
+            q_new[r] = acc
+        if k > 0 and not implicit:
+            for l in range(m):
+                acc = 0.0
+                for c in range(n):
+                    acc += W[l, c] * q_new[c]
+                y[l] = acc
+            evaluate(y, z_old, rows, props, lam, N, F, z, state)
+        for r in range(n):
+            a_new[r] = a0 * (q_new[r] - q[r]) - a2 * v[r] - a3 * a[r]
+            v_new[r] = v[r] + dt * ((1.0 - gamma) * a[r] + gamma * a_new[r])
+        if i == window:
+            snap_q[:] = q
+            snap_v[:] = v
+            energy[4] = contact_energy(N_old, F_old, props)
+        if i >= window:
+            w_in, d_damp, w_c = 0.0, 0.0, 0.0
+            for r in range(n):
+                w_in += (q_new[r] - q[r]) * (fc[r] + 0.5 * (s0 + s1) * fa[r])
+                cv = 0.0
+                for c in range(n):
+                    cv += C[r, c] * 0.5 * (v[c] + v_new[c])
+                d_damp += dt * 0.5 * (v[r] + v_new[r]) * cv
+            for l in range(m):
+                w_c += (y[l] - y_old[l]) * 0.5 * (lam_eq[l] + lam_step[l])
+            energy[0] += w_in
+            energy[1] += d_damp
+            energy[2] += friction_dissipation(F_old, F, z_old, z)
+            energy[3] += w_c
+        lam_eq[:] = lam_step
+        q[:] = q_new
+        v[:] = v_new
+        a[:] = a_new
+        for s in range(2):
+            acc = 0.0
+            for c in range(n):
+                acc += tip[s, c] * q[c]
+            r_tip[i + 1, s] = acc
+        side_resultants(y, N, F, state, rows, side, weight, r_N[i + 1], r_F[i + 1], r_w[i + 1], out_state)
+        r_state[i + 1, :] = out_state
+        for s in range(2):
+            if not math.isfinite(r_tip[i + 1, s]):
+                return i + 1, NOT_FINITE, iterations, unconverged
+            if abs(r_tip[i + 1, s]) > bound:
+                return i + 1, UNBOUNDED, iterations, unconverged
+    energy[5] = contact_energy(N, F, props)
+    return steps, OK, iterations, unconverged
+
+
+def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v, rec):
+    n = system.dofs
+    a0, a1, a2, a3, a4, a5 = scheme.coefficients()
+    M, C = _dense(system.M), _dense(system.C)
+    S = step.solve(np.eye(n))                                  # K_eff^-1 (n <= a few hundred)
+    Aq, Av, Aa = S @ (a0 * M + a1 * C), S @ (a2 * M + a4 * C), S @ (a3 * M + a5 * C)
+    W = _dense(step.W) if law.count else np.zeros((0, n))
+    done, status, iterations, unconverged = _dense_kernel(
+        Aq, Av, Aa, S @ system.f_const, S @ system.f_aero, np.asarray(system.f_const, float),
+        np.asarray(system.f_aero, float), C, float(system.omega_e), scheme.dt, scheme.gamma,
+        a0, a2, a3, steps, W, step.Phi, step.Cc, _dense(system.tip), law.rows, law.props, law.side,
+        law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
+        rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, workspace(law))
+    return done, status, q, v, iterations, unconverged
+
+
+def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, steps: int,
+              implicit: bool = True, method: str = "auto", energy_window: int | None = None,
+              bound: float = math.inf, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
+              factorize: Callable | None = None, label: str = "transient") -> Trajectory:
+    """Integrate ``steps`` Newmark steps of ``system`` with contact ``law`` (paper Eq. 9).
+
+    ``method``: "kernel" (compiled; dense systems), "reference" (Python loop;
+    any backend) or "auto" (kernel when M, C, K are ndarrays).
+    ``energy_window``: number of final steps over which the energy balance is
+    accumulated (default: none). ``bound``: largest admissible |v_L|, |w_L|
+    (m); beyond it, or on a non-finite value, the run stops and the
+    trajectory so far is returned with ``diverged`` naming the cause.
+    ``q0, v0``: initial state (default zero, as the paper; the acceleration
+    starts at zero either way).
+    """
+    method = ("kernel" if _is_dense(system) else "reference") if method == "auto" else method
+    if method == "kernel" and not _is_dense(system):
+        raise ValueError("the compiled kernel needs dense M, C, K; use method='reference'")
+    t_start = time.perf_counter()
+    step = _factorize_step(system, law, scheme, factorize)
+    if not implicit and law.count:
+        per_period = contact_resolution(step.Cc, law)
+        if per_period < 10:
+            warn(f"time step {scheme.dt:.3g} s is too coarse for the explicit contact treatment: "
+                 f"the stiffest contact motion (kn = {law.props[:, 1].max():.3g} N/m per element) "
+                 f"has a period of ~{per_period:.1f} steps (< 10); use time.contact = \"implicit\" "
+                 "or more time.steps_per_period")
+    n = system.dofs
+    q = np.zeros(n) if q0 is None else np.array(q0, dtype=float)
+    v = np.zeros(n) if v0 is None else np.array(v0, dtype=float)
+    window = steps - energy_window if energy_window else steps + 1
+    rec = _Record.empty(steps, n)
+    if method == "kernel":
+        done, status, q, v, iterations, unconverged = _run_kernel(
+            system, law, scheme, steps, implicit, bound, window, step, q, v, rec)
+    else:
+        progress = Progress(label, steps)
+        done, status, q, v, iterations, unconverged = _reference_loop(
+            system, law, scheme, steps, implicit, bound, window, step, q, v, rec, progress)
+        progress.done()
+    energy = None
+    if status == OK and energy_window:
+        energy = _energy_balance(system, rec, q, v, window, steps)
+    cause = None
+    if status != OK:
+        t = done * scheme.dt
+        cause = (f"non-finite displacement at step {done} (t = {t:.4g} s)" if status == NOT_FINITE else
+                 f"tip displacement beyond {bound:.3g} m at step {done} (t = {t:.4g} s): "
+                 "the response grows without bound")
+    if unconverged:
+        warn(f"the contact solve did not settle in {unconverged} of {done} steps "
+             "(element states kept cycling); results near those steps are approximate")
+    sl = slice(0, done + 1)
+    return Trajectory(dt=scheme.dt, steps=done, tip=rec.tip[sl], normal=rec.normal[sl],
+                      friction=rec.friction[sl], tangential=rec.tangential[sl], state=rec.state[sl],
+                      energy=energy, contact_iterations=int(iterations),
+                      contact_unconverged=int(unconverged), diverged=cause,
+                      elapsed_s=time.perf_counter() - t_start, method=method)
+
+
+def _energy_balance(system, rec, q, v, window, steps) -> EnergyBalance:
+    """Close the balance with kinetic and strain energies at both ends of the window."""
+    def mechanical(qq, vv):
+        return 0.5 * float(vv @ (system.M @ vv)), 0.5 * float(qq @ (system.K @ qq))
+
+    kin0, str0 = mechanical(rec.snap_q, rec.snap_v)
+    kin1, str1 = mechanical(q, v)
+    w_input, d_damp, d_fric, w_contact, e_c0, e_c1 = rec.energy
+    return EnergyBalance(start_step=window, end_step=steps, input_work=float(w_input),
+                         damping=float(d_damp), friction=float(d_fric),
+                         kinetic_change=kin1 - kin0, strain_change=str1 - str0,
+                         contact_change=float(e_c1 - e_c0), contact_work=float(w_contact))
