@@ -167,6 +167,7 @@ def beam_matrices(blade: Blade, material: Material, tip_mass: float, N: int) -> 
 
     # mass of a translating section plus the point mass of the shroud
     m_line = _gram(phi, rho * A * one, phi, wq) + tip_mass * tip_outer
+    m_line = 0.5 * (m_line + m_line.T)             # exact symmetry keeps G exactly skew
     rotary = {(PY, PY): _gram(phi, rho * I.YY, phi, wq), (PZ, PZ): _gram(phi, rho * I.ZZ, phi, wq),
               (PY, PZ): _gram(phi, rho * I.YZ, phi, wq)}
     M = np.zeros((n, n))
@@ -200,7 +201,8 @@ def beam_matrices(blade: Blade, material: Material, tip_mass: float, N: int) -> 
 
     # Coriolis 2 Omega e_Z x u_dot and Euler Omega_dot e_Z x u: both couple u and v_Y
     G1 = np.zeros((n, n))
-    G1[U, V], G1[V, U] = -2.0 * m_line, 2.0 * m_line
+    G1[U, V] = -2.0 * m_line
+    G1[V, U] = -G1[U, V].T
     K_acc1 = 0.5 * G1
 
     radius_load = _load(phi, rho * A * (Rd + x), wq) + tip_mass * (Rd + L) * t
