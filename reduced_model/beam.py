@@ -221,6 +221,8 @@ def beam_matrices(blade: Blade, material: Material, tip_mass: float, N: int) -> 
     tip_radial = np.zeros(n)
     tip_radial[U] = t
 
+    # quadrature sums are symmetric only to round-off; make them exactly so
+    M, K_e, K_c1, K_s1 = (0.5 * (X + X.T) for X in (M, K_e, K_c1, K_s1))
     arrays = dict(M=M, K_e=K_e, K_c1=K_c1, K_s1=K_s1, G1=G1, K_acc1=K_acc1, f_c1=f_c1,
                   f_aero1=f_aero1, f_acc1=f_acc1, tip=tip, tip_radial=tip_radial)
     for a in arrays.values():

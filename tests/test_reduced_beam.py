@@ -60,7 +60,7 @@ def timoshenko_tip_mass(L, A, I, k, m_tip, count, f_max):
         T = scipy.linalg.expm(Amat * L)
         rows = np.array([T[2, 2:], T[3, 2:] - m_tip * om2 * T[0, 2:]])
         return np.linalg.det(rows) / np.abs(T).max() ** 2
-    return roots(det, f_max, count)
+    return roots(det, f_max, count, steps=600)
 
 
 def frequencies_by_label(params, rpm=0.0, n=12):
