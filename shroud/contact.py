@@ -239,9 +239,12 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
 
     Starts from the predictor's states (the trial of a return mapping), then
     repeats: evaluate the states at y, solve the affine problem they define
-    exactly, until the states reproduce themselves. Plain active-set steps
-    first; if they have not settled (a cycle between state sets), each step
-    is shortened until the residual decreases. Returns (iterations, converged).
+    exactly, until the states reproduce themselves. A slip whose direction
+    reverses between two iterations is tried as stick first (the stick range
+    lies between the two slip directions; jumping across it makes plain
+    Newton cycle). If the states still have not settled after a number of
+    plain steps, each step is shortened until the residual decreases.
+    Returns (iterations, converged).
     On return ``lam, N, F, z, state`` are the law evaluated at ``y``.
     """
     G, e, active, A, b, y_try, lam_try, N_try, F_try, z_try, st_used, st_try, F_used = ws
@@ -251,13 +254,15 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
     scale = 0.0
     for i in range(y.size):
         scale = max(scale, abs(y_pred[i]))
+    st_used[:] = state
+    F_used[:] = F
     for it in range(1, _MAX_ITERATIONS + 1):
-        st_used[:] = state
-        F_used[:] = F
         _affine_solution(y_pred, Cc, z_old, rows, props, st_used, F_used, y_try, G, e, active, A, b)
         evaluate(y_try, z_old, rows, props, lam_try, N_try, F_try, z_try, st_try)
         r_try = _residual_norm(y_try, y_pred, Cc, lam_try)
+        full_step = True
         if it > _PLAIN_ITERATIONS and r_try > r:
+            full_step = False
             t = 0.5                      # guard: shorten the step until the residual drops
             while t > 1e-12 and r_try > r:
                 for i in range(y.size):
@@ -272,13 +277,19 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
         z[:] = z_try
         state[:] = st_try
         r = r_try
-        same = True
-        for j in range(state.size):
+        same = full_step                 # y is the exact solution for the states used ...
+        for j in range(state.size):      # ... and they reproduce themselves
             if state[j] != st_used[j] or (state[j] == SLIP and (F[j] > 0.0) != (F_used[j] > 0.0)):
                 same = False
                 break
         if same or r <= 1e-13 * (scale + 1e-300):
             return it, True
+        for j in range(state.size):      # next state set: the states at y, except that a slip
+            if state[j] == SLIP and st_used[j] == SLIP and (F[j] > 0.0) != (F_used[j] > 0.0):
+                st_used[j] = STICK       # that reversed passes through stick first
+            else:
+                st_used[j] = state[j]
+            F_used[j] = F[j]
     return _MAX_ITERATIONS, False
 
 

@@ -1,0 +1,147 @@
+"""The contact law (paper Eqs. 3-6) against hand values, the Masing loop and brute force."""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from shroud.contact import (SEPARATE, SLIP, STICK, contact_law, evaluate, friction_return_map,
+                            normal_force, solve_contact, workspace)
+from shroud.params import Contact
+from shroud.system import ContactElements
+
+
+def test_normal_force_eq3_both_sides_gap_and_preload():
+    kn = 1e7
+    # side 1 (s = -1): N1 = N0 - kn v_s ; side 2 (s = +1): N2 = N0 + kn v_s
+    assert normal_force(-2e-6, 0.0, kn, -1.0) == pytest.approx(20.0)
+    assert normal_force(+2e-6, 0.0, kn, -1.0) == 0.0
+    assert normal_force(+2e-6, 0.0, kn, +1.0) == pytest.approx(20.0)
+    gap = 1e-4                                   # N0 = -kn gap: no force until the gap closes
+    assert normal_force(0.9 * gap, -kn * gap, kn, 1.0) == 0.0
+    assert normal_force(1.1 * gap, -kn * gap, kn, 1.0) == pytest.approx(0.1 * kn * gap)
+    assert normal_force(0.0, 50.0, kn, -1.0) == 50.0   # preload at rest
+
+
+def test_return_mapping_stick_slip_separate():
+    kt, mu, N = 1e7, 0.3, 10.0                   # slip threshold mu N / kt = 3e-7 m
+    F, z, s = friction_return_map(1e-7, 0.0, N, kt, mu)
+    assert s == STICK and z == 0.0 and F == pytest.approx(-1.0)        # restoring, on the blade
+    F, z, s = friction_return_map(1e-6, 0.0, N, kt, mu)
+    assert s == SLIP and F == pytest.approx(-mu * N)                   # opposes the slip
+    assert z == pytest.approx(1e-6 - 3e-7)                             # slider dragged behind
+    F, z, s = friction_return_map(-1e-6, 0.0, N, kt, mu)
+    assert s == SLIP and F == pytest.approx(mu * N)
+    F, z, s = friction_return_map(5e-6, 1e-6, 0.0, kt, mu)
+    assert s == SEPARATE and F == 0.0 and z == 5e-6                    # slider follows (Eq. 5)
+    F, z, s = friction_return_map(1e-6, 0.0, N, kt, 0.0)
+    assert F == 0.0 and z == 1e-6                                      # mu = 0: no friction
+
+
+def test_friction_loop_dissipates_the_masing_energy():
+    """Cyclic w = a sin(t) at constant N: work on the blade per cycle = -4 mu N (a - mu N / kt)."""
+    kt, mu, N, a = 1e7, 0.3, 10.0, 2e-6
+    w = a * np.sin(np.linspace(0.0, 4 * np.pi, 40001))
+    z, F = 0.0, np.zeros(w.size)
+    for i, wi in enumerate(w):
+        F[i], z, _ = friction_return_map(wi, z, N, kt, mu)
+    half = w.size // 2                           # second cycle: the loop is closed
+    work = np.sum(0.5 * (F[half + 1:] + F[half:-1]) * np.diff(w[half:]))
+    exact = -4 * mu * N * (a - mu * N / kt)
+    assert work < 0
+    assert work == pytest.approx(exact, rel=1e-4)
+
+
+def _random_case(rng, k_scale):
+    """Two elements (sides 1, 2) on shared rows [v_s, w_s], as the beam has."""
+    el = ContactElements(W=np.eye(2), normal_row=np.array([0, 0]), tangent_row=np.array([1, 1]),
+                         side=np.array([1, 2]), weight=np.array([1.0, 1.0]))
+    law = contact_law(el, Contact(kn=k_scale, kt=rng.uniform(0.2, 1.5) * k_scale,
+                                  mu=rng.uniform(0.05, 0.8), N0=rng.uniform(-5, 20)))
+    B = rng.normal(size=(2, 2))
+    Cc = (B @ B.T + 0.1 * np.eye(2)) * rng.uniform(0.1, 10) / k_scale
+    y_pred = rng.normal(size=2) * 3 / k_scale * 10
+    z_old = rng.normal(size=2) * 1 / k_scale * 10
+    return law, Cc, y_pred, z_old
+
+
+def _brute_force(law, Cc, y_pred, z_old):
+    """Every combination of (separate, stick, slip+, slip-) per element; keep the consistent ones."""
+    sols = []
+    for combo in itertools.product(range(4), repeat=law.count):
+        D, e = np.zeros((2, 2)), np.zeros(2)
+        for j, c in enumerate(combo):
+            s, kn, kt, mu, n0 = law.props[j]
+            if c == 0:
+                continue
+            D[0, 0] -= kn
+            e[0] -= s * n0
+            if c == 1:
+                D[1, 1] -= kt
+                e[1] += kt * z_old[j]
+            else:
+                sigma = 1.0 if c == 2 else -1.0
+                D[1, 0] += mu * sigma * s * kn
+                e[1] += mu * sigma * n0
+        y = np.linalg.solve(np.eye(2) - Cc @ D, y_pred + Cc @ e)
+        ok = True
+        for j, c in enumerate(combo):
+            s, kn, kt, mu, n0 = law.props[j]
+            N = n0 + s * kn * y[0]
+            trial = kt * (z_old[j] - y[1])
+            if c == 0:
+                ok &= N <= 0
+            elif c == 1:
+                ok &= N > 0 and abs(trial) <= mu * N
+            else:
+                ok &= N > 0 and abs(trial) > mu * N and np.sign(trial) == (1 if c == 2 else -1)
+        if ok:
+            sols.append(y)
+    return sols
+
+
+@pytest.mark.parametrize("k_scale", [1e6, 1e7, 1e10])
+def test_implicit_contact_solve_matches_brute_force(k_scale):
+    rng = np.random.default_rng(7)
+    checked = 0
+    for _ in range(300):
+        law, Cc, y_pred, z_old = _random_case(rng, k_scale)
+        sols = _brute_force(law, Cc, y_pred, z_old)
+        y, lam = np.zeros(2), np.zeros(2)
+        N, F, z, state = np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2, np.int64)
+        it, ok = solve_contact(y_pred, Cc, z_old, law.rows, law.props, y, lam, N, F, z, state,
+                               workspace(law))
+        assert ok
+        # the end state satisfies the law: y = y_pred + Cc lam(y)
+        lam2, N2, F2, z2, s2 = np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2, np.int64)
+        evaluate(y, z_old, law.rows, law.props, lam2, N2, F2, z2, s2)
+        scale = np.abs(y_pred).max() + np.abs(Cc @ lam2).max()
+        assert np.abs(y - y_pred - Cc @ lam2).max() <= 1e-10 * scale
+        if len(sols) == 1:                       # unique solution: the same one
+            assert np.allclose(y, sols[0], rtol=1e-9, atol=1e-12 * scale)
+            checked += 1
+    assert checked > 250
+
+
+def test_many_elements_fixed_point():
+    """FE-like: 40 elements per side with area weights on 160 projected coordinates."""
+    rng = np.random.default_rng(3)
+    k = 80
+    m = 2 * k
+    side = np.repeat([1, 2], k // 2)
+    weight = np.concatenate([rng.dirichlet(np.ones(k // 2)), rng.dirichlet(np.ones(k // 2))])
+    el = ContactElements(W=np.eye(m), normal_row=np.arange(0, m, 2), tangent_row=np.arange(1, m, 2),
+                         side=side, weight=weight)
+    law = contact_law(el, Contact(kn=1e8, kt=5e7, mu=0.3, N0=20.0))
+    B = rng.normal(size=(m, m)) / math.sqrt(m)
+    Cc = (B @ B.T + 0.05 * np.eye(m)) * 1e-7
+    y_pred = rng.normal(size=m) * 1e-6
+    y_pred[np.arange(0, m, 2)] += np.where(side == 1, 1e-6, -1e-6)   # pushed into both faces
+    z_old = rng.normal(size=k) * 1e-7
+    y, lam = np.zeros(m), np.zeros(m)
+    N, F, z, state = np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k, np.int64)
+    it, ok = solve_contact(y_pred, Cc, z_old, law.rows, law.props, y, lam, N, F, z, state, workspace(law))
+    assert ok
+    assert set(np.unique(state)) >= {SEPARATE, STICK}
+    assert np.abs(y - y_pred - Cc @ lam).max() <= 1e-10 * np.abs(y_pred).max()
