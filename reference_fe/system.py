@@ -1,0 +1,161 @@
+"""The solid blade as a shroud.system.StructuralSystem: models "fe" and "fe-reduced".
+
+    M q'' + (D + G) q' + (K_e + K_sigma + K_spin) q = f_aero F0 sin(ke Omega t) + W^T lam(W q)
+
+(paper Eq. 9 for the 3D solid; operators from reference_fe.solid). ``q`` is
+the displacement measured from the centrifugal equilibrium u0 about which
+the stiffness is linearized (K_e u0 = f_c, linear prestress), so the
+constant centrifugal load does not appear: the neighbours sit in the same
+steady state (cyclic symmetry), and N0 is the preload at the running speed.
+At 10000 r/min u0 moves the contact faces by 0.2 um along the contact
+normal, against vibration amplitudes of tens of um.
+
+D = alpha M + beta K is Rayleigh damping (Eq. 2) on the first two undamped
+frequencies at the run's speed (without Coriolis, as the beam model).
+
+Contact: one element per contact-face node with its area share of the
+side's k_n, k_t and N_0 (reference_fe.contact_faces); the tip outputs
+v_L, w_L are the shroud centre's displacement along e_v(L), e_w(L).
+
+"fe-reduced" projects all of it on the free-interface basis of
+reference_fe.cms: ``fe.cms_modes`` normal modes plus the residual
+attachment modes of every contact force direction and of the aerodynamic
+load. The basis makes M = I and K diagonal; the reduced operators are
+cached on disk by what shapes them (mesh, material, speed, kept modes), so a
+second run at the same speed does not touch DOLFINx at all.
+
+The "fe" system is serial (scipy sparse on the free DOFs): the time loop of
+shroud.newmark factorizes its step operator once (MUMPS through PETSc) and
+condenses the contact onto the face nodes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+
+from shroud.cache import cached
+from shroud.damping import rayleigh
+from shroud.params import Parameters
+from shroud.system import ContactElements, StructuralSystem
+
+
+@dataclasses.dataclass(frozen=True)
+class _Solid:
+    """The full solid at one speed on its free DOFs, with its contact and tip rows."""
+
+    M: sp.csr_matrix
+    K: sp.csr_matrix
+    G: sp.csr_matrix
+    f_aero: np.ndarray           # F_e = 1 N/m along e_v over the blade
+    tip: sp.csr_matrix           # (2, n)
+    contact: ContactElements | None
+
+
+def _has_contact(params: Parameters) -> bool:
+    return params.contact.enabled and params.shroud.thickness > 0
+
+
+def _solid(params: Parameters, rpm: float) -> _Solid:
+    from reference_fe.contact_faces import contact_elements, contact_faces, tip_frame, tip_rows
+    from reference_fe.solid import rotating_operators, solid_model
+
+    model = solid_model(params)
+    ops = rotating_operators(params, rpm).free()
+    frame = tip_frame(params)
+    if params.shroud.thickness > 0:
+        faces = contact_faces(model.V, model.facet_tags, model.contact_tags, params)
+        tip = tip_rows(faces, frame, ops.free_index, ops.n)
+        contact = contact_elements(faces, frame, ops.free_index, ops.n) if _has_contact(params) else None
+    else:                               # no shroud: the embedded tip-centre node
+        centre = ops.free_index[model.tip_dofs[0]]
+        tip = sp.csr_matrix((np.concatenate([frame.e_v, frame.e_w]),
+                             (np.repeat([0, 1], 3), np.tile(centre, 2))), shape=(2, ops.n))
+        contact = None
+    return _Solid(M=ops.M, K=ops.K, G=ops.G, f_aero=ops.f_aero, tip=tip, contact=contact)
+
+
+def _damping_coefficients(params: Parameters, f1: float, f2: float) -> tuple[float, float]:
+    return rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
+
+
+def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
+    """The "fe" (``reduced=False``) or "fe-reduced" system at ``params.speed.rpm``."""
+    t0 = time.perf_counter()
+    system = reduced_system(params) if reduced else full_system(params)
+    return dataclasses.replace(system, build_s=time.perf_counter() - t0)
+
+
+def full_system(params: Parameters) -> StructuralSystem:
+    """The solid FE model on its free DOFs (scipy sparse), SI units."""
+    from reference_fe.cms import factorize, normal_modes
+
+    solid = _solid(params, params.speed.rpm)
+    omega2, _ = normal_modes(solid.K, solid.M, 2, factorize(solid.K))
+    a, b = _damping_coefficients(params, *(np.sqrt(omega2) / (2 * math.pi)))
+    n = solid.M.shape[0]
+    return StructuralSystem(
+        model="fe", M=solid.M, C=(a * solid.M + b * solid.K + solid.G).tocsr(), K=solid.K,
+        f_const=np.zeros(n), f_aero=params.load.F0 * solid.f_aero,
+        omega_e=params.load.ke * params.speed.omega, tip=solid.tip, contact=solid.contact)
+
+
+def reduction_inputs(params: Parameters, rpm: float) -> dict:
+    """Exactly what shapes the reduced operators (the cache key)."""
+    from meshes.blade import MeshSpec
+    return {"mesh": dataclasses.asdict(MeshSpec.from_params(params)),
+            "material": dataclasses.asdict(params.material), "rpm": float(rpm),
+            "cms_modes": params.fe.cms_modes, "contact": _has_contact(params)}
+
+
+def reduced_operators(params: Parameters, rpm: float | None = None) -> Path:
+    """Path of the cached .npz of the reduced operators at ``rpm`` (built if missing)."""
+    rpm = params.speed.rpm if rpm is None else float(rpm)
+    return cached("fe_reduction", reduction_inputs(params, rpm), ".npz",
+                  lambda path: _build_reduction(params, rpm, path), what="FE reduction basis")
+
+
+def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
+    from reference_fe.cms import factorize, free_interface_basis, project
+    from shroud.log import info
+
+    solid = _solid(params, rpm)
+    W = solid.contact.W if solid.contact is not None else sp.csr_matrix((0, solid.M.shape[0]))
+    forces = np.column_stack([W.T.toarray(), solid.f_aero])
+    t0 = time.perf_counter()
+    basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, forces, lu=factorize(solid.K))
+    info(f"FE reduction at {rpm:g} r/min: {solid.M.shape[0]} DOF -> {basis.n_modes} modes + "
+         f"{basis.n_attachment} attachment modes in {time.perf_counter() - t0:.1f} s")
+    T = basis.T
+    contact = solid.contact
+    with open(path, "wb") as fh:
+        np.savez(fh, omega2=basis.omega2, n_modes=basis.n_modes, full_dofs=solid.M.shape[0],
+                 G=project(basis, solid.G), f_aero=T.T @ solid.f_aero, tip=np.asarray(solid.tip @ T),
+                 W=np.asarray(W @ T),
+                 normal_row=contact.normal_row if contact else np.zeros(0, int),
+                 tangent_row=contact.tangent_row if contact else np.zeros(0, int),
+                 side=contact.side if contact else np.zeros(0, int),
+                 weight=contact.weight if contact else np.zeros(0))
+
+
+def reduced_system(params: Parameters) -> StructuralSystem:
+    """The solid projected on its free-interface basis (dense, M = I, K diagonal), SI units."""
+    with np.load(reduced_operators(params)) as data:
+        d = {k: data[k] for k in data.files}
+    omega2 = d["omega2"]
+    f1, f2 = np.sqrt(omega2[:2]) / (2 * math.pi)        # the two lowest normal modes lead the basis
+    a, b = _damping_coefficients(params, f1, f2)
+    r = omega2.size
+    contact = None
+    if d["side"].size:
+        contact = ContactElements(W=d["W"], normal_row=d["normal_row"], tangent_row=d["tangent_row"],
+                                  side=d["side"], weight=d["weight"])
+    return StructuralSystem(
+        model="fe-reduced", M=np.eye(r), C=np.diag(a + b * omega2) + d["G"], K=np.diag(omega2),
+        f_const=np.zeros(r), f_aero=params.load.F0 * d["f_aero"],
+        omega_e=params.load.ke * params.speed.omega, tip=d["tip"], contact=contact)
