@@ -1,0 +1,164 @@
+"""Newmark with contact against exact solutions: the discrete oscillator, harmonic steady
+states, an impact oscillator, a Coulomb-braked block, and the kernel against the reference."""
+
+import math
+
+import numpy as np
+import pytest
+
+from shroud.contact import contact_law
+from shroud.newmark import NewmarkScheme, integrate
+from shroud.params import Contact
+from shroud.system import ContactElements, StructuralSystem
+
+
+def two_sided(n, W):
+    """Side 1 and side 2 on shared rows [v_s, w_s], as the beam has."""
+    return ContactElements(W=W, normal_row=np.array([0, 0]), tangent_row=np.array([1, 1]),
+                           side=np.array([1, 2]), weight=np.array([1.0, 1.0]))
+
+
+def system(M, C, K, f_aero, omega_e, W=None, tip=None, f_const=None):
+    n = len(M)
+    M, C, K = (np.atleast_2d(np.asarray(A, float)) for A in (M, C, K))
+    tip = np.eye(2, n) if tip is None else tip
+    return StructuralSystem(model="test", M=M, C=C, K=K, f_const=np.zeros(n) if f_const is None else f_const,
+                            f_aero=np.asarray(f_aero, float), omega_e=omega_e, tip=tip,
+                            contact=None if W is None else two_sided(n, W))
+
+
+def no_contact(n):
+    return contact_law(None, Contact(), m=0)
+
+
+def test_undamped_oscillator_is_the_exact_discrete_solution():
+    """Average acceleration: q_n = q_1 sin(n theta)/sin(theta), theta = 2 atan(omega dt / 2)."""
+    w, dt, V = 2 * math.pi * 50.0, 1e-3, 0.3
+    sys_ = system([[2.0]], [[0.0]], [[2.0 * w * w]], [0.0], 1.0, tip=np.array([[1.0], [0.0]]))
+    tr = integrate(sys_, no_contact(1), NewmarkScheme(dt=dt), 2000, v0=[V], method="reference")
+    theta = 2 * math.atan(w * dt / 2)
+    q1 = dt * V / (1 + (w * dt) ** 2 / 4)
+    exact = q1 * np.sin(np.arange(2001) * theta) / math.sin(theta)
+    assert np.abs(tr.tip[:, 0] - exact).max() < 1e-12 * V / w
+
+
+@pytest.mark.parametrize("method", ["kernel", "reference"])
+def test_gyroscopic_2dof_steady_state_matches_frequency_domain(method):
+    """M q'' + (D + G) q' + K q = f sin(W t): amplitude |(K - W^2 M + i W (D + G))^-1 f|, O(dt^2)."""
+    M = np.diag([1.0, 1.5])
+    K = np.array([[4.0e4, -1.0e4], [-1.0e4, 6.0e4]])
+    G = np.array([[0.0, 30.0], [-30.0, 0.0]])
+    D = 0.002 * K + 2.0 * M
+    f = np.array([1.0, 0.3])
+    We = 190.0
+    sys_ = system(M, D + G, K, f, We)
+    spp, periods = 256, 60
+    tr = integrate(sys_, no_contact(2), NewmarkScheme(dt=2 * math.pi / We / spp), spp * periods,
+                   method=method, energy_window=10 * spp)
+    Q = np.linalg.solve(K - We ** 2 * M + 1j * We * (D + G), f)
+    last = tr.tip[-10 * spp - 1:]
+    amp = 0.5 * (last.max(axis=0) - last.min(axis=0))
+    assert amp == pytest.approx(np.abs(Q), rel=2e-4)
+    # steady state: the load's work goes into damping only (G does no work)
+    e = tr.energy
+    assert e.damping == pytest.approx(e.input_work, rel=1e-3)
+    assert abs(e.residual) < 1e-10 * e.input_work
+
+
+def test_impact_oscillator_between_two_walls():
+    """A free mass bouncing between walls at +-g: period 4 g / V + 2 pi sqrt(m / kn) (exact)."""
+    m, kn, g, V = 0.5, 1e6, 1e-3, 0.2
+    el_W = np.array([[1.0], [0.0]])
+    sys_ = system([[m]], [[0.0]], [[0.0]], [0.0], 1.0, W=el_W, tip=np.array([[1.0], [0.0]]))
+    law = contact_law(sys_.contact, Contact(kn=kn, kt=0.0, mu=0.0, N0=-kn * g))
+    T_exact = 4 * g / V + 2 * math.pi * math.sqrt(m / kn)
+    dt = math.pi * math.sqrt(m / kn) / 400
+    steps = int(3.2 * T_exact / dt)
+    tr = integrate(sys_, law, NewmarkScheme(dt=dt), steps, v0=[V], method="kernel",
+                   energy_window=steps // 2)
+    x = tr.tip[:, 0]
+    up = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
+    t_up = (up + (-x[up]) / (x[up + 1] - x[up])) * dt
+    assert np.diff(t_up).mean() == pytest.approx(T_exact, rel=1e-4)
+    assert np.abs(x).max() == pytest.approx(g + V * math.sqrt(m / kn), rel=1e-4)
+    assert tr.energy.relative_error < 1e-12 or abs(tr.energy.residual) < 1e-6 * 0.5 * m * V * V
+
+
+def test_coulomb_braked_block_stops_where_the_energy_runs_out():
+    """Block with velocity V pressed by N0 on both sides: slider travel (m V^2/2 - (mu N0)^2/kt)/(2 mu N0)."""
+    m, V, N0, mu, kt = 0.2, 0.5, 40.0, 0.3, 1e8
+    W = np.array([[0.0], [1.0]])                     # the block moves along w_s only
+    sys_ = system([[m]], [[0.0]], [[1e-9]], [0.0], 1.0, W=W, tip=np.array([[0.0], [1.0]]))
+    law = contact_law(sys_.contact, Contact(kn=1e7, kt=kt, mu=mu, N0=N0))
+    t_stop = m * V / (2 * mu * N0)
+    dt = t_stop / 4000
+    tr = integrate(sys_, law, NewmarkScheme(dt=dt), 6000, v0=[V], method="kernel")
+    travel = (0.5 * m * V * V - (mu * N0) ** 2 / kt) / (2 * mu * N0)
+    tail = tr.tip[-1500:, 1]                        # stuck: oscillates about the slider
+    assert 0.5 * (tail.max() + tail.min()) == pytest.approx(travel, rel=1e-3)
+    assert np.all(tr.state[-1500:] == 1)
+    assert np.abs(tr.friction[-1500:]).max() <= mu * N0 * (1 + 1e-12)
+
+
+def _contact_2dof():
+    M = np.diag([1.0, 0.8])
+    K = np.array([[5.0e5, -1.0e5], [-1.0e5, 3.0e5]])
+    C = 1e-4 * K + np.array([[0.0, 5.0], [-5.0, 0.0]])
+    a = math.radians(30)
+    W = np.array([[math.cos(a), math.sin(a)], [-math.sin(a), math.cos(a)]])
+    return system(M, C, K, [30.0, 10.0], 2 * math.pi * 100, W=W)
+
+
+@pytest.mark.parametrize("implicit", [True, False])
+def test_kernel_equals_reference_to_round_off(implicit):
+    sys_ = _contact_2dof()
+    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    scheme = NewmarkScheme(dt=1 / 100 / 256)
+    runs = [integrate(sys_, law, scheme, 256 * 30, implicit=implicit, method=m, energy_window=2560)
+            for m in ("kernel", "reference")]
+    k, r = runs
+    assert set(np.unique(k.state)) >= {1, 2}          # stick and slip both visited
+    scale = np.abs(r.tip).max()
+    assert np.abs(k.tip - r.tip).max() < 1e-9 * scale
+    assert np.abs(k.friction - r.friction).max() < 1e-9 * np.abs(r.friction).max()
+    assert np.array_equal(k.state, r.state)
+    assert k.energy.friction == pytest.approx(r.energy.friction, rel=1e-8)
+
+
+def test_friction_dissipates_and_energy_balance_closes():
+    sys_ = _contact_2dof()
+    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    tr = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / 256), 256 * 40, energy_window=2560)
+    e = tr.energy
+    assert e.friction > 0.005 * e.input_work
+    assert e.relative_error < 1e-2                    # what the impact kinks leave: the 1 % goal
+    # exact discrete identity: load + contact work = kinetic + strain change + damping
+    assert (e.input_work + e.contact_work - e.kinetic_change - e.strain_change - e.damping) \
+        == pytest.approx(0.0, abs=1e-10 * e.input_work)
+
+
+def test_full_stick_is_the_linear_system_with_contact_springs():
+    """A huge preload never lets go: the response is that of K + W^T diag(2 kn, 2 kt) W."""
+    sys_ = _contact_2dof()
+    kn, kt = 1e6, 5e5
+    law = contact_law(sys_.contact, Contact(kn=kn, kt=kt, mu=0.3, N0=1e6))
+    spp = 256
+    tr = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / spp), spp * 40)
+    assert np.all(tr.state[1:] == 1)
+    W = sys_.contact.W
+    K_stuck = sys_.K + W.T @ np.diag([2 * kn, 2 * kt]) @ W
+    We = sys_.omega_e
+    Q = np.linalg.solve(K_stuck - We ** 2 * sys_.M + 1j * We * sys_.C, sys_.f_aero)
+    last = tr.tip[-10 * spp - 1:]
+    assert 0.5 * (last.max(axis=0) - last.min(axis=0)) == pytest.approx(np.abs(Q), rel=5e-3)
+
+
+def test_unbounded_run_stops_and_names_the_cause():
+    """Explicit contact with kn far beyond the step's reach diverges; the trajectory so far is kept."""
+    sys_ = _contact_2dof()
+    law = contact_law(sys_.contact, Contact(kn=1e12, kt=5e11, mu=0.3, N0=0.0))
+    tr = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / 32), 32 * 20, implicit=False, bound=0.15)
+    assert tr.diverged is not None and tr.steps < 32 * 20
+    assert len(tr.tip) == tr.steps + 1
+    ok = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / 32), 32 * 20, implicit=True, bound=0.15)
+    assert ok.diverged is None
