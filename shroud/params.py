@@ -126,7 +126,7 @@ class Reduced:
 
 @dataclass(frozen=True)
 class FE:
-    mesh_size: float = 0.006   # m; chosen by the mesh-convergence scene
+    mesh_size: float = 0.0035  # m; chosen by the mesh-convergence scene (scenes/convergence.toml)
     order: int = 2             # polynomial degree of the displacement
     cms_modes: int = 24        # kept modes of the reduced FE model
 
