@@ -9,7 +9,7 @@ versions, cost and status (``complete``, ``partial`` or ``failed``).
 Nothing is written before the whole input is checked. An interrupted run
 (Ctrl-C, or SIGTERM from a batch system at its time limit) leaves a marked
 partial result: ``results.json`` says ``partial``, every CSV the run wrote
-starts with an ``# INCOMPLETE`` line, and ``report.md`` says so at the top.
+starts with a ``# status: incomplete`` line, and ``report.md`` says so at the top.
 Under ``mpirun`` all ranks run the study together and only rank 0 writes.
 """
 
@@ -38,7 +38,7 @@ from shroud.log import info, warn
 from shroud.parallel import mpi_rank, mpi_size
 from shroud.scene import Scene, load_scene, study_module
 
-INCOMPLETE_MARK = "# INCOMPLETE"
+INCOMPLETE_MARK = "# status: incomplete"
 
 
 def versions() -> dict[str, str]:
@@ -98,7 +98,8 @@ def write_results(out: Path, scene: Scene, status: str, elapsed: float, results:
         "elapsed_s": round(elapsed, 3),
         "finished": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
         "scene": str(scene.path) if scene.path else None, "overrides": list(overrides),
-        "command": sys.argv, "host": {"cores": len(os.sched_getaffinity(0)), "mpi_ranks": mpi_size()},
+        "command": sys.argv,
+        "host": {"cores": len(os.sched_getaffinity(0)), "mpi_ranks": mpi_size(), "mpi_rank": mpi_rank()},
         "parameters": scene.params.as_tables(), "options": scene.options,
         "versions": versions(), **(extra or {}), "results": results,
     }
@@ -193,15 +194,18 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
 def mark_incomplete(folder: Path, since: float, why: str) -> list[Path]:
     """Mark every CSV and report written since ``since`` (epoch s) as incomplete.
 
-    A CSV gets a first line ``# INCOMPLETE: <why>`` (comment-aware readers
-    such as numpy.loadtxt skip it; anyone reading the file sees it first).
+    A CSV's first line becomes ``# status: incomplete: <why>`` (replacing a
+    ``# status:`` line a writer put there, as shroud.transient does);
+    comment-aware readers such as numpy.loadtxt skip it, a person sees it first.
     """
     marked = []
+    mark = f"{INCOMPLETE_MARK}: {why}; the run's other results are missing and this file may stop short"
     for csv in sorted(folder.rglob("*.csv")):
         if csv.stat().st_mtime >= since - 1.0:
-            text = csv.read_text()
-            if not text.startswith(INCOMPLETE_MARK):
-                csv.write_text(f"{INCOMPLETE_MARK}: {why}; rows stop where it stopped\n{text}")
+            first, _, rest = csv.read_text().partition("\n")
+            if not first.startswith(INCOMPLETE_MARK):
+                body = rest if first.startswith("# status:") else f"{first}\n{rest}"
+                csv.write_text(f"{mark}\n{body}")
             marked.append(csv)
     report = folder / "report.md"
     note = f"> **Partial result** ({why}): figures and tables below may be missing or cut short.\n\n"

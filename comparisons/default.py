@@ -1,0 +1,229 @@
+"""The default scene: a quick verification of the reduced beam against the 3D solid.
+
+What ``bash scripts/main.sh`` runs on a fresh machine, in a few minutes:
+
+1. Natural frequencies at the Table 1 speed (``modal_rpm``, 8500 r/min) from
+   each model of ``modal_models`` (reduced Timoshenko beam, 5N DOF, and the
+   solid FE on the scene's mesh), paired by mode label (flap1, chord1, ...:
+   the beam restrains torsion, the solid does not), beside the paper's
+   Table 1 (beam N = 6 and its ANSYS reference).
+2. The Fig. 8 transient (the scene's speed, 10000 r/min, N0 = 0, alpha =
+   15 deg) from each model of ``transient_models``: tip displacements v_L,
+   w_L and the side-1 contact forces N1, Ff1 over the last excitation
+   periods, their agreement with the most detailed model run (NRMSE over
+   ``window_periods``), and the cost of each beside the paper's Table 3.
+
+Everything comes from ``shroud.api``; this module only arranges and reports.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from comparisons._agreement import SIGNALS, agreement
+from shroud import api
+from shroud.errors import InputError
+from shroud.plotting import MODEL_COLOURS, figure, save
+from shroud.report import markdown_table, seconds
+
+OPTIONS = {
+    "modal_rpm": 8500.0,                      # r/min, the speed of the paper's Table 1
+    "n_modes": 5,                               # the solid has torsion1 among its first four
+    "modal_models": ["reduced", "fe"],
+    "transient_models": ["reduced", "full", "fe-reduced"],
+    "window_periods": 10,                      # excitation periods compared and plotted
+}
+
+# Paper Table 1 (8500 r/min): the beam model at N = 6 and its ANSYS Beam188 reference, Hz.
+PAPER_TABLE1 = {"paper beam N=6": (284.2, 1119.9, 1502.0, 3968.3),
+                "paper ANSYS": (282.4, 1117.0, 1497.5, 3958.1)}
+PAPER_TABLE1_LABELS = ("flap1", "chord1", "flap2", "flap3")
+# Paper Table 3: wall time of 100 excitation periods at 10000 r/min, s (i7-6700).
+PAPER_TABLE3_S = {"reduced": 5.37, "full": 7.66, "fe-reduced": 2328.84, "fe": 3259.67}
+# The most detailed model present is the reference of the transient comparison.
+FIDELITY = ("fe", "fe-reduced", "full", "reduced")
+
+
+def check(scene) -> None:
+    """Options that name models or counts are checked before anything runs."""
+    o = scene.options
+    for key, allowed in (("modal_models", api.MODAL_MODELS), ("transient_models", api.TRANSIENT_MODELS)):
+        bad = [m for m in o[key] if m not in allowed]
+        if bad or len(set(o[key])) != len(o[key]):
+            raise InputError(f"options.{key}", f"{o[key]!r}; allowed: distinct names from {', '.join(allowed)}")
+    if o["n_modes"] < 1:
+        raise InputError("options.n_modes", f"{o['n_modes']} is out of range; allowed: an integer >= 1")
+    if o["modal_rpm"] < 0:
+        raise InputError("options.modal_rpm", f"{o['modal_rpm']} is out of range; allowed: a speed >= 0 r/min")
+    if o["transient_models"] and not 1 <= o["window_periods"] <= scene.params.time.periods:
+        raise InputError("options.window_periods", f"{o['window_periods']} is out of range; allowed: "
+                         f"1 to time.periods ({scene.params.time.periods})")
+    if o["transient_models"] and scene.params.speed.rpm <= 0:
+        raise InputError("speed.rpm", "a transient needs a speed > 0 r/min")
+
+
+def run(scene, out: Path) -> dict:
+    check(scene)
+    o = scene.options
+    results: dict = {}
+    sections = [f"# {scene.title}\n\n"]
+    if o["modal_models"]:
+        modal = {m: api.modal(scene.params, m, rpm=o["modal_rpm"], n_modes=o["n_modes"])
+                 for m in o["modal_models"]}
+        results["modal"] = _frequencies(modal, o["modal_rpm"], out)
+        sections.append(_frequency_report(results["modal"]))
+    if o["transient_models"]:
+        from shroud.transient import simulate      # a modal-only run loads no contact or integrator
+        systems, runs = {}, {}
+        for m in o["transient_models"]:
+            systems[m] = api.build_system(scene.params, m)
+            runs[m] = simulate(systems[m], scene.params, csv_path=out / f"transient_{m}.csv")
+        results["transient"] = _transients(systems, runs, scene.params, o["window_periods"], out)
+        sections.append(_transient_report(results["transient"], scene.params))
+    (out / "report.md").write_text("".join(sections))
+    return results
+
+
+# --- 1. frequencies -----------------------------------------------------------
+
+def _frequencies(modal: dict, rpm: float, out: Path) -> dict:
+    """Frequencies by label for each model; relative difference to the solid FE."""
+    by_label = {m: r.by_label() for m, r in modal.items()}
+    labels = [lab for lab in _ordered_labels(modal) if all(lab in f for f in by_label.values())]
+    reference = "fe" if "fe" in by_label else None
+    rows = []
+    for lab in labels:
+        row = {"label": lab, **{m: by_label[m][lab] for m in by_label}}
+        if reference:
+            for m in by_label:
+                if m != reference:
+                    row[f"{m}_vs_fe_percent"] = 100 * (by_label[m][lab] / by_label[reference][lab] - 1)
+        if rpm == 8500.0 and lab in PAPER_TABLE1_LABELS:
+            i = PAPER_TABLE1_LABELS.index(lab)
+            row.update({k: v[i] for k, v in PAPER_TABLE1.items()})
+        rows.append(row)
+    with open(out / "frequencies.csv", "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}, key=_column_order))
+        writer.writeheader()
+        writer.writerows(rows)
+    _plot_frequencies(rows, list(by_label), reference, rpm, out / "frequencies.png")
+    return {"rpm": rpm, "rows": rows, "unpaired": {m: sorted(set(f) - set(labels)) for m, f in by_label.items()},
+            "cost": {m: {"dofs": r.dofs, "elapsed_s": r.elapsed_s} for m, r in modal.items()},
+            "figure": "frequencies.png", "csv": "frequencies.csv"}
+
+
+def _ordered_labels(modal: dict) -> list[str]:
+    first = next(iter(modal.values()))
+    return [m.label for m in first.modes]
+
+
+def _column_order(key: str):
+    return (key != "label", key.startswith("paper"), "vs" in key, key)
+
+
+def _plot_frequencies(rows, models, reference, rpm, path: Path) -> None:
+    fig, axes = figure(1, 2, width=7.2, height=2.8)
+    x = np.arange(len(rows))
+    labels = [r["label"] for r in rows]
+    for m in models:
+        axes[0, 0].plot(x, [r[m] for r in rows], "o-", color=MODEL_COLOURS[m], label=m)
+    for k in PAPER_TABLE1:
+        if all(k in r for r in rows):
+            axes[0, 0].plot(x, [r[k] for r in rows], "x", color=MODEL_COLOURS["paper"], label=k)
+    axes[0, 0].set(xticks=x, xticklabels=labels, ylabel="natural frequency (Hz)",
+                   title=f"natural frequencies at {rpm:g} r/min")
+    axes[0, 0].legend()
+    if reference:
+        for m in models:
+            if m != reference:
+                axes[0, 1].plot(x, [r[f"{m}_vs_fe_percent"] for r in rows], "o-", color=MODEL_COLOURS[m], label=m)
+        axes[0, 1].axhline(0, color="k", lw=0.6)
+        axes[0, 1].set(xticks=x, xticklabels=labels, ylabel="difference to the solid FE (%)",
+                       title="beam model against the 3D solid")
+        axes[0, 1].legend()
+    else:
+        axes[0, 1].set_visible(False)
+    save(fig, path)
+
+
+def _frequency_report(modal: dict) -> str:
+    rows = modal["rows"]
+    models = list(modal["cost"])
+    header = ["mode"] + [f"{m} (Hz)" for m in models] + \
+        [f"{m} vs fe (%)" for m in models if m != "fe" and "fe" in models] + \
+        [f"{k} (Hz)" for k in PAPER_TABLE1 if any(k in r for r in rows)]
+    table = [[r["label"]] + [r[m] for m in models] +
+             [r.get(f"{m}_vs_fe_percent") for m in models if m != "fe" and "fe" in models] +
+             [r.get(k) for k in PAPER_TABLE1 if any(k in r for r in rows)] for r in rows]
+    cost = markdown_table(["model", "DOF", "wall time"],
+                          [[m, c["dofs"], seconds(c["elapsed_s"])] for m, c in modal["cost"].items()])
+    unpaired = "; ".join(f"{m}: {', '.join(v)}" for m, v in modal["unpaired"].items() if v)
+    return (f"## Natural frequencies at {modal['rpm']:g} r/min\n\n"
+            "Modes are paired by their tip-motion label, not by index. The paper's Table 1 "
+            "values (beam N = 6, ANSYS beam) are shown where the speed is theirs.\n\n"
+            + markdown_table(header, table) + "\n" + cost
+            + (f"\nModes found by one model only: {unpaired}.\n" if unpaired else "")
+            + f"\n![frequencies]({modal['figure']})\n\n")
+
+
+# --- 2. the Fig. 8 transient ----------------------------------------------------
+
+def signals_of(trajectory) -> dict[str, np.ndarray]:
+    """The compared signals of a shroud.newmark.Trajectory by name (m, N)."""
+    tr = trajectory
+    return {"v_L": tr.tip[:, 0], "w_L": tr.tip[:, 1], "N1": tr.normal[:, 0], "N2": tr.normal[:, 1],
+            "Ff1": tr.friction[:, 0], "Ff2": tr.friction[:, 1]}
+
+
+def _transients(systems: dict, runs: dict, params, window_periods: int, out: Path) -> dict:
+    period = 60.0 / (params.load.ke * params.speed.rpm)           # excitation period, s
+    reference = next(m for m in FIDELITY if m in runs)
+    ref = runs[reference].trajectory
+    entries = {}
+    for m, r in runs.items():
+        entry = {**r.to_json(), "build_s": systems[m].build_s, "paper_table3_s": PAPER_TABLE3_S.get(m)}
+        if m != reference:
+            tr = r.trajectory
+            entry["agreement_vs_" + reference] = agreement(
+                tr.t, signals_of(tr), ref.t, signals_of(ref), period, window_periods).to_json()
+        entries[m] = entry
+    _plot_transients(runs, reference, period, window_periods, out / "fig8_signals.png")
+    return {"reference": reference, "window_periods": window_periods, "period_s": period,
+            "runs": entries, "figure": "fig8_signals.png"}
+
+
+def _plot_transients(runs: dict, reference: str, period: float, window_periods: int, path: Path) -> None:
+    panels = (("v_L", "v_L (µm)", 1e6), ("w_L", "w_L (µm)", 1e6), ("N1", "N_1 (N)", 1.0), ("Ff1", "F_f1 (N)", 1.0))
+    fig, axes = figure(2, 2, width=7.2, height=5.0)
+    for ax, (name, ylabel, scale) in zip(axes.flat, panels):
+        for m, r in sorted(runs.items(), key=lambda kv: FIDELITY.index(kv[0])):
+            t = r.trajectory.t
+            mask = t >= t[-1] - min(window_periods, 3) * period
+            ax.plot(t[mask] / period, signals_of(r.trajectory)[name][mask] * scale, color=MODEL_COLOURS[m],
+                    ls="-" if m == reference else "--", label=m)
+        ax.set(xlabel="time (excitation periods)", ylabel=ylabel)
+    axes[0, 0].legend()
+    fig.suptitle("Fig. 8 case: tip displacements and side-1 contact forces")
+    save(fig, path)
+
+
+def _transient_report(tr: dict, params) -> str:
+    ref = tr["reference"]
+    rows = []
+    for m, e in tr["runs"].items():
+        worst = e.get(f"agreement_vs_{ref}", {}).get("worst_nrmse")
+        rows.append([m, e["dofs"], seconds(e.get("build_s")), seconds(e["elapsed_s"]),
+                     seconds(e["paper_table3_s"]), e["amplitude"]["v_L"] * 1e6, e["amplitude"]["w_L"] * 1e6,
+                     e["peak"]["N1"], e["peak"]["Ff1"], worst])
+    table = markdown_table(["model", "DOF", "build", "run", "paper Table 3 (100 periods)", "v_L amp. (µm)",
+                            "w_L amp. (µm)", "peak N1 (N)", "peak Ff1 (N)", f"worst NRMSE vs {ref}"], rows)
+    return (f"## The Fig. 8 transient at {params.speed.rpm:g} r/min\n\n"
+            f"N0 = {params.contact.N0:g} N, kn = {params.contact.kn:.3g} N/m, kt = {params.contact.kt:.3g} N/m, "
+            f"mu = {params.contact.mu:g}, alpha = {params.contact.alpha_deg:g} deg; "
+            f"{params.time.periods} excitation periods of {params.time.steps_per_period} steps "
+            f"(the paper ran 100). Amplitudes are (max - min)/2 over the last 10 periods; NRMSE over the "
+            f"last {tr['window_periods']} periods, relative to the reference's peak-to-peak range, "
+            f"worst of {', '.join(SIGNALS)}.\n\n" + table + f"\n![Fig. 8 signals]({tr['figure']})\n\n")

@@ -1,0 +1,173 @@
+"""Bad input, end to end: every mistake a user can make in a scene, a campaign
+or on the command line ends with one line ``error: <key>: ...`` on stderr,
+exit status 2, no traceback, and no output folder."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from shroud.cli import main
+from shroud.params import SECTIONS
+
+GOOD = 'study = "default"\ntitle = "t"\n'
+
+
+def _scene(tmp_path: Path, text: str, name: str = "scene.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _refused(capsys, argv: list[str], key: str, out: Path) -> str:
+    """Run the CLI; assert exit 2, one line naming ``key``, and nothing written to ``out``."""
+    code = main(argv)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2, err
+    last = err[-1]
+    assert last.startswith(f"error: {key}:"), last
+    assert "Traceback" not in "\n".join(err)
+    assert not out.exists(), f"{out} was created for bad input"
+    return last
+
+
+# --- mistakes inside a scene file --------------------------------------------
+SCENE_CASES = {
+    "unknown top-level key": (GOOD + 'colour = "red"\n', "colour"),
+    "unknown option": (GOOD + "[options]\nn_moodes = 4\n", "options.n_moodes"),
+    "option of the wrong type": (GOOD + '[options]\nn_modes = "four"\n', "options.n_modes"),
+    "unknown quick option": (GOOD + "[quick.options]\nperiod = 3\n", "quick.options.period"),
+    "unknown quick table": (GOOD + "[quick.colour]\nred = 1\n", "quick.colour"),
+    "unknown key in a quick section": (GOOD + "[quick.time]\nperiod = 3\n", "quick.time.period"),
+    "out-of-range quick value": (GOOD + "[quick.time]\nperiods = 0\n", "quick.time.periods"),
+    "string for a length": (GOOD + '[blade]\nlength = "long"\n', "blade.length"),
+    "Poisson ratio out of range": (GOOD + "[material]\nnu = 0.7\n", "material.nu"),
+    "too few steps per period": (GOOD + "[time]\nsteps_per_period = 8\n", "time.steps_per_period"),
+    "non-integer N": (GOOD + "[reduced]\nN = 2.5\n", "reduced.N"),
+    "boolean as a word": (GOOD + '[contact]\nenabled = "maybe"\n', "contact.enabled"),
+    "gap and preload both": (GOOD + "[contact]\ngap = 1e-4\nN0 = 10.0\n", "contact.gap"),
+    "shroud narrower than the blade": (GOOD + "[shroud]\nwidth = 0.005\n", "shroud.width"),
+    "section as a value": (GOOD + "blade = 3\n", "blade"),
+    "unknown study": ('study = "fig99"\n', "study"),
+    "no study": ('title = "nothing to run"\n', "study"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(SCENE_CASES))
+def test_bad_scene_content(tmp_path, capsys, case):
+    text, key = SCENE_CASES[case]
+    path = _scene(tmp_path, text)
+    _refused(capsys, ["run", str(path), "--out", str(tmp_path / "out")], key, tmp_path / "out")
+
+
+@pytest.mark.parametrize("section", sorted(SECTIONS))
+def test_unknown_key_in_each_section(tmp_path, capsys, section):
+    path = _scene(tmp_path, GOOD + f"[{section}]\nno_such_key = 1\n")
+    line = _refused(capsys, ["run", str(path), "--out", str(tmp_path / "out")],
+                    f"{section}.no_such_key", tmp_path / "out")
+    assert "allowed keys" in line
+
+
+def test_bad_toml_and_missing_file(tmp_path, capsys):
+    path = _scene(tmp_path, 'study = "default\n[blade\n')
+    line = _refused(capsys, ["run", str(path), "--out", str(tmp_path / "out")], str(path), tmp_path / "out")
+    assert "TOML" in line
+    missing = tmp_path / "nowhere.toml"
+    _refused(capsys, ["run", str(missing), "--out", str(tmp_path / "out")], str(missing), tmp_path / "out")
+
+
+# --- mistakes on the command line --------------------------------------------
+CLI_CASES = {
+    "--set without =": (["--set", "speed.rpm"], "--set"),
+    "--set unknown key": (["--set", "speed.rmp=9000"], "speed.rmp"),
+    "--set word for a number": (["--set", "speed.rpm=fast"], "speed.rpm"),
+    "--set negative speed": (["--set", "speed.rpm=-10"], "speed.rpm"),
+    "--set unknown option": (["--set", "options.nope=1"], "options.nope"),
+    "--set option of the wrong type": (["--set", "options.transient_models=3"], "options.transient_models"),
+    "--set gap over a scene preload": (["--set", "contact.gap=1e-4", "--set", "contact.N0=5"], "contact.gap"),
+    "unknown flag": (["--fast"], "command line"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CLI_CASES))
+def test_bad_run_arguments(tmp_path, capsys, case):
+    extra, key = CLI_CASES[case]
+    path = _scene(tmp_path, GOOD)
+    _refused(capsys, ["run", str(path), "--out", str(tmp_path / "out"), *extra], key, tmp_path / "out")
+
+
+def test_out_is_an_existing_file(tmp_path, capsys):
+    path = _scene(tmp_path, GOOD)
+    target = tmp_path / "taken"
+    target.write_text("mine")
+    assert main(["run", str(path), "--out", str(target)]) == 2
+    assert capsys.readouterr().err.strip().startswith("error: --out:")
+    assert target.read_text() == "mine"
+
+
+@pytest.mark.parametrize("argv, key", [
+    (["sweep", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "-3"], "--rpm-count"),
+    (["sweep", "--rpm-from", "9000", "--rpm-to", "8000", "--rpm-count", "3"], "--rpm-from"),
+    (["sweep", "--rpm-from", "8000", "--rpm-to", "9000"], "command line"),
+    (["modal", "--modes", "0"], "--modes"),
+    (["modal", "--modes", "four"], "command line"),
+    (["modal", "--model", "banana"], "command line"),
+    (["modal", "--rpm", "-1"], "speed.rpm"),
+    (["frequencies"], "command line"),
+])
+def test_bad_analysis_commands(tmp_path, capsys, argv, key):
+    _refused(capsys, argv, key, tmp_path / "out")
+
+
+def test_transient_at_standstill_writes_nothing(tmp_path, capsys):
+    out = tmp_path / "tr"
+    _refused(capsys, ["transient", "--rpm", "0", "--out", str(out)], "speed.rpm", out)
+
+
+# --- mistakes in a campaign --------------------------------------------------
+def _campaign(tmp_path: Path, body: str) -> Path:
+    _scene(tmp_path, GOOD, "a.toml")
+    _scene(tmp_path, GOOD, "b.toml")
+    return _scene(tmp_path, 'title = "c"\n' + body, "camp.toml")
+
+
+@pytest.mark.parametrize("body, key", [
+    ('campaign = ["a", "nope"]\n', "campaign"),
+    ("campaign = []\n", "campaign"),
+    ('campaign = ["a", "a.toml"]\n', "campaign"),
+    ('campaign = ["a", "b"]\n[overrides]\nb = ["speed.rpm=-5"]\n', "b: speed.rpm"),
+    ('campaign = ["a", "b"]\n[overrides]\nc = ["speed.rpm=5"]\n', "overrides.c"),
+    ('campaign = ["a", "b"]\nquick = "yes"\n', "quick"),
+    ('campaign = ["a", "b"]\nrepeat = 2\n', "repeat"),
+])
+def test_bad_campaign_runs_nothing(tmp_path, capsys, body, key):
+    path = _campaign(tmp_path, body)
+    _refused(capsys, ["run", str(path), "--out", str(tmp_path / "out")], key, tmp_path / "out")
+
+
+def test_campaign_checks_later_scenes_before_running_the_first(tmp_path, capsys):
+    """The second scene's bad value stops the campaign before the first scene runs."""
+    _scene(tmp_path, GOOD, "a.toml")
+    _scene(tmp_path, GOOD + "[load]\nke = 0\n", "b.toml")
+    path = _scene(tmp_path, 'campaign = ["a", "b"]\n', "camp.toml")
+    _refused(capsys, ["run", str(path), "--out", str(tmp_path / "out")], "b: load.ke", tmp_path / "out")
+
+
+# --- the installed command, as a user's shell sees it ------------------------
+@pytest.mark.parametrize("argv, key", [
+    (["run", "{bad}", "--out", "{out}"], "{bad}"),
+    (["sweep", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "-1"], "--rpm-count"),
+    (["run", "{scene}", "--out", "{out}", "--set", "contact.gap=1e-4", "--set", "contact.N0=1"], "contact.gap"),
+])
+def test_shell_sees_one_line_and_status_2(tmp_path, argv, key):
+    bad = _scene(tmp_path, "study = = 1\n", "bad.toml")
+    scene = _scene(tmp_path, GOOD)
+    out = tmp_path / "out"
+    fill = {"bad": str(bad), "scene": str(scene), "out": str(out)}
+    argv = [a.format(**fill) for a in argv]
+    proc = subprocess.run([sys.executable, "-m", "shroud.cli", *argv], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith(f"error: {key.format(**fill)}:")
+    assert not out.exists()
