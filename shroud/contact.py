@@ -124,7 +124,8 @@ def evaluate(y, z_old, rows, props, lam, N, F, z, state):
     Fills per element N, F, z (new slider), state, and the forces ``lam`` on
     the projected coordinates.
     """
-    lam[:] = 0.0
+    for i in range(lam.size):
+        lam[i] = 0.0
     for j in range(rows.shape[0]):
         nr, tr = rows[j, 0], rows[j, 1]
         s = props[j, SIGN]
@@ -132,6 +133,12 @@ def evaluate(y, z_old, rows, props, lam, N, F, z, state):
         F[j], z[j], state[j] = friction_return_map(y[tr], z_old[j], N[j], props[j, KT], props[j, MU])
         lam[nr] -= s * N[j]
         lam[tr] += F[j]
+
+
+@njit(cache=True)
+def _copy(dst, src):
+    for i in range(src.size):          # explicit loops: slice assignment costs more than the law
+        dst[i] = src[i]
 
 
 @njit(cache=True)
@@ -180,10 +187,12 @@ def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, acti
     y = y_pred + Cc e + (Cc D)[:, A] y_A.
     """
     m = y_pred.size
-    G[:, :] = 0.0                       # G = Cc D, built column by column
-    e[:] = 0.0
     is_active = active                  # flags first, compacted below
-    is_active[:] = 0
+    for i in range(m):                  # G = Cc D, built column by column
+        e[i] = 0.0
+        is_active[i] = 0
+        for l in range(m):
+            G[i, l] = 0.0
     for j in range(rows.shape[0]):
         if state[j] == SEPARATE:
             continue
@@ -248,14 +257,19 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
     On return ``lam, N, F, z, state`` are the law evaluated at ``y``.
     """
     G, e, active, A, b, y_try, lam_try, N_try, F_try, z_try, st_used, st_try, F_used = ws
-    y[:] = y_pred
+    _copy(y, y_pred)
     evaluate(y, z_old, rows, props, lam, N, F, z, state)
+    touching = False
+    for j in range(state.size):
+        touching = touching or state[j] != SEPARATE
+    if not touching:                     # the predictor is free of contact: exact as it is
+        return 1, True
     r = _residual_norm(y, y_pred, Cc, lam)
     scale = 0.0
     for i in range(y.size):
         scale = max(scale, abs(y_pred[i]))
-    st_used[:] = state
-    F_used[:] = F
+    _copy(st_used, state)
+    _copy(F_used, F)
     for it in range(1, _MAX_ITERATIONS + 1):
         _affine_solution(y_pred, Cc, z_old, rows, props, st_used, F_used, y_try, G, e, active, A, b)
         evaluate(y_try, z_old, rows, props, lam_try, N_try, F_try, z_try, st_try)
@@ -270,12 +284,12 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
                 evaluate(y_try, z_old, rows, props, lam_try, N_try, F_try, z_try, st_try)
                 r_try = _residual_norm(y_try, y_pred, Cc, lam_try)
                 t *= 0.5
-        y[:] = y_try
-        lam[:] = lam_try
-        N[:] = N_try
-        F[:] = F_try
-        z[:] = z_try
-        state[:] = st_try
+        _copy(y, y_try)
+        _copy(lam, lam_try)
+        _copy(N, N_try)
+        _copy(F, F_try)
+        _copy(z, z_try)
+        _copy(state, st_try)
         r = r_try
         same = full_step                 # y is the exact solution for the states used ...
         for j in range(state.size):      # ... and they reproduce themselves

@@ -137,27 +137,31 @@ class Trajectory:
 # --- pieces shared by both loops ---------------------------------------------------
 
 @njit(cache=True)
-def side_resultants(y, N, F, state, rows, side, weight, out_N, out_F, out_w, out_state):
-    """Per-side totals of N and F, weighted mean w_s, and side state, into out_*[0:2]."""
+def side_resultants(y, N, F, state, rows, side, weight, i, r_N, r_F, r_w, r_state):
+    """Row i of the per-side records: totals of N and F, weighted mean w_s, side state."""
+    w1 = w2 = 0.0
     for s in range(2):
-        out_N[s] = 0.0
-        out_F[s] = 0.0
-        out_w[s] = 0.0
-        out_state[s] = 0
-    wsum = np.zeros(2)
+        r_N[i, s] = 0.0
+        r_F[i, s] = 0.0
+        r_w[i, s] = 0.0
+        r_state[i, s] = 0
     for j in range(N.size):
         s = side[j] - 1
-        out_N[s] += N[j]
-        out_F[s] += F[j]
-        out_w[s] += weight[j] * y[rows[j, 1]]
-        wsum[s] += weight[j]
+        r_N[i, s] += N[j]
+        r_F[i, s] += F[j]
+        r_w[i, s] += weight[j] * y[rows[j, 1]]
+        if s == 0:
+            w1 += weight[j]
+        else:
+            w2 += weight[j]
         if state[j] == SLIP:
-            out_state[s] = SLIP
-        elif state[j] == STICK and out_state[s] == 0:
-            out_state[s] = STICK
-    for s in range(2):
-        if wsum[s] > 0.0:
-            out_w[s] /= wsum[s]
+            r_state[i, s] = SLIP
+        elif state[j] == STICK and r_state[i, s] == 0:
+            r_state[i, s] = STICK
+    if w1 > 0.0:
+        r_w[i, 0] /= w1
+    if w2 > 0.0:
+        r_w[i, 1] /= w2
 
 
 def contact_resolution(Cc: np.ndarray, law: ContactLaw) -> float:
@@ -304,10 +308,8 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
 
 def _record_row(rec, i, tip_now, y, N, F, state, law):
     rec.tip[i] = tip_now
-    out_state = np.zeros(2, np.int64)
-    side_resultants(y, N, F, state, law.rows, law.side, law.weight,
-                    rec.normal[i], rec.friction[i], rec.tangential[i], out_state)
-    rec.state[i] = out_state
+    side_resultants(y, N, F, state, law.rows, law.side, law.weight, i,
+                    rec.normal, rec.friction, rec.tangential, rec.state)
 
 
 @njit(cache=True)
@@ -323,7 +325,6 @@ def _dense_kernel(Aq, Av, Aa, Sfc, Sfa, fc, fa, C, w_e, dt, gamma, a0, a2, a3, s
     N, F, F_old, N_old = np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k)
     z, z_old = np.zeros(k), np.zeros(k)
     state = np.zeros(k, np.int64)
-    out_state = np.zeros(2, np.int64)
     for l in range(m):
         y[l] = 0.0
         for c in range(n):
@@ -335,8 +336,7 @@ def _dense_kernel(Aq, Av, Aa, Sfc, Sfa, fc, fa, C, w_e, dt, gamma, a0, a2, a3, s
     lam_eq[:] = lam
     for s in range(2):
         r_tip[0, s] = tip[s] @ q
-    side_resultants(y, N, F, state, rows, side, weight, r_N[0], r_F[0], r_w[0], out_state)
-    r_state[0, :] = out_state
+    side_resultants(y, N, F, state, rows, side, weight, 0, r_N, r_F, r_w, r_state)
     iterations, unconverged = 0, 0
     for i in range(steps):
         s0 = math.sin(w_e * i * dt)
@@ -403,8 +403,7 @@ def _dense_kernel(Aq, Av, Aa, Sfc, Sfa, fc, fa, C, w_e, dt, gamma, a0, a2, a3, s
             for c in range(n):
                 acc += tip[s, c] * q[c]
             r_tip[i + 1, s] = acc
-        side_resultants(y, N, F, state, rows, side, weight, r_N[i + 1], r_F[i + 1], r_w[i + 1], out_state)
-        r_state[i + 1, :] = out_state
+        side_resultants(y, N, F, state, rows, side, weight, i + 1, r_N, r_F, r_w, r_state)
         for s in range(2):
             if not math.isfinite(r_tip[i + 1, s]):
                 return i + 1, NOT_FINITE, iterations, unconverged

@@ -1,0 +1,108 @@
+"""Steady-state amplitude over speed (paper Figs. 4, 7, 11, 12, 16).
+
+At every speed the model is rebuilt (its stiffness, damping and load depend
+on Omega), run from rest for ``params.time.periods`` excitation periods, and
+reduced to the steady-state amplitude of v_L ((max - min)/2 over the last 10
+periods). All points of all curves go through one ``map_parallel`` so the
+cores stay busy across curves.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from shroud.errors import RunDiverged
+from shroud.log import Progress
+from shroud.params import Parameters
+from shroud.parallel import map_parallel
+from shroud.system import StructuralSystem
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    model: str
+    rpm: np.ndarray
+    amplitude_v_L: np.ndarray         # m; NaN where the run diverged
+    amplitude_w_L: np.ndarray         # m
+    period: tuple[int | None, ...]    # detected period per speed (1 = P1)
+    slip_fraction: np.ndarray         # mean share of the last periods spent slipping (both sides)
+    dofs: int
+    elapsed_s: float                  # wall time of the sweep
+    cpu_s: float                      # summed time of the runs (build + integration)
+
+    @property
+    def resonance(self) -> dict[str, float]:
+        """Speed and amplitude of the largest v_L amplitude."""
+        if not np.any(np.isfinite(self.amplitude_v_L)):
+            return {"rpm": math.nan, "amplitude": math.nan}
+        i = int(np.nanargmax(self.amplitude_v_L))
+        return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i])}
+
+    def to_json(self) -> dict[str, Any]:
+        nan_to_none = lambda a: [None if not np.isfinite(x) else float(x) for x in a]  # noqa: E731
+        return {"model": self.model, "rpm": [float(r) for r in self.rpm],
+                "amplitude_v_L": nan_to_none(self.amplitude_v_L),
+                "amplitude_w_L": nan_to_none(self.amplitude_w_L), "period": list(self.period),
+                "resonance": self.resonance, "dofs": self.dofs,
+                "elapsed_s": round(self.elapsed_s, 6), "cpu_s": round(self.cpu_s, 6)}
+
+
+def _model_builder(model: str) -> Callable[[Parameters], StructuralSystem]:
+    from shroud.api import build_system
+    return lambda p: build_system(p, model)
+
+
+def steady_point(task: tuple[Parameters, str, float, Callable | None]) -> tuple:
+    """One speed: (amp v_L, amp w_L, period, slip fraction, dofs, seconds)."""
+    from shroud.transient import run, steady_state
+    params, model, rpm, build = task
+    t0 = time.perf_counter()
+    p = params.updated({"speed.rpm": rpm})
+    system = (build or _model_builder(model))(p)
+    tr = run(system, p)
+    if tr.diverged is not None:
+        return math.nan, math.nan, None, math.nan, system.dofs, time.perf_counter() - t0
+    s = steady_state(tr, p.time.steps_per_period)
+    slip = 0.5 * (s["state_fraction"]["side1"]["slip"] + s["state_fraction"]["side2"]["slip"])
+    return (s["amplitude"]["v_L"], s["amplitude"]["w_L"], s["period"], slip, system.dofs,
+            time.perf_counter() - t0)
+
+
+def run_sweeps(cases: Sequence[Parameters], model: str, rpms: Sequence[float],
+               build: Callable[[Parameters], StructuralSystem] | None = None) -> list[SweepResult]:
+    """One sweep over ``rpms`` per parameter set in ``cases``, all points spread over the cores.
+
+    ``build(params) -> StructuralSystem`` replaces the model dispatch (shroud.api)
+    when given; it must be a module-level function (it is pickled).
+    """
+    rpms = np.asarray(rpms, dtype=float)
+    for r in rpms:
+        if not r > 0:
+            raise RunDiverged(f"sweep speed {r} r/min: a transient needs a speed > 0")
+    tasks = [(p, model, float(r), build) for p in cases for r in rpms]
+    progress = Progress(f"sweep {model} ({len(cases)} x {len(rpms)} speeds)", len(tasks))
+    t0 = time.perf_counter()
+    points = map_parallel(steady_point, tasks)
+    elapsed = time.perf_counter() - t0
+    progress.update(len(tasks))
+    progress.done()
+    out = []
+    for c in range(len(cases)):
+        rows = points[c * len(rpms):(c + 1) * len(rpms)]
+        col = list(zip(*rows)) if rows else [[]] * 6
+        out.append(SweepResult(model=model, rpm=rpms, amplitude_v_L=np.array(col[0], float),
+                               amplitude_w_L=np.array(col[1], float), period=tuple(col[2]),
+                               slip_fraction=np.array(col[3], float), dofs=int(col[4][0]) if rows else 0,
+                               elapsed_s=elapsed * len(rows) / max(len(tasks), 1),
+                               cpu_s=float(np.sum(col[5]))))
+    return out
+
+
+def run_sweep(params: Parameters, model: str, rpms: Sequence[float]) -> SweepResult:
+    """Steady-state v_L amplitude of ``model`` at each speed in ``rpms`` (r/min)."""
+    return run_sweeps([params], model, rpms)[0]
