@@ -8,26 +8,29 @@ What ``bash scripts/main.sh`` runs on a fresh machine, in a few minutes:
    the beam restrains torsion, the solid does not), beside the paper's
    Table 1 (beam N = 6 and its ANSYS reference).
 2. The Fig. 8 transient (the scene's speed, 10000 r/min, N0 = 0, alpha =
-   15 deg) from each model of ``transient_models``: tip displacements v_L,
-   w_L and the side-1 contact forces N1, Ff1 over the last excitation
-   periods, their agreement with the most detailed model run (NRMSE over
-   ``window_periods``), and the cost of each beside the paper's Table 3.
+   15 deg) from each model of ``transient_models``: the fig8 study
+   (comparisons.fig8) run on this scene's parameters into ``fig8/``, with
+   the most detailed model run as its reference: contact forces, loops,
+   states, tip displacements, agreement (NRMSE over ``window_periods``)
+   and the cost of each beside the paper's Table 3.
 
-Everything comes from ``shroud.api``; this module only arranges and reports.
+Everything comes from ``shroud.api`` and the fig8 study; this module only
+arranges and reports.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
+import re
 from pathlib import Path
 
 import numpy as np
 
-from comparisons._agreement import SIGNALS, agreement
 from shroud import api
 from shroud.errors import InputError
 from shroud.plotting import MODEL_COLOURS, figure, save
-from shroud.report import markdown_table, seconds
+from shroud.report import demote, markdown_table, relink, seconds
 
 OPTIONS = {
     "modal_rpm": 8500.0,                      # r/min, the speed of the paper's Table 1
@@ -41,8 +44,6 @@ OPTIONS = {
 PAPER_TABLE1 = {"paper beam N=6": (284.2, 1119.9, 1502.0, 3968.3),
                 "paper ANSYS": (282.4, 1117.0, 1497.5, 3958.1)}
 PAPER_TABLE1_LABELS = ("flap1", "chord1", "flap2", "flap3")
-# Paper Table 3: wall time of 100 excitation periods at 10000 r/min, s (i7-6700).
-PAPER_TABLE3_S = {"reduced": 5.37, "full": 7.66, "fe-reduced": 2328.84, "fe": 3259.67}
 # The most detailed model present is the reference of the transient comparison.
 FIDELITY = ("fe", "fe-reduced", "full", "reduced")
 
@@ -58,11 +59,11 @@ def check(scene) -> None:
         raise InputError("options.n_modes", f"{o['n_modes']} is out of range; allowed: an integer >= 1")
     if o["modal_rpm"] < 0:
         raise InputError("options.modal_rpm", f"{o['modal_rpm']} is out of range; allowed: a speed >= 0 r/min")
-    if o["transient_models"] and not 1 <= o["window_periods"] <= scene.params.time.periods:
-        raise InputError("options.window_periods", f"{o['window_periods']} is out of range; allowed: "
-                         f"1 to time.periods ({scene.params.time.periods})")
-    if o["transient_models"] and scene.params.speed.rpm <= 0:
-        raise InputError("speed.rpm", "a transient needs a speed > 0 r/min")
+    if o["transient_models"]:
+        if scene.params.speed.rpm <= 0:
+            raise InputError("speed.rpm", "a transient needs a speed > 0 r/min")
+        fig8, fig8_scene = _fig8_scene(scene)
+        fig8.check(fig8_scene)
 
 
 def run(scene, out: Path) -> dict:
@@ -76,13 +77,8 @@ def run(scene, out: Path) -> dict:
         results["modal"] = _frequencies(modal, o["modal_rpm"], out)
         sections.append(_frequency_report(results["modal"]))
     if o["transient_models"]:
-        from shroud.transient import simulate      # a modal-only run loads no contact or integrator
-        systems, runs = {}, {}
-        for m in o["transient_models"]:
-            systems[m] = api.build_system(scene.params, m)
-            runs[m] = simulate(systems[m], scene.params, csv_path=out / f"transient_{m}.csv")
-        results["transient"] = _transients(systems, runs, scene.params, o["window_periods"], out)
-        sections.append(_transient_report(results["transient"], scene.params))
+        results["fig8"] = _fig8(scene, out)
+        sections.append(_fig8_report(out))
     (out / "report.md").write_text("".join(sections))
     return results
 
@@ -169,61 +165,25 @@ def _frequency_report(modal: dict) -> str:
             + f"\n![frequencies]({modal['figure']})\n\n")
 
 
-# --- 2. the Fig. 8 transient ----------------------------------------------------
+# --- 2. the Fig. 8 transient: the fig8 study on this scene's parameters ---------
 
-def signals_of(trajectory) -> dict[str, np.ndarray]:
-    """The compared signals of a shroud.newmark.Trajectory by name (m, N)."""
-    tr = trajectory
-    return {"v_L": tr.tip[:, 0], "w_L": tr.tip[:, 1], "N1": tr.normal[:, 0], "N2": tr.normal[:, 1],
-            "Ff1": tr.friction[:, 0], "Ff2": tr.friction[:, 1]}
-
-
-def _transients(systems: dict, runs: dict, params, window_periods: int, out: Path) -> dict:
-    period = 60.0 / (params.load.ke * params.speed.rpm)           # excitation period, s
-    reference = next(m for m in FIDELITY if m in runs)
-    ref = runs[reference].trajectory
-    entries = {}
-    for m, r in runs.items():
-        entry = {**r.to_json(), "build_s": systems[m].build_s, "paper_table3_s": PAPER_TABLE3_S.get(m)}
-        if m != reference:
-            tr = r.trajectory
-            entry["agreement_vs_" + reference] = agreement(
-                tr.t, signals_of(tr), ref.t, signals_of(ref), period, window_periods).to_json()
-        entries[m] = entry
-    _plot_transients(runs, reference, period, window_periods, out / "fig8_signals.png")
-    return {"reference": reference, "window_periods": window_periods, "period_s": period,
-            "runs": entries, "figure": "fig8_signals.png"}
+def _fig8_scene(scene):
+    """This scene as a fig8 scene: its models, the most detailed of them as reference."""
+    from comparisons import fig8
+    models = scene.options["transient_models"]
+    options = {**fig8.OPTIONS, "models": models, "reference": next(m for m in FIDELITY if m in models),
+               "window_periods": scene.options["window_periods"]}
+    return fig8, dataclasses.replace(scene, study="fig8", options=options)
 
 
-def _plot_transients(runs: dict, reference: str, period: float, window_periods: int, path: Path) -> None:
-    panels = (("v_L", "v_L (µm)", 1e6), ("w_L", "w_L (µm)", 1e6), ("N1", "N_1 (N)", 1.0), ("Ff1", "F_f1 (N)", 1.0))
-    fig, axes = figure(2, 2, width=7.2, height=5.0)
-    for ax, (name, ylabel, scale) in zip(axes.flat, panels):
-        for m, r in sorted(runs.items(), key=lambda kv: FIDELITY.index(kv[0])):
-            t = r.trajectory.t
-            mask = t >= t[-1] - min(window_periods, 3) * period
-            ax.plot(t[mask] / period, signals_of(r.trajectory)[name][mask] * scale, color=MODEL_COLOURS[m],
-                    ls="-" if m == reference else "--", label=m)
-        ax.set(xlabel="time (excitation periods)", ylabel=ylabel)
-    axes[0, 0].legend()
-    fig.suptitle("Fig. 8 case: tip displacements and side-1 contact forces")
-    save(fig, path)
+def _fig8(scene, out: Path) -> dict:
+    """Run comparisons.fig8 on this scene into ``out/fig8``; its results."""
+    fig8, fig8_scene = _fig8_scene(scene)
+    folder = out / "fig8"
+    folder.mkdir(exist_ok=True)
+    return fig8.run(fig8_scene, folder)
 
 
-def _transient_report(tr: dict, params) -> str:
-    ref = tr["reference"]
-    rows = []
-    for m, e in tr["runs"].items():
-        worst = e.get(f"agreement_vs_{ref}", {}).get("worst_nrmse")
-        rows.append([m, e["dofs"], seconds(e.get("build_s")), seconds(e["elapsed_s"]),
-                     seconds(e["paper_table3_s"]), e["amplitude"]["v_L"] * 1e6, e["amplitude"]["w_L"] * 1e6,
-                     e["peak"]["N1"], e["peak"]["Ff1"], worst])
-    table = markdown_table(["model", "DOF", "build", "run", "paper Table 3 (100 periods)", "v_L amp. (µm)",
-                            "w_L amp. (µm)", "peak N1 (N)", "peak Ff1 (N)", f"worst NRMSE vs {ref}"], rows)
-    return (f"## The Fig. 8 transient at {params.speed.rpm:g} r/min\n\n"
-            f"N0 = {params.contact.N0:g} N, kn = {params.contact.kn:.3g} N/m, kt = {params.contact.kt:.3g} N/m, "
-            f"mu = {params.contact.mu:g}, alpha = {params.contact.alpha_deg:g} deg; "
-            f"{params.time.periods} excitation periods of {params.time.steps_per_period} steps "
-            f"(the paper ran 100). Amplitudes are (max - min)/2 over the last 10 periods; NRMSE over the "
-            f"last {tr['window_periods']} periods, relative to the reference's peak-to-peak range, "
-            f"worst of {', '.join(SIGNALS)}.\n\n" + table + f"\n![Fig. 8 signals]({tr['figure']})\n\n")
+def _fig8_report(out: Path) -> str:
+    body = re.sub(r"\A# [^\n]*\n", "", (out / "fig8" / "report.md").read_text())
+    return "## The Fig. 8 transient and the paper's Table 3\n\n" + relink(demote(body), "fig8") + "\n"

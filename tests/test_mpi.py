@@ -67,9 +67,9 @@ def test_scene_under_mpirun_is_written_once_by_rank_0(tmp_path):
     serial_dir = tmp_path / "serial"
     shroud(["run", str(path), "--out", str(serial_dir)], cwd=tmp_path)
     serial = json.loads((serial_dir / "results.json").read_text())
-    assert record["results"]["transient"]["runs"]["reduced"]["amplitude"] == \
-        serial["results"]["transient"]["runs"]["reduced"]["amplitude"]
-    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == sorted(p.name for p in serial_dir.iterdir())
+    assert record["results"]["fig8"]["amplitude"] == serial["results"]["fig8"]["amplitude"]
+    files = sorted(str(p.relative_to(tmp_path / "out")) for p in (tmp_path / "out").rglob("*"))
+    assert files == sorted(str(p.relative_to(serial_dir)) for p in serial_dir.rglob("*"))
 
 
 def test_campaign_spreads_scenes_over_ranks(tmp_path):

@@ -74,4 +74,4 @@ def test_interrupted_run_leaves_a_marked_partial_result(tmp_path):
     for csv in out.glob("*.csv"):
         assert csv.read_text().startswith("# status: incomplete"), csv.name
     assert "**Partial result** (run interrupted" in (out / "report.md").read_text()
-    assert not (out / "transient_full.csv").exists()        # the run stopped before the second model
+    assert not (out / "fig8" / "transient_full.csv").exists()   # the run stopped before the second model
