@@ -1,0 +1,222 @@
+"""Fig. 8 and Table 3 of the paper: four models of the shroud impact and friction.
+
+At 10000 r/min, N0 = 0, kn = kt = 1e7 N/m, alpha = 15 deg, mu = 0.3 (the
+scene), each model runs ``time.periods`` excitation periods from rest:
+
+* "reduced": the beam model reduced to nr = 6 free-interface modes,
+* "full": the beam model, 5 N = 30 DOF,
+* "fe-reduced": the solid FE model reduced to fe.cms_modes normal modes plus
+  the residual attachment modes of its contact nodes and load,
+* "fe": the solid FE model, one contact element per contact-face node.
+
+Figures as the paper's: impact force, friction force, hysteresis loop
+(friction force against the face's tangential displacement w_s) and contact
+state of each side, and the shroud displacements v_L, w_L. Agreement is
+measured against ``options.reference`` over the last ``window_periods``
+periods (NRMSE and peak error of each signal, share of time in each state),
+and for the two reduced/full pairs, whose targets are 1 % (beam) and 2 %
+(solid) NRMSE. Table 3 is the cost of each run beside the paper's.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+
+from comparisons._agreement import SIGNALS, Agreement, agreement
+from shroud import api
+from shroud.contact import STATE_NAMES
+from shroud.errors import InputError, RunDiverged
+from shroud.log import info, warn
+from shroud.plotting import MODEL_COLOURS, figure, save
+from shroud.report import markdown_table, seconds
+from shroud.transient import simulate
+
+OPTIONS = {
+    "models": ["reduced", "full", "fe-reduced", "fe"],
+    "reference": "fe",          # what every model is measured against
+    "window_periods": 10,       # the steady window of the metrics
+    "plot_periods": 2,          # periods shown in the time panels
+}
+
+# Paper Table 3: 100 periods at 60 / (256 ke Omega) s (i7-6700, ANSYS for the FE models), s.
+PAPER_TABLE3 = {"reduced": 5.37, "full": 7.66, "fe-reduced": 2328.84, "fe": 3259.67}
+PAIRS = (("reduced", "full", 0.01), ("fe-reduced", "fe", 0.02))   # (model, its full model, NRMSE target)
+LABELS = {"reduced": "reduced beam (nr modes)", "full": "full beam (5N DOF)",
+          "fe-reduced": "reduced solid FE", "fe": "full solid FE"}
+# Paper Fig. 8(d, h): States 1-3 are separation, slip, stick.
+PAPER_STATE = {STATE_NAMES.index("separate"): 1, STATE_NAMES.index("slip"): 2, STATE_NAMES.index("stick"): 3}
+
+
+def check(scene) -> None:
+    o = scene.options
+    unknown = [m for m in o["models"] if m not in api.TRANSIENT_MODELS]
+    if unknown or not o["models"]:
+        raise InputError("options.models", f"{o['models']!r}; allowed: a list from {', '.join(api.TRANSIENT_MODELS)}")
+    if o["reference"] not in o["models"]:
+        raise InputError("options.reference", f"{o['reference']!r} is not among options.models")
+    if not 1 <= o["window_periods"] <= scene.params.time.periods:
+        raise InputError("options.window_periods", f"{o['window_periods']!r}; allowed: 1 .. time.periods")
+    if not 1 <= o["plot_periods"] <= scene.params.time.periods:
+        raise InputError("options.plot_periods", f"{o['plot_periods']!r}; allowed: 1 .. time.periods")
+
+
+def signals_of(trajectory) -> dict[str, np.ndarray]:
+    tr = trajectory
+    return {"v_L": tr.tip[:, 0], "w_L": tr.tip[:, 1], "N1": tr.normal[:, 0], "N2": tr.normal[:, 1],
+            "Ff1": tr.friction[:, 0], "Ff2": tr.friction[:, 1]}
+
+
+def run_models(params, models, out: Path) -> dict[str, dict]:
+    """Build and integrate each model; a diverging model is reported, not fatal."""
+    runs = {}
+    for model in models:
+        system = api.build_system(params, model)
+        csv_path = out / f"transient_{model}.csv"
+        try:
+            result = simulate(system, params, csv_path=csv_path)
+        except RunDiverged as exc:
+            warn(str(exc))
+            runs[model] = {"diverged": str(exc), "dofs": system.dofs, "build_s": system.build_s}
+            continue
+        info(f"{model}: {system.dofs} DOF, built in {system.build_s:.2f} s, "
+             f"{result.steps} steps in {result.elapsed_s:.2f} s")
+        runs[model] = {"result": result, "dofs": system.dofs, "build_s": system.build_s,
+                       "run_s": result.elapsed_s, "t": result.trajectory.t,
+                       "signals": signals_of(result.trajectory)}
+    return runs
+
+
+def run(scene, out: Path) -> dict:
+    check(scene)
+    params, o = scene.params, scene.options
+    period = 2 * math.pi / (params.load.ke * params.speed.omega)
+    runs = run_models(params, o["models"], out)
+    ok = {m: r for m, r in runs.items() if "result" in r}
+    ref = ok.get(o["reference"])
+    versus_ref: dict[str, Agreement] = {}
+    if ref is not None:
+        for m, r in ok.items():
+            if m != o["reference"]:
+                versus_ref[m] = agreement(r["t"], r["signals"], ref["t"], ref["signals"], period,
+                                          o["window_periods"])
+    pairs = {}
+    for small, big, target in PAIRS:
+        if small in ok and big in ok:
+            fit = agreement(ok[small]["t"], ok[small]["signals"], ok[big]["t"], ok[big]["signals"],
+                            period, o["window_periods"])
+            pairs[f"{small} vs {big}"] = {**fit.to_json(), "target": target, "met": fit.worst_nrmse <= target}
+
+    table3 = [{"model": m, "dofs": r["dofs"], "build_s": r["build_s"], "run_s": r.get("run_s"),
+               "total_s": r["build_s"] + r.get("run_s", math.nan), "paper_s": PAPER_TABLE3[m],
+               "status": "diverged" if "diverged" in r else "complete"} for m, r in runs.items()]
+    states = {m: r["result"].state_fraction for m, r in ok.items()}
+    _write_csv(out / "table3.csv", table3)
+    _write_csv(out / "agreement.csv", [
+        {"model": m, "versus": o["reference"], "signal": s, "nrmse": a.nrmse[s], "peak_error": a.peak_error[s]}
+        for m, a in versus_ref.items() for s in SIGNALS])
+    _write_csv(out / "state_fractions.csv", [
+        {"model": m, "side": side, **fr} for m, st in states.items() for side, fr in st.items()])
+    figures = _figures(ok, params, o, period, out)
+    (out / "report.md").write_text(_report(scene, runs, table3, versus_ref, pairs, states, figures))
+    return {
+        "rpm": params.speed.rpm, "periods": params.time.periods,
+        "steps_per_period": params.time.steps_per_period, "reference": o["reference"],
+        "table3": table3, "paper_table3_s": PAPER_TABLE3,
+        "amplitude": {m: r["result"].amplitude for m, r in ok.items()},
+        "peak": {m: r["result"].peak for m, r in ok.items()},
+        "state_fraction": states, "period": {m: r["result"].period for m, r in ok.items()},
+        "versus_reference": {m: a.to_json() for m, a in versus_ref.items()},
+        "pairs": pairs, "diverged": {m: r["diverged"] for m, r in runs.items() if "diverged" in r},
+        "figures": [p.name for p in figures],
+    }
+
+
+def _write_csv(path: Path, rows: list[dict]) -> None:
+    if not rows:
+        return
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _figures(ok: dict, params, o, period: float, out: Path) -> list[Path]:
+    """Paper Fig. 8 (a)-(j): each side's N, F_f, loop and state; v_L and w_L."""
+    fig, axes = figure(5, 2, width=7.5, height=12.0)
+    spp = params.time.steps_per_period
+    for model, r in ok.items():
+        t, s = r["t"], r["signals"]
+        tr = r["result"].trajectory
+        shown = slice(len(t) - 1 - o["plot_periods"] * spp, None)
+        loop = slice(len(t) - 1 - spp, None)
+        tt = (t[shown] - t[shown][0]) / period
+        style = dict(color=MODEL_COLOURS[model], label=LABELS[model], lw=1.0 if model != "fe" else 1.6,
+                     ls="-" if model in ("fe", "full") else "--")
+        for col, side in enumerate((1, 2)):
+            axes[0, col].plot(tt, s[f"N{side}"][shown], **style)
+            axes[1, col].plot(tt, s[f"Ff{side}"][shown], **style)
+            axes[2, col].plot(1e6 * tr.tangential[loop, side - 1], s[f"Ff{side}"][loop], **style)
+            axes[3, col].step(tt, [PAPER_STATE[int(x)] for x in tr.state[shown, side - 1]], where="post", **style)
+        axes[4, 0].plot(tt, 1e6 * s["v_L"][shown], **style)
+        axes[4, 1].plot(tt, 1e6 * s["w_L"][shown], **style)
+    titles = [["(a) impact force N1, side 1", "(e) impact force N2, side 2"],
+              ["(b) friction force Ff1, side 1", "(f) friction force Ff2, side 2"],
+              ["(c) hysteresis loop, side 1 (last period)", "(g) hysteresis loop, side 2 (last period)"],
+              ["(d) contact state, side 1", "(h) contact state, side 2"],
+              ["(i) v_L (flexural)", "(j) w_L (swing)"]]
+    ylabels = ["N (N)", "Ff (N)", "Ff (N)", "state", "displacement (um)"]
+    for i in range(5):
+        for j in range(2):
+            ax = axes[i, j]
+            ax.set_title(titles[i][j])
+            ax.set_ylabel(ylabels[i])
+            ax.set_xlabel("w_s (um)" if i == 2 else "t / T_e (last periods)")
+            if i == 3:
+                ax.set_yticks([1, 2, 3], ["1 separate", "2 slip", "3 stick"])
+    axes[0, 0].legend()
+    return [save(fig, out / "fig8.png")]
+
+
+def _report(scene, runs, table3, versus_ref, pairs, states, figures) -> str:
+    p = scene.params
+    lines = [f"# {scene.title}\n",
+             f"{p.speed.rpm:g} r/min, N0 = {p.contact.N0:g} N, kn = {p.contact.kn:g} N/m, "
+             f"kt = {p.contact.kt:g} N/m, alpha = {p.contact.alpha_deg:g} deg, mu = {p.contact.mu:g}; "
+             f"{p.time.periods} excitation periods at {p.time.steps_per_period} steps each "
+             f"(dt = {p.time_step:.4g} s), {p.time.contact} contact; solid mesh "
+             f"{p.fe.mesh_size:g} m, order {p.fe.order}, {p.fe.cms_modes} kept modes.\n",
+             "## Table 3: run times\n",
+             "Ours on this machine (2 cores); the paper's on an i7-6700 (ANSYS for the FE models). "
+             "Build: matrices, reduction basis (cached on disk after the first run), damping. "
+             "Run: the time integration.\n",
+             markdown_table(("model", "DOF", "build", "run", "total", "paper", "status"),
+                            [(LABELS[r["model"]], r["dofs"], seconds(r["build_s"]), seconds(r["run_s"]),
+                              seconds(r["total_s"]) if math.isfinite(r["total_s"]) else "-",
+                              seconds(r["paper_s"]), r["status"]) for r in table3]),
+             "\n![Fig. 8](fig8.png)\n",
+             "## Agreement over the last periods\n"]
+    if pairs:
+        lines.append("Reduced model against its own full model (worst NRMSE over the six signals):\n")
+        lines.append(markdown_table(("pair", "worst NRMSE", "target", "met"),
+                                    [(k, v["worst_nrmse"], v["target"], "yes" if v["met"] else "no")
+                                     for k, v in pairs.items()]))
+    if versus_ref:
+        ref = scene.options["reference"]
+        lines.append(f"\nEach model against the {LABELS[ref]} (NRMSE / peak error):\n")
+        lines.append(markdown_table(("model",) + SIGNALS,
+                                    [(LABELS[m],) + tuple(f"{a.nrmse[s]:.3g} / {a.peak_error[s]:.3g}"
+                                                          for s in SIGNALS) for m, a in versus_ref.items()]))
+    lines.append("\nShare of the window in each contact state (separate / stick / slip):\n")
+    lines.append(markdown_table(("model", "side 1", "side 2"),
+                                [(LABELS[m], *(" / ".join(f"{st[side][k]:.2f}" for k in STATE_NAMES)
+                                               for side in ("side1", "side2"))) for m, st in states.items()]))
+    diverged = {m: r["diverged"] for m, r in runs.items() if "diverged" in r}
+    for m, why in diverged.items():
+        lines.append(f"\n**{LABELS[m]} diverged**: {why}\n")
+    lines.append("\nTime series of each model: `transient_<model>.csv`; tables: `table3.csv`, "
+                 "`agreement.csv`, `state_fractions.csv`.\n")
+    return "\n".join(lines)
