@@ -32,7 +32,7 @@ def poincare(x: np.ndarray, steps_per_period: int) -> np.ndarray:
 
 
 def detect_period(x: np.ndarray, steps_per_period: int, max_period: int = 10,
-                  rtol: float = 2e-3, window: int = 60) -> int | None:
+                  rtol: float = 2e-3, window: int = 30) -> int | None:
     """Period of the response in excitation periods (1 = P1, ..., 10 = P10), or None.
 
     The Poincare samples (once per excitation period) of the last ``window``

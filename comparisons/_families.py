@@ -1,0 +1,133 @@
+"""Families of amplitude-frequency curves over gap and preload (paper Figs. 11-13, 16-17).
+
+One study = one contact parameter varied (none, mu, or the stiffness ratio
+xi = kt/kn) over two panels of cases: initial gaps, and a 1 um gap followed
+by initial normal preloads (the paper's (a)/(b) panels). Every curve is a
+speed sweep of the reduced model; the resonance (speed and amplitude of the
+largest steady-state v_L amplitude) is read off each curve.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from shroud.params import Parameters
+from shroud.plotting import figure, save
+from shroud.sweep import SweepResult, run_sweeps
+
+FAMILY_OPTIONS = {
+    "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
+    "small_gap_um": 1.0,
+    "preloads_N": [10.0, 25.0, 50.0, 100.0, 200.0],
+    "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 66,
+    "model": "reduced",
+}
+
+
+@dataclass(frozen=True)
+class Case:
+    label: str
+    kind: str          # "gap" | "preload"
+    value: float       # gap in um, or N0 in N
+    params: Parameters
+
+
+def cases(base: Parameters, options: dict) -> list[Case]:
+    """The gap panel, then the 1 um gap and the preload panel."""
+    out = [Case(f"gap {g:g} um", "gap", g, base.updated({"contact.gap": g * 1e-6}))
+           for g in options["gaps_um"]]
+    g = options["small_gap_um"]
+    out.append(Case(f"gap {g:g} um", "preload", -base.contact.kn * g * 1e-6,
+                    base.updated({"contact.gap": g * 1e-6})))
+    out += [Case(f"N0 {n:g} N", "preload", n, base.updated({"contact.N0": n}))
+            for n in options["preloads_N"]]
+    return out
+
+
+def rpms(options: dict) -> np.ndarray:
+    return np.linspace(options["rpm_from"], options["rpm_to"], int(options["rpm_count"]))
+
+
+def run_family(variants: dict[str, Parameters], options: dict) -> dict[str, list[tuple[Case, SweepResult]]]:
+    """Every case of every variant, swept in one parallel map."""
+    all_cases = [(name, c) for name, base in variants.items() for c in cases(base, options)]
+    results = run_sweeps([c.params for _, c in all_cases], options["model"], rpms(options))
+    out: dict[str, list] = {name: [] for name in variants}
+    for (name, c), r in zip(all_cases, results):
+        out[name].append((c, r))
+    return out
+
+
+def resonance_table(family: dict[str, list[tuple[Case, SweepResult]]]) -> list[dict]:
+    rows = []
+    for name, curves in family.items():
+        for c, r in curves:
+            rows.append({"variant": name, "case": c.label, "kind": c.kind, "value": c.value,
+                         "resonance_rpm": r.resonance["rpm"],
+                         "resonance_amplitude_m": r.resonance["amplitude"],
+                         "periods_seen": sorted({p for p in r.period if p}),
+                         "unperiodic_speeds": int(sum(p is None for p in r.period)),
+                         "cpu_s": r.cpu_s})
+    return rows
+
+
+def optimal_preload(rows: list[dict], variant: str) -> tuple[float, float]:
+    """(N0, resonant amplitude) of the preload with the smallest resonant amplitude."""
+    pre = [r for r in rows if r["variant"] == variant and r["kind"] == "preload" and r["value"] >= 0]
+    best = min(pre, key=lambda r: r["resonance_amplitude_m"])
+    return best["value"], best["resonance_amplitude_m"]
+
+
+def write_outputs(out: Path, family, rows: list[dict], title: str) -> list[str]:
+    """Amplitude-frequency panels per variant, resonance characteristics, and the CSVs."""
+    names = list(family)
+    fig, axes = figure(len(names), 2, width=8.0, height=2.6 * len(names) + 0.6)
+    for i, name in enumerate(names):
+        for j, kind in enumerate(("gap", "preload")):
+            ax = axes[i][j]
+            for c, r in family[name]:
+                if c.kind == kind:
+                    ax.plot(r.rpm, r.amplitude_v_L * 1e3, label=c.label)
+            ax.set_xlabel("speed (r/min)")
+            ax.set_ylabel("amplitude of v_L (mm)")
+            ax.set_title(f"{name}: {'initial gaps' if kind == 'gap' else 'small gap and preloads'}")
+            ax.legend(ncol=2)
+    files = [save(fig, out / "amplitude_frequency.png").name]
+    fig, axes = figure(2, 2, width=8.0)
+    for name in names:
+        for j, kind in enumerate(("gap", "preload")):
+            sel = [r for r in rows if r["variant"] == name and r["kind"] == kind and
+                   (kind == "gap" or r["value"] >= 0)]
+            x = [r["value"] for r in sel]
+            axes[0][j].plot(x, [r["resonance_rpm"] for r in sel], "o-", label=name)
+            axes[1][j].plot(x, [r["resonance_amplitude_m"] * 1e3 for r in sel], "o-", label=name)
+    for j, xl in enumerate(("initial gap (um)", "initial preload N0 (N)")):
+        axes[0][j].set_ylabel("resonant speed (r/min)")
+        axes[1][j].set_ylabel("resonant amplitude (mm)")
+        for i in range(2):
+            axes[i][j].set_xlabel(xl)
+            axes[i][j].legend()
+    axes[0][0].set_xscale("log")
+    axes[1][0].set_xscale("log")
+    files.append(save(fig, out / "resonance_characteristics.png").name)
+    with open(out / "amplitude_frequency.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["variant", "case", "rpm", "amplitude_v_L_m", "amplitude_w_L_m", "period"])
+        for name in names:
+            for c, r in family[name]:
+                for k in range(len(r.rpm)):
+                    w.writerow([name, c.label, r.rpm[k], r.amplitude_v_L[k], r.amplitude_w_L[k],
+                                r.period[k] or ""])
+    with open(out / "resonances.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    return files
+
+
+def curves_json(family) -> dict:
+    return {name: {c.label: r.to_json() for c, r in curves} for name, curves in family.items()}
