@@ -1,0 +1,62 @@
+"""Speed and size of the solid FE transients ("fe" and "fe-reduced") on the Fig. 8 case.
+
+Goals (issue): "fe" 100 excitation periods on the default mesh in 10 min or
+less on 2 cores and under 4 GB (the paper's ANSYS beam model: 3260 s);
+"fe-reduced" 5 s or less (paper: 2329 s). Reported per model: DOFs, contact
+elements, build time (mesh, operators, reduction basis; cached on disk
+after a first run: run twice to see both), set-up of the time loop (the
+factorization of the Newmark operator and its condensation on the contact
+coordinates: a zero-step integration), time per step, total, peak memory.
+
+    python benchmarks/bench_fe_transient.py                 # 100 periods, both models
+    python benchmarks/bench_fe_transient.py --periods 5     # per-step figures, extrapolated
+    python benchmarks/bench_fe_transient.py --set fe.order=1
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import resource
+import time
+
+from shroud.api import build_system
+from shroud.contact import contact_law
+from shroud.newmark import NewmarkScheme, integrate
+from shroud.scene import load_scene
+
+
+def measure(params, model: str) -> dict:
+    t0 = time.perf_counter()
+    system = build_system(params, model)
+    build_s = time.perf_counter() - t0
+    law = contact_law(system.contact, params.contact)
+    scheme = NewmarkScheme(dt=params.time_step)
+    steps = params.time.periods * params.time.steps_per_period
+    implicit = params.time.contact == "implicit"
+    setup = integrate(system, law, scheme, 0, implicit=implicit)
+    run = integrate(system, law, scheme, steps, implicit=implicit, label=f"bench {model}")
+    per_step = (run.elapsed_s - setup.elapsed_s) / steps
+    return {
+        "model": model, "dofs": system.dofs, "contact_elements": law.count, "build_s": build_s,
+        "setup_s": setup.elapsed_s, "steps": steps, "run_s": run.elapsed_s, "per_step_ms": 1e3 * per_step,
+        "run_100_periods_s": setup.elapsed_s + per_step * 100 * params.time.steps_per_period,
+        "contact_iterations_max": run.contact_iterations,
+        "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2,
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--periods", type=int, default=100)
+    parser.add_argument("--models", nargs="+", default=["fe-reduced", "fe"])
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    args = parser.parse_args()
+    params = load_scene("scenes/fig8.toml", args.set + [f"time.periods={args.periods}"]).params
+    for model in args.models:
+        row = measure(params, model)
+        print(json.dumps({k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}), flush=True)
+
+
+if __name__ == "__main__":
+    main()
