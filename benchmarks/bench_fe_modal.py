@@ -1,0 +1,69 @@
+"""Cost of one prestressed modal solve of the solid blade (goal: <= 30 s, < 4 GB on 2 cores).
+
+Each size runs in a fresh process, so every in-process cache is cold; the
+gmsh mesh itself comes from the disk cache (built once beforehand, its time
+reported separately). Timed: mesh read and distribution, assembly of M,
+K_e, the prestress solve, K_sigma, K_spin and G, then the undamped (EPS)
+and the gyroscopic (PEP) eigen-solves for 6 modes at 8500 r/min.
+
+    python benchmarks/bench_fe_modal.py                      # default mesh, serial
+    mpirun -n 2 python benchmarks/bench_fe_modal.py          # the same on 2 ranks
+    python benchmarks/bench_fe_modal.py --sizes 0.0035 0.0028 0.0022
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import subprocess
+import sys
+import time
+
+WORK = """
+import resource, sys, time
+t0 = time.perf_counter()
+from mpi4py import MPI
+from reference_fe.modal import solve_modes
+from shroud.params import Parameters
+p = Parameters().updated({"fe.mesh_size": %r})
+t_import = time.perf_counter() - t0
+m = solve_modes(p, 8500.0, 6, coriolis=True)
+total = time.perf_counter() - t0
+rss = MPI.COMM_WORLD.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, op=MPI.SUM)
+if MPI.COMM_WORLD.rank == 0:
+    print(m.dofs, round(t_import, 2), round(m.solve_s, 2), round(total, 2), round(rss / 1e6, 3),
+          " ".join(f"{l}={f:.2f}" for l, f in zip(m.labels, m.f_undamped)))
+"""
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=float, nargs="+", default=[None])
+    args = parser.parse_args()
+    from shroud.params import Parameters
+    from meshes.blade import MeshSpec, mesh_file
+    from mpi4py import MPI
+    ranks = MPI.COMM_WORLD.size
+    if MPI.COMM_WORLD.rank == 0:
+            print(f"{'size m':>8} {'DOF':>8} {'mesh s':>7} {'import s':>8} {'solve s':>8} {'total s':>8} "
+              f"{'peak GB':>8} ranks  frequencies (Hz)")
+    for size in args.sizes:
+        params = Parameters() if size is None else Parameters().updated({"fe.mesh_size": size})
+        t0 = time.perf_counter()
+        if MPI.COMM_WORLD.rank == 0:
+            mesh_file(MeshSpec.from_params(params))
+        mesh_s = time.perf_counter() - t0
+        code = WORK % params.fe.mesh_size
+        if ranks > 1:
+            # Under mpirun this script itself is rank-parallel: run the work in-process.
+            exec(compile(code, "bench", "exec"), {})
+            continue
+        line = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+        dofs, t_imp, solve, total, rss, freqs = line.stdout.split(maxsplit=5)
+        print(f"{params.fe.mesh_size:8.4f} {dofs:>8} {mesh_s:7.1f} {t_imp:>8} {solve:>8} {total:>8} "
+              f"{rss:>8} {ranks:5d}  {freqs.strip()}")
+
+
+if __name__ == "__main__":
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+    main()
