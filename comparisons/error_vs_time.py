@@ -1,0 +1,173 @@
+"""Error against run time: every model at several fidelities on the Fig. 8 case.
+
+Each point is one transient (the scene's speed, contact and number of
+periods) of one model at one fidelity: the beam model's kept modes nr and
+shape functions N, the solid's element size and degree, the reduced solid's
+kept modes, and the time step. Its error is the worst NRMSE of the six Fig. 8
+signals (N1, N2, Ff1, Ff2, v_L, w_L) against the full solid FE model at the
+finest setting, over the last ``window_periods`` periods; its cost is the
+wall time of building the model plus integrating it (cached artefacts such
+as meshes and reduction bases are counted as reused). The Pareto front is
+the set of points no other point beats in both error and time.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from comparisons._agreement import agreement
+from comparisons.fig8 import signals_of
+from shroud import api
+from shroud.errors import InputError, RunDiverged
+from shroud.log import info, warn
+from shroud.plotting import MODEL_COLOURS, figure, save
+from shroud.report import markdown_table, seconds
+from shroud.transient import simulate
+
+OPTIONS = {
+    "reduced_nr": [2, 4, 6, 10],          # beam model, kept modes (at reduced.N)
+    "beam_N": [4, 6, 8],                  # full beam model, shape functions per field
+    "fe_mesh_sizes": [0.0035],            # solid, element size (m) ...
+    "fe_orders": [1, 2],                  # ... and degree
+    "cms_modes": [6, 12, 24, 48],         # reduced solid, kept normal modes
+    "steps_per_period": [64, 128, 256],   # time step, for each of step_models at its scene fidelity
+    "step_models": ["reduced", "fe-reduced"],
+    "window_periods": 10,
+}
+
+
+@dataclass(frozen=True)
+class Point:
+    model: str
+    setting: str
+    overrides: tuple[str, ...]
+
+
+def check(scene) -> None:
+    o = scene.options
+    if not o["fe_mesh_sizes"] or not o["fe_orders"] or any(k not in (1, 2) for k in o["fe_orders"]):
+        raise InputError("options.fe_orders", f"{o['fe_orders']!r}; allowed: a non-empty list of 1 and 2")
+    if any(nr > 5 * scene.params.reduced.N or nr < 1 for nr in o["reduced_nr"]):
+        raise InputError("options.reduced_nr", f"{o['reduced_nr']!r}; allowed: 1 .. 5 reduced.N")
+    if any(m not in api.TRANSIENT_MODELS for m in o["step_models"]):
+        raise InputError("options.step_models", f"allowed: models from {', '.join(api.TRANSIENT_MODELS)}")
+    if not 1 <= o["window_periods"] <= scene.params.time.periods:
+        raise InputError("options.window_periods", "allowed: 1 .. time.periods")
+    for key in ("steps_per_period", "cms_modes", "beam_N"):
+        if any(v < 1 for v in o[key]):
+            raise InputError(f"options.{key}", f"{o[key]!r}; allowed: positive integers")
+
+
+def reference_point(o) -> Point:
+    h, order, spp = min(o["fe_mesh_sizes"]), max(o["fe_orders"]), max(o["steps_per_period"])
+    return Point("fe", f"h = {1e3 * h:g} mm, P{order}, {spp} steps/period (reference)",
+                 (f"fe.mesh_size={h}", f"fe.order={order}", f"time.steps_per_period={spp}"))
+
+
+def points(o) -> list[Point]:
+    pts = [Point("reduced", f"nr = {nr}", (f"reduced.nr={nr}",)) for nr in o["reduced_nr"]]
+    pts += [Point("full", f"N = {n} ({5 * n} DOF)", (f"reduced.N={n}",)) for n in o["beam_N"]]
+    pts += [Point("fe", f"h = {1e3 * h:g} mm, P{k}", (f"fe.mesh_size={h}", f"fe.order={k}"))
+            for h in o["fe_mesh_sizes"] for k in o["fe_orders"]]
+    pts += [Point("fe-reduced", f"{k} modes", (f"fe.cms_modes={k}",)) for k in o["cms_modes"]]
+    pts += [Point(m, f"{s} steps/period", (f"time.steps_per_period={s}",))
+            for m in o["step_models"] for s in o["steps_per_period"]]
+    return pts
+
+
+def pareto(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
+    """Mask of the points that no other point beats in both time and error."""
+    front = np.zeros(times.size, bool)
+    best = math.inf
+    for i in np.lexsort((errors, times)):
+        if errors[i] < best:
+            front[i], best = True, errors[i]
+    return front
+
+
+def measure(params, point: Point):
+    p = params.with_overrides(list(point.overrides))
+    t0 = time.perf_counter()
+    system = api.build_system(p, point.model)
+    result = simulate(system, p)
+    return result, system.dofs, time.perf_counter() - t0
+
+
+def run(scene, out: Path) -> dict:
+    check(scene)
+    params, o = scene.params, scene.options
+    period = 2 * math.pi / (params.load.ke * params.speed.omega)
+    ref_point = reference_point(o)
+    ref, ref_dofs, ref_s = measure(params, ref_point)
+    t_ref, s_ref = ref.trajectory.t, signals_of(ref.trajectory)
+    info(f"reference {ref_point.setting}: {ref_dofs} DOF, {ref_s:.1f} s")
+    rows = []
+    for pt in points(o):
+        if pt.model == ref_point.model and set(pt.overrides) <= set(ref_point.overrides):
+            result, dofs, cost = ref, ref_dofs, ref_s          # the reference itself: error 0
+        else:
+            try:
+                result, dofs, cost = measure(params, pt)
+            except RunDiverged as exc:
+                warn(f"{pt.model} {pt.setting}: {exc}")
+                continue
+        fit = agreement(result.trajectory.t, signals_of(result.trajectory), t_ref, s_ref, period,
+                        o["window_periods"])
+        rows.append({"model": pt.model, "setting": pt.setting, "dofs": dofs, "time_s": cost,
+                     "error": fit.worst_nrmse, **{f"nrmse_{k}": v for k, v in fit.nrmse.items()}})
+        info(f"{pt.model} {pt.setting}: {dofs} DOF, {cost:.2f} s, worst NRMSE {fit.worst_nrmse:.3g}")
+    times = np.array([r["time_s"] for r in rows])
+    errors = np.array([r["error"] for r in rows])
+    front = pareto(times, errors)
+    for r, f in zip(rows, front):
+        r["pareto"] = bool(f)
+    with open(out / "error_vs_time.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    fig_name = _figure(rows, front, out)
+    (out / "report.md").write_text(_report(scene, ref_point, ref_dofs, ref_s, rows, fig_name))
+    return {"reference": {"setting": ref_point.setting, "dofs": ref_dofs, "time_s": ref_s},
+            "points": rows, "pareto": [f"{r['model']} {r['setting']}" for r in rows if r["pareto"]]}
+
+
+def _figure(rows, front, out: Path) -> str:
+    fig, axes = figure(1, 1, width=6.4, height=4.2)
+    ax = axes[0][0]
+    floor = 1e-8                     # the reference itself (error 0) on a log axis
+    for model in dict.fromkeys(r["model"] for r in rows):
+        sel = [r for r in rows if r["model"] == model]
+        ax.loglog([r["time_s"] for r in sel], [max(r["error"], floor) for r in sel], "o",
+                  color=MODEL_COLOURS[model], label=model)
+        for r in sel:
+            ax.annotate(r["setting"].replace(" (reference)", ""), (r["time_s"], max(r["error"], floor)),
+                        fontsize=5, xytext=(3, 2), textcoords="offset points")
+    order = np.argsort([r["time_s"] for r in rows])
+    fr = [rows[i] for i in order if front[i]]
+    ax.step([r["time_s"] for r in fr], [max(r["error"], floor) for r in fr], where="post", color="k",
+            lw=0.8, label="Pareto front")
+    ax.set_xlabel("run time: build + integration (s)")
+    ax.set_ylabel("worst NRMSE against the full FE reference")
+    ax.legend()
+    return save(fig, out / "error_vs_time.png").name
+
+
+def _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name) -> str:
+    p = scene.params
+    return "\n".join([
+        f"# {scene.title}\n",
+        f"Fig. 8 case at {p.speed.rpm:g} r/min, {p.time.periods} periods; reference: full solid FE, "
+        f"{ref_point.setting}, {ref_dofs} DOF, {seconds(ref_s)}. Error: worst NRMSE of N1, N2, Ff1, Ff2, "
+        "v_L, w_L over the last periods. Time: build + integration on this machine (cached meshes and "
+        "reduction bases are reused, as in daily use).\n",
+        f"![error against run time]({fig_name})\n",
+        markdown_table(("model", "setting", "DOF", "time", "worst NRMSE", "NRMSE v_L", "Pareto"),
+                       [(r["model"], r["setting"], r["dofs"], seconds(r["time_s"]), r["error"],
+                         r["nrmse_v_L"], "yes" if r["pareto"] else "") for r in rows]),
+        "\nData: `error_vs_time.csv`.\n"])
