@@ -57,12 +57,12 @@ import ufl
 from dolfinx import fem, mesh as dmesh
 from dolfinx.fem import petsc as fem_petsc
 from dolfinx.io import gmsh as gmshio
-from mpi4py import MPI
 from petsc4py import PETSc
 
 from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, check_geometry,
                           mesh_file, tip_points)
 from shroud.log import info
+from shroud.parallel import task_comm
 from shroud.params import Material, Parameters
 
 
@@ -185,7 +185,7 @@ def solid_model(params: Parameters) -> SolidModel:
 
 @functools.lru_cache(maxsize=4)
 def _solid_model(spec: MeshSpec, material: Material) -> SolidModel:
-    comm = MPI.COMM_WORLD
+    comm = task_comm()       # COMM_WORLD, or COMM_SELF inside a campaign item spread over ranks
     path = mesh_file(spec) if comm.rank == 0 else None
     path = comm.bcast(path, root=0)
     data = _read_mesh(path, comm)
