@@ -159,7 +159,7 @@ def _build_model(gmsh, spec: MeshSpec) -> None:
     occ.synchronize()
 
     model = gmsh.model
-    tol = 1e-6 * spec.length
+    tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
     blade_vols, shroud_vols = [], []
     for dim, tag in volumes:
         x = model.occ.getCenterOfMass(dim, tag)[0]
@@ -207,7 +207,7 @@ def tip_points(spec: MeshSpec) -> np.ndarray:
 
 
 def _embed_tip_points(model, spec: MeshSpec) -> None:
-    tol = 1e-6 * spec.length
+    tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
     faces = [tag for _, tag in model.getEntities(2)
              if abs(model.getBoundingBox(2, tag)[0] - spec.tip_x) < tol
              and abs(model.getBoundingBox(2, tag)[3] - spec.tip_x) < tol]
