@@ -153,22 +153,33 @@ def _residual_norm(y, y_pred, Cc, lam):
 
 
 @njit(cache=True)
-def _gauss_solve(A, b, n):
-    """Solve A[:n, :n] x = b[:n] in place (partial pivoting); x returned in b."""
+def _lu_factor(A, piv, n):
+    """LU of A[:n, :n] in place (partial pivoting; multipliers below the diagonal), row swaps in piv."""
     for c in range(n):
         p = c
         for i in range(c + 1, n):
             if abs(A[i, c]) > abs(A[p, c]):
                 p = i
+        piv[c] = p
         if p != c:
             for l in range(n):
                 A[c, l], A[p, l] = A[p, l], A[c, l]
-            b[c], b[p] = b[p], b[c]
         for i in range(c + 1, n):
             f = A[i, c] / A[c, c]
-            for l in range(c, n):
+            A[i, c] = f
+            for l in range(c + 1, n):
                 A[i, l] -= f * A[c, l]
-            b[i] -= f * b[c]
+
+
+@njit(cache=True)
+def _lu_solve(A, piv, b, n):
+    """Solve with the factors of :func:`_lu_factor`; x returned in b[:n]."""
+    for c in range(n):
+        p = piv[c]
+        if p != c:
+            b[c], b[p] = b[p], b[c]
+        for i in range(c + 1, n):
+            b[i] -= A[i, c] * b[c]
     for c in range(n - 1, -1, -1):
         acc = b[c]
         for l in range(c + 1, n):
@@ -177,7 +188,7 @@ def _gauss_solve(A, b, n):
 
 
 @njit(cache=True)
-def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, active, A, b):
+def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, active, A, b, key, piv, cache):
     """Exact y of ``y = y_pred + Cc lam(y)`` with the element states held fixed.
 
     For fixed states lam = D y + e (D: -kn on contacting normals, -kt on
@@ -185,38 +196,64 @@ def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, acti
     normal). D has non-zero columns only on the active coordinates A, so
     (I - Cc D)[A, A] y_A = y_pred_A + (Cc e)_A is solved, then
     y = y_pred + Cc e + (Cc D)[:, A] y_A.
+
+    G = Cc D and the LU of (I - Cc D)[A, A] depend on the states (and slip
+    directions) only: they are kept in the workspace (``key`` the state set
+    they belong to, ``cache`` = (valid, size of A)) and reused while the
+    states repeat, as they do over the many steps of a stick or slip phase.
+    A step then costs O(m |A|) instead of O(|A|^3): what makes hundreds of
+    contact nodes (the solid FE faces) affordable.
     """
     m = y_pred.size
+    same = cache[0] == 1
+    for j in range(rows.shape[0]):
+        kj = 2 * state[j] + (1 if state[j] == SLIP and F[j] > 0.0 else 0)
+        if kj != key[j]:
+            same = False
+            key[j] = kj
     is_active = active                  # flags first, compacted below
-    for i in range(m):                  # G = Cc D, built column by column
+    if not same:
+        for i in range(m):              # G = Cc D, built column by column
+            is_active[i] = 0
+            for l in range(m):
+                G[i, l] = 0.0
+    for i in range(m):
         e[i] = 0.0
-        is_active[i] = 0
-        for l in range(m):
-            G[i, l] = 0.0
     for j in range(rows.shape[0]):
         if state[j] == SEPARATE:
             continue
         nr, tr = rows[j, 0], rows[j, 1]
         s, kn, kt, mu, n0 = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU], props[j, N0]
         e[nr] -= s * n0
+        if state[j] == STICK:
+            e[tr] += kt * z_old[j]
+        else:
+            e[tr] += mu * (1.0 if F[j] > 0.0 else -1.0) * n0
+        if same:
+            continue
         for i in range(m):
             G[i, nr] -= kn * Cc[i, nr]
         is_active[nr] = 1
         if state[j] == STICK:
-            e[tr] += kt * z_old[j]
             for i in range(m):
                 G[i, tr] -= kt * Cc[i, tr]
             is_active[tr] = 1
         else:
             sigma = 1.0 if F[j] > 0.0 else -1.0
-            e[tr] += mu * sigma * n0
             for i in range(m):
                 G[i, nr] += mu * sigma * s * kn * Cc[i, tr]
-    na = 0
-    for i in range(m):
-        if is_active[i]:
-            active[na] = i
-            na += 1
+    if not same:
+        na = 0
+        for i in range(m):
+            if is_active[i]:
+                active[na] = i
+                na += 1
+        for a in range(na):
+            for c in range(na):
+                A[a, c] = (1.0 if a == c else 0.0) - G[active[a], active[c]]
+        _lu_factor(A, piv, na)
+        cache[0], cache[1] = 1, na
+    na = cache[1]
     for i in range(m):                  # y_out = y_pred + Cc e
         acc = y_pred[i]
         for l in range(m):
@@ -224,9 +261,7 @@ def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, acti
         y_out[i] = acc
     for a in range(na):
         b[a] = y_out[active[a]]
-        for c in range(na):
-            A[a, c] = (1.0 if a == c else 0.0) - G[active[a], active[c]]
-    _gauss_solve(A, b, na)
+    _lu_solve(A, piv, b, na)
     for i in range(m):
         acc = y_out[i]
         for c in range(na):
@@ -235,11 +270,12 @@ def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, acti
 
 
 def workspace(law: ContactLaw):
-    """Scratch arrays for :func:`solve_contact` (allocated once per run)."""
+    """Scratch arrays for :func:`solve_contact` (allocated once per run: they belong to one Cc)."""
     m, k = law.m, law.count
     return (np.zeros((m, m)), np.zeros(m), np.zeros(m, np.int64), np.zeros((m, m)), np.zeros(m),
             np.zeros(m), np.zeros(m), np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k, np.int64),
-            np.zeros(k, np.int64), np.zeros(k))
+            np.zeros(k, np.int64), np.zeros(k),
+            np.full(k, -1, np.int64), np.zeros(m, np.int64), np.zeros(2, np.int64))   # LU reuse
 
 
 @njit(cache=True)
@@ -256,7 +292,7 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
     Returns (iterations, converged).
     On return ``lam, N, F, z, state`` are the law evaluated at ``y``.
     """
-    G, e, active, A, b, y_try, lam_try, N_try, F_try, z_try, st_used, st_try, F_used = ws
+    G, e, active, A, b, y_try, lam_try, N_try, F_try, z_try, st_used, st_try, F_used, key, piv, cache = ws
     _copy(y, y_pred)
     evaluate(y, z_old, rows, props, lam, N, F, z, state)
     touching = False
@@ -271,7 +307,8 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
     _copy(st_used, state)
     _copy(F_used, F)
     for it in range(1, _MAX_ITERATIONS + 1):
-        _affine_solution(y_pred, Cc, z_old, rows, props, st_used, F_used, y_try, G, e, active, A, b)
+        _affine_solution(y_pred, Cc, z_old, rows, props, st_used, F_used, y_try, G, e, active, A, b,
+                         key, piv, cache)
         evaluate(y_try, z_old, rows, props, lam_try, N_try, F_try, z_try, st_try)
         r_try = _residual_norm(y_try, y_pred, Cc, lam_try)
         full_step = True
