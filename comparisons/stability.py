@@ -27,7 +27,8 @@ from shroud.transient import run as run_transient
 
 OPTIONS = {"kn_values": [1e6, 1e7, 1e8, 1e9, 1e10], "steps_per_period": [256, 64, 32, 16],
            "treatments": ["implicit", "explicit"], "refine": 8, "huge_preload_N": 1e5,
-           "unreached_gap_m": 0.01, "high_rpm": 30000.0}
+           "unreached_gap_m": 0.01, "high_rpm": 30000.0,
+           "model": "reduced"}       # any transient model; "fe-reduced": scenes/stability_fe.toml
 
 
 def linear_amplitude(system, law=None) -> float:
@@ -45,9 +46,9 @@ def linear_amplitude(system, law=None) -> float:
     return float(abs(np.asarray(system.tip)[0] @ Q))
 
 
-def _one(params, spp: int, treatment: str):
+def _one(params, spp: int, treatment: str, model: str = "reduced"):
     p = params.updated({"time.steps_per_period": spp, "time.contact": treatment})
-    system = build_system(p, "reduced")
+    system = build_system(p, model)
     return p, system, run_transient(system, p)
 
 
@@ -75,9 +76,9 @@ def run(scene, out: Path) -> dict:
     for kn in opts["kn_values"]:
         base = params.updated({"contact.kn": kn, "contact.kt": kn * params.contact.kt / params.contact.kn})
         for spp in opts["steps_per_period"]:
-            _, _, fine = _one(base, spp * refine, "implicit")
+            _, _, fine = _one(base, spp * refine, "implicit", opts["model"])
             for treatment in opts["treatments"]:
-                _, _, tr = _one(base, spp, treatment)
+                _, _, tr = _one(base, spp, treatment, opts["model"])
                 rows.append(_row(f"kn {kn:.0e}", spp, treatment, tr, fine, refine))
     spp0 = params.time.steps_per_period
     extremes = {"mu = 0": {"contact.mu": 0.0}, "full stick (huge preload)": {"contact.N0": opts["huge_preload_N"]},
@@ -86,9 +87,9 @@ def run(scene, out: Path) -> dict:
     linear = {}
     for label, change in extremes.items():
         base = params.updated(change)
-        _, _, fine = _one(base, spp0 * refine, "implicit")
+        _, _, fine = _one(base, spp0 * refine, "implicit", opts["model"])
         for treatment in opts["treatments"]:
-            p, system, tr = _one(base, spp0, treatment)
+            p, system, tr = _one(base, spp0, treatment, opts["model"])
             rows.append(_row(label, spp0, treatment, tr, fine, refine))
             if treatment == "implicit" and label in ("full stick (huge preload)", "gap never reached"):
                 law = contact_law(system.contact, p.contact, m=2) if "stick" in label else None
