@@ -24,9 +24,10 @@ load. The basis makes M = I and K diagonal; the reduced operators are
 cached on disk by what shapes them (mesh, material, speed, kept modes), so a
 second run at the same speed does not touch DOLFINx at all.
 
-The "fe" system is serial (scipy sparse on the free DOFs): the time loop of
-shroud.newmark factorizes its step operator once (MUMPS through PETSc) and
-condenses the contact onto the face nodes.
+The systems are built serially (scipy sparse on the free DOFs; under
+mpirun an InputError says so): the time loop of shroud.newmark factorizes
+the step operator once (SuperLU) and condenses the contact onto the face
+nodes, so a step is one back-substitution plus a small contact solve.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ import scipy.sparse as sp
 
 from shroud.cache import cached
 from shroud.damping import rayleigh
+from shroud.errors import InputError
 from shroud.params import Parameters
 from shroud.system import ContactElements, StructuralSystem
 
@@ -66,6 +68,10 @@ def _solid(params: Parameters, rpm: float) -> _Solid:
     from reference_fe.solid import rotating_operators, solid_model
 
     model = solid_model(params)
+    if model.comm.size > 1:
+        raise InputError("model", "the solid FE transients (fe, fe-reduced) are built serially: the "
+                         "contact condensation needs the operators on one process; run them without "
+                         "mpirun (sweeps and campaigns spread whole runs over ranks instead)")
     ops = rotating_operators(params, rpm).free()
     frame = tip_frame(params)
     if params.shroud.thickness > 0:
