@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
+from comparisons import paper
 from shroud.plotting import MODEL_COLOURS, figure, save
 
 OPTIONS = {
@@ -28,7 +29,7 @@ OPTIONS = {
 }
 
 # Paper Table 1, FE column (ANSYS Beam188, torsion restrained), 8500 r/min, Hz.
-PAPER_FE = (282.4, 1117.0, 1497.5, 3958.1)
+PAPER_FE = paper.TABLE1_FE
 
 
 def richardson(h: np.ndarray, f: np.ndarray) -> tuple[float, float | None]:

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from comparisons import paper
 from reduced_model.beam import beam_matrices
 from reduced_model.modal import gyroscopic_modes, modal_analysis
 from reduced_model.reduction import undamped_modes
@@ -36,10 +37,7 @@ OPTIONS = {
 }
 
 # Paper Table 1, 8500 r/min, Hz: its beam model at N and its ANSYS reference.
-PAPER_LABELS = ("flap1", "chord1", "flap2", "flap3")
-PAPER_REDUCED = {4: (286.0, 1121.2, 1506.7, 3975.1), 5: (285.3, 1120.9, 1502.9, 3972.6),
-                 6: (284.2, 1119.9, 1502.0, 3968.3), 7: (283.6, 1119.9, 1500.8, 3969.7)}
-PAPER_FE = (282.4, 1117.0, 1497.5, 3958.1)
+PAPER_LABELS, PAPER_REDUCED, PAPER_FE = paper.TABLE1_LABELS, paper.TABLE1_REDUCED, paper.TABLE1_FE
 N_MODES = 10              # computed per run, so that all four labels are found at small N
 
 

@@ -58,12 +58,14 @@ def study_module(name: str):
     """The module ``comparisons.<name>`` that runs study ``name``."""
     if not isinstance(name, str) or not name.replace("_", "").isalnum():
         raise InputError("study", f"{name!r} is not a study name")
-    if importlib.util.find_spec(f"comparisons.{name}") is None:
-        raise InputError("study", f"unknown study {name!r}; allowed: " + ", ".join(available_studies()))
+    studies = available_studies()
+    if name not in studies:          # helper modules (paper data, shared plots) are not studies
+        raise InputError("study", f"unknown study {name!r}; allowed: " + ", ".join(studies))
     return importlib.import_module(f"comparisons.{name}")
 
 
 def available_studies() -> list[str]:
+    """Modules of comparisons/ that define a study (an ``OPTIONS`` dict and ``run``)."""
     folder = Path(importlib.util.find_spec("comparisons").origin).parent
     return sorted(p.stem for p in folder.glob("*.py")
                   if not p.stem.startswith("_") and "OPTIONS" in p.read_text())
