@@ -13,7 +13,6 @@ pytestmark = pytest.mark.fe
 
 pytest.importorskip("dolfinx_solver")
 
-from comparisons._agreement import agreement  # noqa: E402
 from shroud.params import Parameters  # noqa: E402
 
 COARSE = ["fe.mesh_size=0.0035", "fe.order=1"]
@@ -43,17 +42,18 @@ def test_contact_elements_carry_the_side_totals(params):
 
 
 @pytest.mark.slow
-def test_reduced_fe_transient_follows_the_full_fe_transient(params):
-    """Four models' Fig. 8 case on a coarse mesh: fe-reduced against fe, NRMSE of every signal."""
-    from reference_fe.system import build_system
-    from shroud.transient import simulate
-    runs = {}
-    for reduced in (True, False):
-        result = simulate(build_system(params, reduced), params)
-        tr = result.trajectory
-        runs[reduced] = (tr.t, {"v_L": tr.tip[:, 0], "w_L": tr.tip[:, 1], "N1": tr.normal[:, 0],
-                                "N2": tr.normal[:, 1], "Ff1": tr.friction[:, 0], "Ff2": tr.friction[:, 1]})
-    period = 2 * np.pi / (params.load.ke * params.speed.omega)
-    fit = agreement(*runs[True], *runs[False], period=period, periods=2)
-    assert max(runs[False][1]["N1"]) > 0 and max(runs[False][1]["N2"]) > 0   # both sides touch
-    assert fit.worst_nrmse < 0.02, fit.nrmse
+def test_fig8_study_reduced_fe_follows_the_full_fe(tmp_path):
+    """The Fig. 8 study on a coarse mesh: fe-reduced against fe, NRMSE of every signal, and its files."""
+    from comparisons import fig8
+    from shroud.scene import load_scene
+    scene = load_scene("scenes/fig8.toml", COARSE + [
+        "time.periods=3", 'options.models=["fe-reduced", "fe"]', "options.window_periods=2",
+        "options.plot_periods=1"])
+    results = fig8.run(scene, tmp_path)
+    pair = results["pairs"]["fe-reduced vs fe"]
+    assert pair["worst_nrmse"] < 0.02, pair
+    assert results["peak"]["fe"]["N1"] > 0 and results["peak"]["fe"]["N2"] > 0      # both sides touch
+    assert [r["model"] for r in results["table3"]] == ["fe-reduced", "fe"]
+    for name in ("fig8.png", "table3.csv", "agreement.csv", "report.md"):
+        assert (tmp_path / name).stat().st_size > 0
+    assert "status: complete" in (tmp_path / "transient_fe.csv").read_text().splitlines()[0]
