@@ -33,6 +33,13 @@ class Agreement:
         return {"nrmse": self.nrmse, "peak_error": self.peak_error, "worst_nrmse": self.worst_nrmse}
 
 
+def signals_of(trajectory) -> dict[str, np.ndarray]:
+    """The six compared signals of a shroud.newmark.Trajectory, by name."""
+    tr = trajectory
+    return {"v_L": tr.tip[:, 0], "w_L": tr.tip[:, 1], "N1": tr.normal[:, 0], "N2": tr.normal[:, 1],
+            "Ff1": tr.friction[:, 0], "Ff2": tr.friction[:, 1]}
+
+
 def window(t: np.ndarray, period: float, periods: int) -> np.ndarray:
     """Boolean mask of the last ``periods`` excitation periods of the time grid ``t``."""
     return t >= t[-1] - periods * period * (1 - 1e-9)

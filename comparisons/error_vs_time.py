@@ -21,8 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._agreement import agreement
-from comparisons.fig8 import signals_of
+from comparisons._agreement import agreement, signals_of
 from shroud import api
 from shroud.errors import InputError, RunDiverged
 from shroud.log import info, warn

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._agreement import SIGNALS, Agreement, agreement
+from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
 from shroud import api
 from shroud.contact import STATE_NAMES
 from shroud.errors import InputError, RunDiverged
@@ -62,12 +62,6 @@ def check(scene) -> None:
         raise InputError("options.window_periods", f"{o['window_periods']!r}; allowed: 1 .. time.periods")
     if not 1 <= o["plot_periods"] <= scene.params.time.periods:
         raise InputError("options.plot_periods", f"{o['plot_periods']!r}; allowed: 1 .. time.periods")
-
-
-def signals_of(trajectory) -> dict[str, np.ndarray]:
-    tr = trajectory
-    return {"v_L": tr.tip[:, 0], "w_L": tr.tip[:, 1], "N1": tr.normal[:, 0], "N2": tr.normal[:, 1],
-            "Ff1": tr.friction[:, 0], "Ff2": tr.friction[:, 1]}
 
 
 def run_models(params, models, out: Path) -> dict[str, dict]:

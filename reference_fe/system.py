@@ -86,10 +86,6 @@ def _solid(params: Parameters, rpm: float) -> _Solid:
     return _Solid(M=ops.M, K=ops.K, G=ops.G, f_aero=ops.f_aero, tip=tip, contact=contact)
 
 
-def _damping_coefficients(params: Parameters, f1: float, f2: float) -> tuple[float, float]:
-    return rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
-
-
 def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
     """The "fe" (``reduced=False``) or "fe-reduced" system at ``params.speed.rpm``."""
     t0 = time.perf_counter()
@@ -103,7 +99,8 @@ def full_system(params: Parameters) -> StructuralSystem:
 
     solid = _solid(params, params.speed.rpm)
     omega2, _ = normal_modes(solid.K, solid.M, 2, factorize(solid.K))
-    a, b = _damping_coefficients(params, *(np.sqrt(omega2) / (2 * math.pi)))
+    f1, f2 = np.sqrt(omega2) / (2 * math.pi)
+    a, b = rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
     n = solid.M.shape[0]
     return StructuralSystem(
         model="fe", M=solid.M, C=(a * solid.M + b * solid.K + solid.G).tocsr(), K=solid.K,
@@ -155,7 +152,7 @@ def reduced_system(params: Parameters) -> StructuralSystem:
         d = {k: data[k] for k in data.files}
     omega2 = d["omega2"]
     f1, f2 = np.sqrt(omega2[:2]) / (2 * math.pi)        # the two lowest normal modes lead the basis
-    a, b = _damping_coefficients(params, f1, f2)
+    a, b = rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
     r = omega2.size
     contact = None
     if d["side"].size:

@@ -32,6 +32,17 @@ def test_reduction_keeps_the_lowest_solid_frequencies(params):
     np.testing.assert_allclose(reduced, np.sort(slepc), rtol=1e-6)
 
 
+def test_reduced_contact_compliance_equals_the_full_solid(params):
+    """Residual attachment modes make W K^-1 W^T (the faces' static flexibility) exact."""
+    import scipy.sparse.linalg as spla
+    from reference_fe.system import build_system
+    full, red = build_system(params, reduced=False), build_system(params, reduced=True)
+    W = full.contact.W
+    exact = W @ spla.splu(full.K.tocsc()).solve(W.T.toarray())
+    reduced = red.contact.W @ np.linalg.solve(red.K, red.contact.W.T)
+    assert np.abs(reduced - exact).max() < 1e-8 * np.abs(exact).max()
+
+
 def test_contact_elements_carry_the_side_totals(params):
     from reference_fe.system import build_system
     system = build_system(params, reduced=False)
