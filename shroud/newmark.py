@@ -43,9 +43,8 @@ import scipy.sparse
 import scipy.sparse.linalg
 from numba import njit
 
-from shroud.contact import (SLIP, STICK, ContactLaw, contact_energy, evaluate,
-                            friction_dissipation, solve_contact, workspace)
-from shroud.errors import RunDiverged
+from shroud.contact import (SLIP, STICK, ContactLaw, contact_energy, copy_into, evaluate,
+                            friction_dissipation, leaf, solve_contact, workspace)
 from shroud.log import Progress, warn
 from shroud.system import StructuralSystem
 
@@ -136,7 +135,7 @@ class Trajectory:
 
 # --- pieces shared by both loops ---------------------------------------------------
 
-@njit(cache=True)
+@leaf
 def side_resultants(y, N, F, state, rows, side, weight, i, r_N, r_F, r_w, r_state):
     """Row i of the per-side records: totals of N and F, weighted mean w_s, side state."""
     w1 = w2 = 0.0
@@ -312,103 +311,113 @@ def _record_row(rec, i, tip_now, y, N, F, state, law):
                     rec.normal, rec.friction, rec.tangential, rec.state)
 
 
+@njit(cache=True, fastmath={"reassoc", "contract"}, _nrt=False)   # a leaf (contact.leaf)
+def _affine(A, x, b, c, s, out):
+    """out = A x + b + s c (the sums reassociated so they vectorize: round-off level changes only).
+
+    ``out`` may alias ``b``: each row reads b[r] before it writes out[r].
+    """
+    for r in range(A.shape[0]):
+        acc = 0.0
+        for l in range(A.shape[1]):
+            acc += A[r, l] * x[l]
+        out[r] = acc + b[r] + s * c[r]
+
+
 @njit(cache=True)
-def _dense_kernel(Aq, Av, Aa, Sfc, Sfa, fc, fa, C, w_e, dt, gamma, a0, a2, a3, steps,
+def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2, a3, steps,
                   W, Phi, Cc, tip, rows, props, side, weight, implicit, bound, window,
-                  q, v, r_tip, r_N, r_F, r_w, r_state, energy, snap_q, snap_v, ws):
-    """The step of _reference_loop with S folded into Aq, Av, Aa, Sfc, Sfa (dense, compiled)."""
-    n, m, k = q.size, Cc.shape[0], rows.shape[0]
-    a = np.zeros(n)
-    q_new, v_new, a_new = np.zeros(n), np.zeros(n), np.zeros(n)
+                  q0, v0, r_tip, r_N, r_F, r_w, r_state, energy, snap_q, snap_v, ws):
+    """The step of _reference_loop, compiled for dense systems.
+
+    The state is stacked, x = [q, v, a], and S = K_eff^-1 folded into
+    A = S [a0 M + a1 C, a2 M + a4 C, a3 M + a5 C] (n x 3n) and the loads, so the
+    predictor is q_pred = A x + S f(t+dt); its contact coordinates come
+    straight from WA = W A (m x 3n), so a step without contact forces costs
+    (n + m) 3n products and never forms W q. Small arrays are copied with
+    loops (numba's slice assignment costs more than the contact law here).
+    """
+    n, m, k = q0.size, Cc.shape[0], rows.shape[0]
+    x, x_new = np.zeros(3 * n), np.zeros(3 * n)
+    q, v, a = x[:n], x[n:2 * n], x[2 * n:]
+    qn, vn, an = x_new[:n], x_new[n:2 * n], x_new[2 * n:]
+    copy_into(q, q0)
+    copy_into(v, v0)
+    zero_n, zero_m, zero_2 = np.zeros(n), np.zeros(m), np.zeros(2)
+    v_mid, Cv, tip_now = np.zeros(n), np.zeros(n), np.zeros(2)
     y, y_pred, y_old = np.zeros(m), np.zeros(m), np.zeros(m)
     lam, lam_eq, lam_step = np.zeros(m), np.zeros(m), np.zeros(m)
     N, F, F_old, N_old = np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k)
     z, z_old = np.zeros(k), np.zeros(k)
     state = np.zeros(k, np.int64)
-    for l in range(m):
-        y[l] = 0.0
-        for c in range(n):
-            y[l] += W[l, c] * q[c]
+    _affine(W, q, zero_m, zero_m, 0.0, y)
     for j in range(k):
         z[j] = y[rows[j, 1]]
-    z_old[:] = z
+    copy_into(z_old, z)
     evaluate(y, z_old, rows, props, lam, N, F, z, state)
-    lam_eq[:] = lam
-    for s in range(2):
-        r_tip[0, s] = tip[s] @ q
+    copy_into(lam_eq, lam)
+    _affine(tip, q, zero_2, zero_2, 0.0, tip_now)
+    r_tip[0, 0], r_tip[0, 1] = tip_now[0], tip_now[1]
     side_resultants(y, N, F, state, rows, side, weight, 0, r_N, r_F, r_w, r_state)
     iterations, unconverged = 0, 0
+    s1 = math.sin(0.0)
     for i in range(steps):
-        s0 = math.sin(w_e * i * dt)
-        s1 = math.sin(w_e * (i + 1) * dt)
-        for r in range(n):
-            acc = Sfc[r] + s1 * Sfa[r]
-            for c in range(n):
-                acc += Aq[r, c] * q[c] + Av[r, c] * v[c] + Aa[r, c] * a[c]
-            q_new[r] = acc
-        z_old[:] = z
-        F_old[:] = F
-        N_old[:] = N
-        y_old[:] = y
-        if k > 0 and implicit:
+        s0, s1 = s1, math.sin(w_e * (i + 1) * dt)
+        _affine(A, x, Sfc, Sfa, s1, qn)                  # q_pred
+        if k > 0:
+            copy_into(z_old, z)
+            copy_into(F_old, F)
+            copy_into(N_old, N)
+            copy_into(y_old, y)
+            if implicit:
+                _affine(WA, x, WSfc, WSfa, s1, y_pred)
+                it, ok = solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws)
+                iterations = max(iterations, it)
+                if not ok:
+                    unconverged += 1
+            copy_into(lam_step, lam)
+            loaded = False
             for l in range(m):
-                acc = 0.0
-                for c in range(n):
-                    acc += W[l, c] * q_new[c]
-                y_pred[l] = acc
-            it, ok = solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws)
-            iterations = max(iterations, it)
-            if not ok:
-                unconverged += 1
-        lam_step[:] = lam
+                loaded = loaded or lam_step[l] != 0.0
+            if loaded:                                   # q' = q_pred + Phi lam
+                _affine(Phi, lam_step, qn, zero_n, 0.0, qn)
+            if not implicit:
+                _affine(W, qn, zero_m, zero_m, 0.0, y)
+                evaluate(y, z_old, rows, props, lam, N, F, z, state)
         for r in range(n):
-            acc = q_new[r]
-            for l in range(m):
-                acc += Phi[r, l] * lam_step[l]
-            q_new[r] = acc
-        if k > 0 and not implicit:
-            for l in range(m):
-                acc = 0.0
-                for c in range(n):
-                    acc += W[l, c] * q_new[c]
-                y[l] = acc
-            evaluate(y, z_old, rows, props, lam, N, F, z, state)
-        for r in range(n):
-            a_new[r] = a0 * (q_new[r] - q[r]) - a2 * v[r] - a3 * a[r]
-            v_new[r] = v[r] + dt * ((1.0 - gamma) * a[r] + gamma * a_new[r])
+            an[r] = a0 * (qn[r] - q[r]) - a2 * v[r] - a3 * a[r]
+            vn[r] = v[r] + dt * ((1.0 - gamma) * a[r] + gamma * an[r])
         if i == window:
-            snap_q[:] = q
-            snap_v[:] = v
+            copy_into(snap_q, q)
+            copy_into(snap_v, v)
             energy[4] = contact_energy(N_old, F_old, props)
         if i >= window:
             w_in, d_damp, w_c = 0.0, 0.0, 0.0
             for r in range(n):
-                w_in += (q_new[r] - q[r]) * (fc[r] + 0.5 * (s0 + s1) * fa[r])
-                cv = 0.0
-                for c in range(n):
-                    cv += C[r, c] * 0.5 * (v[c] + v_new[c])
-                d_damp += dt * 0.5 * (v[r] + v_new[r]) * cv
+                w_in += (qn[r] - q[r]) * (fc[r] + 0.5 * (s0 + s1) * fa[r])
+                v_mid[r] = 0.5 * (v[r] + vn[r])
+            _affine(C, v_mid, zero_n, zero_n, 0.0, Cv)
+            for r in range(n):
+                d_damp += dt * v_mid[r] * Cv[r]
             for l in range(m):
                 w_c += (y[l] - y_old[l]) * 0.5 * (lam_eq[l] + lam_step[l])
             energy[0] += w_in
             energy[1] += d_damp
             energy[2] += friction_dissipation(F_old, F, z_old, z)
             energy[3] += w_c
-        lam_eq[:] = lam_step
-        q[:] = q_new
-        v[:] = v_new
-        a[:] = a_new
+        copy_into(lam_eq, lam_step)
+        copy_into(x, x_new)
+        _affine(tip, q, zero_2, zero_2, 0.0, tip_now)
+        r_tip[i + 1, 0], r_tip[i + 1, 1] = tip_now[0], tip_now[1]
+        if k > 0:
+            side_resultants(y, N, F, state, rows, side, weight, i + 1, r_N, r_F, r_w, r_state)
         for s in range(2):
-            acc = 0.0
-            for c in range(n):
-                acc += tip[s, c] * q[c]
-            r_tip[i + 1, s] = acc
-        side_resultants(y, N, F, state, rows, side, weight, i + 1, r_N, r_F, r_w, r_state)
-        for s in range(2):
-            if not math.isfinite(r_tip[i + 1, s]):
+            if not math.isfinite(tip_now[s]):
                 return i + 1, NOT_FINITE, iterations, unconverged
-            if abs(r_tip[i + 1, s]) > bound:
+            if abs(tip_now[s]) > bound:
                 return i + 1, UNBOUNDED, iterations, unconverged
+    copy_into(q0, q)
+    copy_into(v0, v)
     energy[5] = contact_energy(N, F, props)
     return steps, OK, iterations, unconverged
 
@@ -418,13 +427,15 @@ def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v,
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
     M, C = _dense(system.M), _dense(system.C)
     S = step.solve(np.eye(n))                                  # K_eff^-1 (n <= a few hundred)
-    Aq, Av, Aa = S @ (a0 * M + a1 * C), S @ (a2 * M + a4 * C), S @ (a3 * M + a5 * C)
+    A = np.ascontiguousarray(S @ np.hstack([a0 * M + a1 * C, a2 * M + a4 * C, a3 * M + a5 * C]))
     W = _dense(step.W) if law.count else np.zeros((0, n))
+    Sfc, Sfa = S @ system.f_const, S @ system.f_aero
     done, status, iterations, unconverged = _dense_kernel(
-        Aq, Av, Aa, S @ system.f_const, S @ system.f_aero, np.asarray(system.f_const, float),
+        A, W @ A, Sfc, Sfa, W @ Sfc, W @ Sfa, np.asarray(system.f_const, float),
         np.asarray(system.f_aero, float), C, float(system.omega_e), scheme.dt, scheme.gamma,
-        a0, a2, a3, steps, W, step.Phi, step.Cc, _dense(system.tip), law.rows, law.props, law.side,
-        law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
+        a0, a2, a3, steps, np.ascontiguousarray(W), np.ascontiguousarray(step.Phi),
+        np.ascontiguousarray(step.Cc), np.ascontiguousarray(_dense(system.tip)), law.rows, law.props,
+        law.side, law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
         rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, workspace(law))
     return done, status, q, v, iterations, unconverged
 
