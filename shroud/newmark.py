@@ -38,7 +38,6 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
 from numba import njit
@@ -189,11 +188,17 @@ def _is_dense(system: StructuralSystem) -> bool:
 
 
 def default_factorize(A) -> Callable[[np.ndarray], np.ndarray]:
-    """``solve(b)`` with ``A x = b``: LU for ndarray, SuperLU for scipy.sparse."""
+    """``solve(b)`` with ``A x = b``: SuperLU for scipy.sparse, the inverse for ndarray.
+
+    Dense step operators are small (n <= a few hundred) and the kernel needs
+    the inverse anyway to fold S into its products; a multi-column LU solve
+    through scipy instead wakes the BLAS threads and costs milliseconds per
+    speed of a sweep on a busy machine.
+    """
     if scipy.sparse.issparse(A):
         return scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(A)).solve
-    lu = scipy.linalg.lu_factor(np.asarray(A, dtype=float))
-    return lambda b: scipy.linalg.lu_solve(lu, b)
+    S = np.linalg.inv(np.asarray(A, dtype=float))
+    return lambda b: S @ b
 
 
 @dataclass(frozen=True)
