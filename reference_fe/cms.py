@@ -63,11 +63,12 @@ def factorize(K) -> spla.SuperLU:
     return spla.splu(sp.csc_matrix(K))
 
 
-def normal_modes(K, M, count: int, lu: spla.SuperLU | None = None) -> tuple[np.ndarray, np.ndarray]:
+def normal_modes(K, M, count: int, lu=None) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``count`` eigenpairs of ``K phi = omega^2 M phi``, mass-normalized.
 
-    Shift-invert about zero with the LU of ``K`` (K must be nonsingular: the
-    clamped root makes it so). Returns ``(omega2, Phi)`` sorted ascending.
+    Shift-invert about zero with a factorization of ``K`` (any object with
+    ``solve``; SuperLU by default; K must be nonsingular: the clamped root
+    makes it so). Returns ``(omega2, Phi)`` sorted ascending.
     """
     n = K.shape[0]
     if not 1 <= count < n - 1:
@@ -81,7 +82,7 @@ def normal_modes(K, M, count: int, lu: spla.SuperLU | None = None) -> tuple[np.n
     return omega2, Phi
 
 
-def residual_attachment_modes(lu: spla.SuperLU, Phi: np.ndarray, omega2: np.ndarray,
+def residual_attachment_modes(lu, Phi: np.ndarray, omega2: np.ndarray,
                               R: np.ndarray) -> np.ndarray:
     """``(K^-1 - Phi Lambda^-1 Phi^T) R``: static response to ``R`` not carried by the kept modes."""
     R = np.asarray(R, dtype=float)
@@ -107,7 +108,7 @@ def _orthonormal_residual(K, M, Psi: np.ndarray, rtol: float) -> tuple[np.ndarra
 
 
 def free_interface_basis(K, M, n_modes: int, forces: np.ndarray, rtol: float = 1e-10,
-                         lu: spla.SuperLU | None = None) -> ReductionBasis:
+                         lu=None) -> ReductionBasis:
     """Kept normal modes plus residual attachment modes for the columns of ``forces``.
 
     ``forces`` is (n, m): each column a force direction the reduced model must

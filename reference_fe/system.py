@@ -95,10 +95,11 @@ def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
 
 def full_system(params: Parameters) -> StructuralSystem:
     """The solid FE model on its free DOFs (scipy sparse), SI units."""
-    from reference_fe.cms import factorize, normal_modes
+    from reference_fe.cms import normal_modes
+    from reference_fe.factor import MumpsCholesky
 
     solid = _solid(params, params.speed.rpm)
-    omega2, _ = normal_modes(solid.K, solid.M, 2, factorize(solid.K))
+    omega2, _ = normal_modes(solid.K, solid.M, 2, MumpsCholesky(solid.K))
     f1, f2 = np.sqrt(omega2) / (2 * math.pi)
     a, b = rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
     n = solid.M.shape[0]
@@ -124,14 +125,15 @@ def reduced_operators(params: Parameters, rpm: float | None = None) -> Path:
 
 
 def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
-    from reference_fe.cms import factorize, free_interface_basis, project
+    from reference_fe.cms import free_interface_basis, project
+    from reference_fe.factor import MumpsCholesky
     from shroud.log import info
 
     solid = _solid(params, rpm)
     W = solid.contact.W if solid.contact is not None else sp.csr_matrix((0, solid.M.shape[0]))
     forces = np.column_stack([W.T.toarray(), solid.f_aero])
     t0 = time.perf_counter()
-    basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, forces, lu=factorize(solid.K))
+    basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, forces, lu=MumpsCholesky(solid.K))
     info(f"FE reduction at {rpm:g} r/min: {solid.M.shape[0]} DOF -> {basis.n_modes} modes + "
          f"{basis.n_attachment} attachment modes in {time.perf_counter() - t0:.1f} s")
     T = basis.T
