@@ -21,6 +21,7 @@ import numpy as np
 from shroud import signals
 from shroud.api import build_system
 from shroud.contact import contact_law
+from shroud.newmark import NewmarkScheme, explicit_lag_stability, stuck_stiffness
 from shroud.plotting import figure, save
 from shroud.report import markdown_table, seconds
 from shroud.transient import run as run_transient
@@ -36,14 +37,56 @@ def linear_amplitude(system, law=None) -> float:
     K = np.asarray(system.K, float)
     if law is not None and law.count:
         W = np.asarray(system.contact.W, float)
-        k_y = np.zeros(law.m)
-        for (nr, tr), p in zip(law.rows, law.props):
-            k_y[nr] += p[1]
-            k_y[tr] += p[2]
-        K = K + W.T @ np.diag(k_y) @ W
+        K = K + W.T @ stuck_stiffness(law) @ W
     w = system.omega_e
     Q = np.linalg.solve(K - w * w * np.asarray(system.M) + 1j * w * np.asarray(system.C), system.f_aero)
     return float(abs(np.asarray(system.tip)[0] @ Q))
+
+
+def lag_estimate(system, law, dt: float) -> dict:
+    """The energy estimate of the explicit treatment's least damped mode, stuck contacts.
+
+    Modes of the continuous quadratic eigenproblem (M, C, K + W^T D W) give each
+    mode's structural damping ratio and the contact springs' share r of its
+    stiffness; the lag removes r sin(Omega dt)/2 with Omega dt = 2 atan(omega dt/2)
+    the average-acceleration step's discrete phase. Returns the mode with the
+    smallest net ratio.
+    """
+    M, C, K = (np.asarray(A, float) for A in (system.M, system.C, system.K))
+    Kc = np.asarray(system.contact.W, float).T @ stuck_stiffness(law) @ np.asarray(system.contact.W, float)
+    n = M.shape[0]
+    Minv = np.linalg.inv(M)
+    s, V = np.linalg.eig(np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ (K + Kc), -Minv @ C]]))
+    keep = s.imag > 0
+    s, V = s[keep], V[:n, keep]
+    zeta = -s.real / np.abs(s)
+    share = np.array([(v.conj() @ Kc @ v).real / (v.conj() @ (K + Kc) @ v).real for v in V.T])
+    lag = share * np.sin(2 * np.arctan(np.abs(s) * dt / 2)) / 2
+    i = int(np.argmin(zeta - lag))
+    return {"frequency_hz": float(abs(s[i]) / (2 * np.pi)), "zeta_structural": float(zeta[i]),
+            "share": float(share[i]), "zeta_lag": float(lag[i]), "zeta_net": float(zeta[i] - lag[i])}
+
+
+def lag_analysis(params, kn_values, spp_values, model: str) -> list[dict]:
+    """The explicit treatment's lag against the structural damping, stuck contacts, per kn and step."""
+    rows = []
+    for kn in kn_values:
+        for spp in spp_values:
+            p = params.updated({"contact.kn": kn, "contact.kt": kn * params.contact.kt / params.contact.kn,
+                                "time.steps_per_period": spp})
+            system = build_system(p, model)
+            law = contact_law(system.contact, p.contact, m=2)
+            lag = explicit_lag_stability(system, law, NewmarkScheme(p.time_step))
+            est = lag_estimate(system, law, p.time_step)
+            rows.append({"kn": kn, "steps_per_period": spp, "frequency_hz": est["frequency_hz"],
+                         "zeta_structural": est["zeta_structural"], "share": est["share"],
+                         "zeta_lag_estimate": est["zeta_lag"], "zeta_net_estimate": est["zeta_net"],
+                         "frequency_hz_eigen": lag.frequency_hz,
+                         "zeta_net_eigen": lag.damping_ratio, "dt_s": p.time_step,
+                         "steps_per_mode_period": 1.0 / (est["frequency_hz"] * p.time_step),
+                         "dt_stable_s": lag.dt_stable,
+                         "steps_per_period_needed": int(np.ceil(spp * p.time_step / lag.dt_stable))})
+    return rows
 
 
 def _one(params, spp: int, treatment: str, model: str = "reduced"):
@@ -96,6 +139,12 @@ def run(scene, out: Path) -> dict:
                 exact = linear_amplitude(system, law)
                 linear[label] = {"transient_m": rows[-1]["amplitude_v_L_m"], "linear_m": exact,
                                  "relative_difference": abs(rows[-1]["amplitude_v_L_m"] - exact) / exact}
+    lag = lag_analysis(params, opts["kn_values"], opts["steps_per_period"], opts["model"]) \
+        if "explicit" in opts["treatments"] else []
+    for r in lag:
+        run_row = next((x for x in rows if x["case"] == f"kn {r['kn']:.0e}" and x["treatment"] == "explicit"
+                        and x["steps_per_period"] == r["steps_per_period"]), None)
+        r["explicit_run_bounded"] = run_row["bounded"] if run_row else None
     with open(out / "stability.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
@@ -125,6 +174,45 @@ def run(scene, out: Path) -> dict:
              markdown_table(["case", "transient amplitude (mm)", "linear amplitude (mm)", "relative difference"],
                             [(k, v["transient_m"] * 1e3, v["linear_m"] * 1e3, v["relative_difference"])
                              for k, v in linear.items()]),
-             "![stability.png](stability.png)"]
+             "![stability.png](stability.png)",
+             *_lag_section(lag)]
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"rows": rows, "linear_limits": linear}
+    return {"rows": rows, "linear_limits": linear, "explicit_lag": lag}
+
+
+def _lag_section(lag: list[dict]) -> list[str]:
+    if not lag:
+        return []
+    resolved = [r for r in lag if r["steps_per_mode_period"] >= 20]
+    agree = max((abs(r["zeta_net_estimate"] - r["zeta_net_eigen"]) for r in resolved), default=float("nan"))
+    return ["\n## Why the explicit treatment diverges: the one-step lag is a negative damping\n",
+            "The explicit step applies the contact force of the step's start. A spring force lagged by dt "
+            "does the work pi kn Y^2 sin(omega dt) per cycle on the blade, the work of a negative viscous "
+            "damping kn sin(omega dt)/omega ~ kn dt. For the stuck blade's contact mode (frequency omega, "
+            "contact springs' share r of its stiffness) that is a damping ratio -r sin(omega dt)/2 ~ "
+            "-r pi/(steps per mode period); average-acceleration Newmark adds no numerical damping, so the "
+            "run grows when it exceeds the structural (Rayleigh) ratio alpha/(2 omega) + beta omega/2 of "
+            "that mode. Estimate (structural ratio from the continuous eigenproblem minus the lag term) "
+            "against the eigenvalues of the explicit step's amplification matrix (stuck contacts), and "
+            "against the nonlinear runs above:\n",
+            markdown_table(["kn (N/m)", "steps/period", "least damped mode (Hz)", "steps per its period",
+                            "contact share r", "structural zeta", "lag zeta r sin(W dt)/2", "net zeta (estimate)",
+                            "amplification matrix: mode (Hz)", "net zeta",
+                            "stable below dt (s)", "steps/period needed", "explicit run bounded"],
+                           [(f"{r['kn']:.0e}", r["steps_per_period"], r["frequency_hz"],
+                             r["steps_per_mode_period"], r["share"], r["zeta_structural"],
+                             r["zeta_lag_estimate"], r["zeta_net_estimate"], r["frequency_hz_eigen"],
+                             r["zeta_net_eigen"],
+                             r["dt_stable_s"], r["steps_per_period_needed"],
+                             {True: "yes", False: "no", None: "-"}[r["explicit_run_bounded"]]) for r in lag]),
+            f"\nLargest difference between the estimate and the amplification matrix where the mode has "
+            f">= 20 steps per period: {agree:.2g} (the energy estimate assumes a small phase lag; on "
+            "coarser resolution the lag also shifts the modes and only the matrix is to be believed). "
+            "The stuck-contact analysis is conservative for the nonlinear run: while the contacts are "
+            "open the lag does nothing, so a weakly unstable case can stay bounded (with its error "
+            "against the fine implicit run in the table above). Conclusion: the explicit treatment's instability is "
+            "the lag's negative damping, not a step too coarse to resolve the contact: unstable cases "
+            "resolve their contact mode with as many as "
+            f"{max((r['steps_per_mode_period'] for r in lag if r['zeta_net_eigen'] < 0), default=0):.0f} "
+            "steps per period, yet the net damping is negative. integrate() runs this eigen-check before an "
+            "explicit run on a dense model and names the cause and the stable step in its warning.\n"]

@@ -171,12 +171,88 @@ def contact_resolution(Cc: np.ndarray, law: ContactLaw) -> float:
     """
     if law.count == 0:
         return math.inf
+    rho = float(np.max(np.abs(np.linalg.eigvals(Cc @ stuck_stiffness(law)))))
+    return math.inf if rho <= 0 else math.pi / math.sqrt(rho)
+
+
+def stuck_stiffness(law: ContactLaw) -> np.ndarray:
+    """D with lam = -D y + const while every element sticks: kn on normal rows, kt on tangent rows."""
     D = np.zeros((law.m, law.m))
     for (nr, tr), p in zip(law.rows, law.props):
         D[nr, nr] += p[1]
         D[tr, tr] += p[2]
-    rho = float(np.max(np.abs(np.linalg.eigvals(Cc @ D))))
-    return math.inf if rho <= 0 else math.pi / math.sqrt(rho)
+    return D
+
+
+@dataclass(frozen=True)
+class LagStability:
+    """Linear stability of the explicit contact treatment with every element stuck.
+
+    The explicit step applies the contact force of the step's start, a force
+    lagged by dt. Over a cycle of amplitude Y at frequency omega a spring
+    force lagged by dt does the work pi kn Y^2 sin(omega dt) on the blade: a
+    negative viscous damping kn sin(omega dt) / omega ~ kn dt. For a motion
+    dominated by the contact spring (kn ~ m omega^2) its damping ratio is
+    -sin(omega dt) / 2 ~ -omega dt / 2 = -pi / (steps per period), to be
+    compared with the structural (Rayleigh) ratio alpha / (2 omega) +
+    beta omega / 2 at that frequency. Average-acceleration Newmark adds no
+    numerical damping, so the sign of the difference decides.
+    """
+
+    spectral_radius: float     # largest |eigenvalue| of the linearized explicit step
+    frequency_hz: float        # of the least damped motion
+    damping_ratio: float       # its net damping ratio (< 0: grows)
+    dt_stable: float           # largest step (s) at which the stuck explicit step is stable
+
+    @property
+    def unstable(self) -> bool:
+        return self.damping_ratio < 0.0
+
+
+def _explicit_step_matrix(M, C, K, W, D, scheme: NewmarkScheme) -> np.ndarray:
+    """(3n, 3n) map [q, v, a]_n -> [q, v, a]_n+1 of the explicit step with lam_n = -D W q_n."""
+    n = M.shape[0]
+    a0, a1, a2, a3, a4, a5 = scheme.coefficients()
+    S = np.linalg.inv(K + a0 * M + a1 * C)
+    I, Z = np.eye(n), np.zeros((n, n))
+    Q = S @ np.hstack([a0 * M + a1 * C, a2 * M + a4 * C, a3 * M + a5 * C])
+    Q[:, :n] -= S @ W.T @ D @ W                          # the lagged contact force
+    A = a0 * (Q - np.hstack([I, Z, Z])) - np.hstack([Z, a2 * I, a3 * I])
+    V = np.hstack([Z, I, (1.0 - scheme.gamma) * scheme.dt * I]) + scheme.gamma * scheme.dt * A
+    return np.vstack([Q, V, A])
+
+
+def explicit_lag_stability(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme) -> LagStability:
+    """Eigen-analysis of the explicit step with every contact stuck (dense systems).
+
+    The least damped eigenvalue lam = exp((-zeta omega + i omega_d) dt) gives
+    the motion's frequency and net damping ratio. The largest stable step is
+    bracketed by bisection on the sign of that ratio.
+    """
+    M, C, K = _dense(system.M), _dense(system.C), _dense(system.K)
+    W, D = _dense(system.contact.W), stuck_stiffness(law)
+
+    def least_damped(dt: float) -> tuple[float, float, float]:
+        lam = np.linalg.eigvals(_explicit_step_matrix(M, C, K, W, D, NewmarkScheme(dt, scheme.gamma, scheme.beta)))
+        lam = lam[np.abs(lam) > 1e-12]                   # the acceleration's zero eigenvalues
+        s = np.log(lam.astype(complex)) / dt             # -zeta omega + i omega_d
+        zeta = -s.real / np.abs(s)
+        i = int(np.argmin(zeta))
+        return float(np.abs(lam).max()), float(abs(s[i].imag) / (2 * math.pi)), float(zeta[i])
+
+    rho, f, zeta = least_damped(scheme.dt)
+    lo, hi = 0.0, scheme.dt
+    if zeta < 0:
+        hi = scheme.dt
+        lo = scheme.dt / 2
+        while least_damped(lo)[2] < 0 and lo > scheme.dt * 1e-6:
+            hi, lo = lo, lo / 2
+        for _ in range(30):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if least_damped(mid)[2] >= 0 else (lo, mid)
+    else:
+        lo = scheme.dt
+    return LagStability(spectral_radius=rho, frequency_hz=f, damping_ratio=zeta, dt_stable=lo)
 
 
 def _dense(A) -> np.ndarray:
@@ -472,6 +548,15 @@ def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, 
                  f"the stiffest contact motion (kn = {law.props[:, 1].max():.3g} N/m per element) "
                  f"has a period of ~{per_period:.1f} steps (< 10); use time.contact = \"implicit\" "
                  "or more time.steps_per_period")
+        if _is_dense(system):
+            lag = explicit_lag_stability(system, law, scheme)
+            if lag.unstable:
+                warn(f"the explicit contact treatment is unstable at dt = {scheme.dt:.3g} s: with the "
+                     f"contacts closed the motion at {lag.frequency_hz:.0f} Hz has a net damping ratio of "
+                     f"{lag.damping_ratio:.3g}, because the contact force lagged one step feeds energy into it "
+                     "like a negative damping kn dt that the structural damping does not remove; it is "
+                     f"stable for dt < {lag.dt_stable:.3g} s ({scheme.dt / lag.dt_stable:.1f}x more "
+                     "time.steps_per_period), or use time.contact = \"implicit\"")
     n = system.dofs
     q = np.zeros(n) if q0 is None else np.array(q0, dtype=float)
     v = np.zeros(n) if v0 is None else np.array(v0, dtype=float)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from shroud.contact import contact_law
-from shroud.newmark import NewmarkScheme, integrate
+from shroud.newmark import NewmarkScheme, explicit_lag_stability, integrate
 from shroud.params import Contact
 from shroud.system import ContactElements, StructuralSystem
 
@@ -162,3 +162,29 @@ def test_unbounded_run_stops_and_names_the_cause():
     assert len(tr.tip) == tr.steps + 1
     ok = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / 32), 32 * 20, implicit=True, bound=0.15)
     assert ok.diverged is None
+
+
+def test_explicit_contact_lag_is_a_negative_damping():
+    """A spring force lagged by dt does the work pi kn X^2 sin(w dt) per cycle: a damping ratio
+    -sin(w dt)/2 for a contact-spring oscillator (k = 0; both preloaded sides: w^2 = 2 kn/m). With viscous ratio zeta_c
+    the explicit step is stable iff sin(w dt)/2 < zeta_c, i.e. dt < asin(2 zeta_c)/w."""
+    m, kn, zeta_c = 0.5, 2e6, 0.01
+    w = math.sqrt(2 * kn / m)
+    el_W = np.array([[1.0], [0.0]])
+    sys_ = system([[m]], [[2 * zeta_c * m * w]], [[0.0]], [0.0], 1.0, W=el_W, tip=np.array([[1.0], [0.0]]))
+    law = contact_law(sys_.contact, Contact(kn=kn, kt=0.0, mu=0.0, N0=1.0))   # preloaded: stays closed
+    dt_star = math.asin(2 * zeta_c) / w
+    for ratio in (0.5, 2.0):
+        lag = explicit_lag_stability(sys_, law, NewmarkScheme(dt=ratio * dt_star))
+        assert lag.frequency_hz == pytest.approx(w / (2 * math.pi), rel=2e-3)
+        assert lag.damping_ratio == pytest.approx(zeta_c - math.sin(w * ratio * dt_star) / 2, abs=2e-4)
+    assert explicit_lag_stability(sys_, law, NewmarkScheme(dt=2 * dt_star)).dt_stable == \
+        pytest.approx(dt_star, rel=2e-3)
+    # the time-domain run grows beyond the bound exactly on the unstable side
+    for ratio, grows in ((0.8, False), (1.25, True)):
+        dt = ratio * dt_star
+        tr = integrate(sys_, law, NewmarkScheme(dt=dt), int(400 * 2 * math.pi / w / dt), v0=[1e-3],
+                       implicit=False, method="kernel")
+        x = tr.tip[:, 0]
+        quarter = len(x) // 4
+        assert (np.abs(x[-quarter:]).max() > np.abs(x[:quarter]).max()) == grows
