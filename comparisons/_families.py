@@ -63,16 +63,37 @@ def run_family(variants: dict[str, Parameters], options: dict) -> dict[str, list
 
 
 def resonance_table(family: dict[str, list[tuple[Case, SweepResult]]]) -> list[dict]:
+    """Resonance of every curve; ``beyond_range`` when the largest amplitude sits on the last speed
+    (the resonance lies at or above the swept range, and its speed and amplitude are lower bounds)."""
     rows = []
     for name, curves in family.items():
         for c, r in curves:
             rows.append({"variant": name, "case": c.label, "kind": c.kind, "value": c.value,
                          "resonance_rpm": r.resonance["rpm"],
+                         "beyond_range": bool(r.resonance["rpm"] >= r.rpm[-1]),
                          "resonance_amplitude_m": r.resonance["amplitude"],
                          "periods_seen": sorted({p for p in r.period if p}),
                          "unperiodic_speeds": int(sum(p is None for p in r.period)),
                          "cpu_s": r.cpu_s})
     return rows
+
+
+def speed_text(row: dict) -> str:
+    """Resonant speed as the reports print it: '>= 30000' when beyond the swept range."""
+    return (">= " if row["beyond_range"] else "") + f"{row['resonance_rpm']:.0f}"
+
+
+def curve_difference(family, kind: str, min_value: float | None = None) -> float:
+    """Largest pointwise difference between the variants' curves of one case, over the cases of
+    ``kind`` (with value >= ``min_value``), relative to the case's largest amplitude."""
+    worst = 0.0
+    names = list(family)
+    for i, (c, _) in enumerate(family[names[0]]):
+        if c.kind != kind or (min_value is not None and c.value < min_value):
+            continue
+        amps = np.array([family[n][i][1].amplitude_v_L for n in names])
+        worst = max(worst, float(np.nanmax(np.nanmax(amps, axis=0) - np.nanmin(amps, axis=0)) / np.nanmax(amps)))
+    return worst
 
 
 def optimal_preload(rows: list[dict], variant: str) -> tuple[float, float]:

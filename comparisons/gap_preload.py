@@ -36,11 +36,14 @@ def run(scene, out: Path) -> dict:
              f"{at_06['resonance_rpm']:.0f} r/min, {at_06['resonance_amplitude_m'] * 1e3:.3f} mm |" if at_06 else
              "| resonance near 8500 r/min at 0.6 mm gap | (0.6 mm not in gaps_um) |",
              f"| resonant speed rises as the gap closes | {'yes' if rising else 'no'}: "
-             + ", ".join(f"{r['value']:g} um -> {r['resonance_rpm']:.0f}" for r in ordered) + " |",
+             + ", ".join(f"{r['value']:g} um -> {fam.speed_text(r)}" for r in ordered) + " |",
              f"| an optimal preload minimizes the resonant amplitude | N0 = {n_opt:g} N "
-             f"({a_opt * 1e3:.4f} mm) |", "",
+             f"({a_opt * 1e3:.4f} mm)" + (" -- but every preload's resonance lies at or beyond the last swept "
+                                         "speed, so this is the smallest amplitude at that speed, not an optimum"
+                                         if all(r["beyond_range"] for r in rows if r["kind"] == "preload"
+                                                and r["value"] > 0) else "") + " |", "",
              markdown_table(["case", "resonant speed (r/min)", "resonant amplitude (mm)", "periods seen", "cpu"],
-                            [(r["case"], r["resonance_rpm"], r["resonance_amplitude_m"] * 1e3,
+                            [(r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
              *[f"![{f}]({f})" for f in files]]
     (out / "report.md").write_text("\n".join(lines) + "\n")
