@@ -83,17 +83,25 @@ def speed_text(row: dict) -> str:
     return (">= " if row["beyond_range"] else "") + f"{row['resonance_rpm']:.0f}"
 
 
-def curve_difference(family, kind: str, min_value: float | None = None) -> float:
-    """Largest pointwise difference between the variants' curves of one case, over the cases of
-    ``kind`` (with value >= ``min_value``), relative to the case's largest amplitude."""
-    worst = 0.0
+def curve_differences(family, kind: str, min_value: float | None = None,
+                      threshold: float = 0.05) -> tuple[float, list[dict]]:
+    """Pointwise differences between the variants' curves of each case of ``kind`` (value >= ``min_value``),
+    relative to the case's largest amplitude: (largest difference at the speeds below ``threshold``,
+    the speeds at or above it with every variant's amplitude). Near a jump the blade has coexisting
+    steady states, and variants run from rest may sit on different ones there (see the Fig. 4 study)."""
+    small, jumps = 0.0, []
     names = list(family)
-    for i, (c, _) in enumerate(family[names[0]]):
+    for i, (c, r) in enumerate(family[names[0]]):
         if c.kind != kind or (min_value is not None and c.value < min_value):
             continue
         amps = np.array([family[n][i][1].amplitude_v_L for n in names])
-        worst = max(worst, float(np.nanmax(np.nanmax(amps, axis=0) - np.nanmin(amps, axis=0)) / np.nanmax(amps)))
-    return worst
+        diff = (np.nanmax(amps, axis=0) - np.nanmin(amps, axis=0)) / np.nanmax(amps)
+        below = diff < threshold
+        small = max(small, float(np.max(diff[below], initial=0.0)))
+        jumps += [{"case": c.label, "rpm": float(r.rpm[k]), "difference": float(diff[k]),
+                   "amplitude_m": {n: float(a) for n, a in zip(names, amps[:, k])}}
+                  for k in np.flatnonzero(~below)]
+    return small, jumps
 
 
 def optimal_preload(rows: list[dict], variant: str) -> tuple[float, float]:

@@ -19,43 +19,13 @@ from pathlib import Path
 
 import numpy as np
 
-from shroud import signals
-from shroud.api import build_system
-from shroud.contact import contact_law
-from shroud.newmark import NewmarkScheme, integrate
 from shroud.plotting import MODEL_COLOURS, figure, save
 from shroud.report import markdown_table, seconds
-from shroud.sweep import run_sweeps
+from shroud.sweep import coexisting_states, run_sweeps
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 53,
            "coexist_threshold": 0.05, "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0]}
-
-
-def steady_amplitudes(params, model: str, rpm: float, tip_amplitudes) -> list[float]:
-    """Steady v_L amplitudes (m) reached from rest-like states q0 = static deflection under f_aero
-    scaled to each tip deflection in ``tip_amplitudes`` (m), v0 = 0."""
-    p = params.updated({"speed.rpm": rpm})
-    system = build_system(p, model)
-    law = contact_law(system.contact, p.contact, m=2)
-    shape = np.linalg.solve(system.K, system.f_aero)
-    shape = shape / (np.asarray(system.tip)[0] @ shape)
-    spp = p.time.steps_per_period
-    out = []
-    for a in tip_amplitudes:
-        tr = integrate(system, law, NewmarkScheme(p.time_step), spp * p.time.periods, q0=a * shape,
-                       bound=p.blade.length)
-        out.append(signals.amplitude(tr.tip[:, 0], spp) if tr.diverged is None else float("nan"))
-    return out
-
-
-def distinct(values, rel: float = 0.01) -> list[float]:
-    """The values that differ from each other by more than ``rel`` (sorted)."""
-    out: list[float] = []
-    for v in sorted(x for x in values if np.isfinite(x)):
-        if not out or v > out[-1] * (1 + rel):
-            out.append(v)
-    return out
 
 
 def coexistence(cases, sweeps, rpms, opts) -> list[dict]:
@@ -65,7 +35,7 @@ def coexistence(cases, sweeps, rpms, opts) -> list[dict]:
         red, full = sweeps["reduced"][i].amplitude_v_L, sweeps["full"][i].amplitude_v_L
         for k in np.flatnonzero(np.abs(red - full) > opts["coexist_threshold"] * np.maximum(red, full)):
             starts = [c * max(red[k], full[k]) for c in opts["coexist_starts"]]
-            found = {m: distinct(steady_amplitudes(params, m, float(rpms[k]), starts)) for m in ("reduced", "full")}
+            found = {m: coexisting_states(params, m, float(rpms[k]), starts) for m in ("reduced", "full")}
             same = len(found["reduced"]) == len(found["full"]) and all(
                 abs(a - b) <= 0.01 * b for a, b in zip(found["reduced"], found["full"]))
             rows.append({"case": label, "rpm": float(rpms[k]), "from_rest_reduced_m": float(red[k]),

@@ -108,3 +108,36 @@ def run_sweeps(cases: Sequence[Parameters], model: str, rpms: Sequence[float],
 def run_sweep(params: Parameters, model: str, rpms: Sequence[float]) -> SweepResult:
     """Steady-state v_L amplitude of ``model`` at each speed in ``rpms`` (r/min)."""
     return run_sweeps([params], model, rpms)[0]
+
+
+def coexisting_states(params: Parameters, model: str, rpm: float, tip_deflections: Sequence[float],
+                      rel: float = 0.01) -> list[float]:
+    """The distinct steady v_L amplitudes (m, sorted) reached from several initial states.
+
+    Near a jump an impacting blade has more than one steady state at one
+    speed. Each run starts from the static deflection under the aerodynamic
+    load scaled to a tip deflection v_L in ``tip_deflections`` (m; the same
+    physical state for any model), at rest; amplitudes within ``rel`` of
+    each other count as one state.
+    """
+    from shroud.contact import contact_law
+    from shroud.newmark import NewmarkScheme, integrate
+    from shroud.signals import amplitude
+    p = params.updated({"speed.rpm": rpm})
+    system = _model_builder(model)(p)
+    law = contact_law(system.contact, p.contact, m=system.contact.W.shape[0] if system.contact else 0)
+    shape = np.linalg.solve(system.K, system.f_aero)
+    shape = shape / (np.asarray(system.tip)[0] @ shape)
+    spp = p.time.steps_per_period
+    found: list[float] = []
+    for a in sorted(tip_deflections):
+        tr = integrate(system, law, NewmarkScheme(p.time_step), spp * p.time.periods, q0=a * shape,
+                       bound=p.blade.length)
+        if tr.diverged is None:
+            found.append(amplitude(tr.tip[:, 0], spp))
+    out: list[float] = []
+    for v in sorted(found):
+        if not out or v > out[-1] * (1 + rel):
+            out.append(v)
+    return out
+
