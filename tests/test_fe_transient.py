@@ -68,3 +68,18 @@ def test_fig8_study_reduced_fe_follows_the_full_fe(tmp_path):
     for name in ("fig8.png", "table3.csv", "agreement.csv", "report.md"):
         assert (tmp_path / name).stat().st_size > 0
     assert "status: complete" in (tmp_path / "transient_fe.csv").read_text().splitlines()[0]
+
+
+@pytest.mark.slow
+def test_a_diverging_fe_run_is_reported_and_its_csv_kept_marked_incomplete(tmp_path):
+    """Explicit contact at kn = 1e9 N/m and 32 steps per period grows without bound (stability scene)."""
+    from comparisons import fig8
+    from shroud.scene import load_scene
+    scene = load_scene("scenes/fig8.toml", COARSE + [
+        "time.periods=3", "time.steps_per_period=32", 'time.contact=explicit', "contact.kn=1e9",
+        'options.models=["fe-reduced"]', "options.reference=fe-reduced", "options.window_periods=1",
+        "options.plot_periods=1"])
+    results = fig8.run(scene, tmp_path)
+    assert "grows without bound" in results["diverged"]["fe-reduced"]
+    assert (tmp_path / "transient_fe-reduced.csv").read_text().startswith("# status: incomplete")
+    assert "diverged" in (tmp_path / "report.md").read_text()
