@@ -447,9 +447,10 @@ def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2
         _affine(A, x, Sfc, Sfa, s1, qn)                  # q_pred
         if k > 0:
             copy_into(z_old, z)
-            copy_into(F_old, F)
-            copy_into(N_old, N)
-            copy_into(y_old, y)
+            if i >= window:                              # the step's start, for the energy balance
+                copy_into(F_old, F)
+                copy_into(N_old, N)
+                copy_into(y_old, y)
             if implicit:
                 _affine(WA, x, WSfc, WSfa, s1, y_pred)
                 it, ok = solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws)
