@@ -171,7 +171,8 @@ def _figures(ok: dict, params, o, period: float, out: Path) -> list[Path]:
             ax.set_xlabel("w_s (um)" if i == 2 else "t / T_e (last periods)")
             if i == 3:
                 ax.set_yticks([1, 2, 3], ["1 separate", "2 slip", "3 stick"])
-    axes[0, 0].legend()
+    if ok:
+        axes[0, 0].legend()
     return [save(fig, out / "fig8.png")]
 
 
