@@ -10,10 +10,29 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+import scipy.linalg
+
 from comparisons import _families as fam
+from shroud.api import build_system
+from shroud.contact import contact_law
+from shroud.newmark import stuck_stiffness
 from shroud.report import markdown_table, seconds
 
 OPTIONS = dict(fam.FAMILY_OPTIONS)
+
+
+def stuck_first_frequency(params, model: str, rpm: float) -> tuple[float, float]:
+    """First natural frequency (Hz) of the blade free and with both shroud contacts stuck (undamped,
+    contact springs kn, kt added): the two limits a preload moves the resonance between."""
+    p = params.updated({"speed.rpm": rpm})
+    system = build_system(p, model)
+    law = contact_law(system.contact, p.contact)
+    W = np.asarray(system.contact.W, float)
+    K, M = np.asarray(system.K, float), np.asarray(system.M, float)
+    free = scipy.linalg.eigh(K, M, eigvals_only=True, subset_by_index=[0, 0])[0]
+    stuck = scipy.linalg.eigh(K + W.T @ stuck_stiffness(law) @ W, M, eigvals_only=True, subset_by_index=[0, 0])[0]
+    return float(np.sqrt(free) / (2 * np.pi)), float(np.sqrt(stuck) / (2 * np.pi))
 
 
 def run(scene, out: Path) -> dict:
@@ -28,6 +47,8 @@ def run(scene, out: Path) -> dict:
     ordered = sorted(gaps, key=lambda r: -r["value"])
     rising = all(b["resonance_rpm"] >= a["resonance_rpm"] for a, b in zip(ordered, ordered[1:]))
     cpu = sum(r["cpu_s"] for r in rows)
+    f_free, f_stuck = stuck_first_frequency(scene.params, opts["model"], opts["rpm_to"])
+    f_e = scene.params.load.ke * opts["rpm_to"] / 60.0
     lines = [f"# {scene.title}\n",
              f"Reduced model (nr = {scene.params.reduced.nr}), {scene.params.time.periods} periods per speed, "
              f"{len(fam.rpms(opts))} speeds per curve; runs' summed time {seconds(cpu)}.\n",
@@ -42,6 +63,11 @@ def run(scene, out: Path) -> dict:
                                          "speed, so this is the smallest amplitude at that speed, not an optimum"
                                          if all(r["beyond_range"] for r in rows if r["kind"] == "preload"
                                                 and r["value"] > 0) else "") + " |", "",
+             f"At {opts['rpm_to']:g} r/min the first frequency is {f_free:.0f} Hz free and {f_stuck:.0f} Hz with "
+             f"both contacts stuck (kn = {scene.params.contact.kn:.3g}, kt = {scene.params.contact.kt:.3g} N/m), "
+             f"against the excitation {f_e:.0f} Hz (ke = {scene.params.load.ke}): with the shroud kept stuck the "
+             f"resonance needs at least {60 * f_stuck / scene.params.load.ke:.0f} r/min (the frequency still rises "
+             "with speed), beyond the swept range.\n",
              markdown_table(["case", "resonant speed (r/min)", "resonant amplitude (mm)", "periods seen", "cpu"],
                             [(r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
@@ -49,4 +75,5 @@ def run(scene, out: Path) -> dict:
     (out / "report.md").write_text("\n".join(lines) + "\n")
     return {"resonances": rows, "curves": fam.curves_json(family),
             "optimal_preload_N": n_opt, "optimal_resonant_amplitude_m": a_opt,
-            "resonant_speed_rises_as_gap_closes": rising}
+            "resonant_speed_rises_as_gap_closes": rising,
+            "first_frequency_hz_at_top_speed": {"free": f_free, "stuck": f_stuck}}
