@@ -13,3 +13,14 @@ TABLE1_FE = (282.4, 1117.0, 1497.5, 3958.1)     # ANSYS Beam188 + Mass21, torsio
 
 # Table 3: run time of 100 excitation periods at 10000 r/min (Fig. 8 case), i7-6700.
 TABLE3_SECONDS = {"reduced": 5.37, "full": 7.66, "fe-reduced": 2328.84, "fe": 3259.67}
+
+# Sect. 2.2.1, Fig. 4: the reduced model's run time as a share of the full model's.
+FIG4_TIME_SHARE = 0.7
+
+# Sect. 3.1, Fig. 11: primary resonance of v_L at a 0.6 mm gap (2 f_e near flap1, 284.2 Hz).
+FIG11_GAP_M = 0.6e-3
+FIG11_RESONANCE_RPM = 8500.0
+
+# Sect. 3.2, Fig. 12(f): band of the P10 fluctuation at mu = 0.5 under preloads, r/min.
+P10_MU = 0.5
+P10_BAND_RPM = (22500.0, 26000.0)
