@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from comparisons.paper import TABLE3_SECONDS
 from shroud.api import build_system
 from shroud.contact import contact_law
 from shroud.newmark import NewmarkScheme, integrate
@@ -58,7 +59,7 @@ def main() -> None:
               f"(max {tr.contact_iterations} active-set iterations): kernel {1e3 * kw:.1f} ms wall "
               f"({1e3 * kc:.1f} ms CPU, {1e9 * kc / steps:.0f} ns/step; contact off {1e3 * fc:.1f} ms CPU), "
               f"reference {rw:.2f} s; ratio {rw / kw:.0f}x; "
-              f"paper Table 3: {'5.37' if model == 'reduced' else '7.66'} s")
+              f"paper Table 3: {TABLE3_SECONDS[model]} s")
     p = params.updated({"time.periods": 200})
     rpms = np.linspace(4000, 30000, args.sweep_speeds)
     run_sweep(p, "reduced", rpms[:4])

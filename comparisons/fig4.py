@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from comparisons import paper
 from shroud.plotting import MODEL_COLOURS, figure, save
 from shroud.report import markdown_table, seconds
 from shroud.sweep import coexisting_states, run_sweeps
@@ -86,7 +87,7 @@ def run(scene, out: Path) -> dict:
              + (f"; on matched coexisting steady states {100 * max(r['largest_state_difference'] for r in coexist):.2f} %"
                 f" ({'all' if all(r['same_states'] for r in coexist) else 'not all'} differing speeds explained)"
                 if coexist else "") + " |",
-             f"| reduced run time ~70 % of the full one | {100 * t_red / t_full:.0f} % "
+             f"| reduced run time ~{100 * paper.FIG4_TIME_SHARE:.0f} % of the full one | {100 * t_red / t_full:.0f} % "
              f"({seconds(t_red)} vs {seconds(t_full)}, build + integration summed over all runs) |", "",
              markdown_table(["case", "resonance reduced (r/min)", "resonance full (r/min)",
                              "amplitude reduced (mm)", "amplitude full (mm)", "max difference (%)",

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from comparisons import paper
 from shroud import signals
 from shroud.api import build_system
 from shroud.plotting import figure, save
@@ -26,7 +27,8 @@ from shroud.transient import simulate
 
 OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0, 50.0],
            "plot_periods": 20,
-           "search_mu": 0.5, "search_rpm_from": 22500.0, "search_rpm_to": 26000.0, "search_rpm_count": 15,
+           "search_mu": paper.P10_MU, "search_rpm_from": paper.P10_BAND_RPM[0],
+           "search_rpm_to": paper.P10_BAND_RPM[1], "search_rpm_count": 15,
            "search_gaps_um": [0.5, 1.0, 2.0, 5.0, 10.0],
            "search_preloads_N": [1.0, 2.0, 5.0, 10.0, 15.0, 20.0, 25.0, 35.0, 50.0, 100.0],
            "search_periods": 600,
