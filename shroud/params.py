@@ -129,6 +129,7 @@ class FE:
     mesh_size: float = 0.0035  # m; chosen by the mesh-convergence scene (scenes/convergence.toml)
     order: int = 2             # polynomial degree of the displacement
     cms_modes: int = 24        # kept modes of the reduced FE model
+    interface_modes: int = 0   # kept principal contact-face patterns of fe-reduced; 0 = all
 
 
 SECTIONS: dict[str, type] = {
@@ -176,6 +177,7 @@ _RULES: dict[str, tuple[Any, str]] = {
     "fe.mesh_size": (_positive, "an element size > 0 m"),
     "fe.order": (lambda v: v in (1, 2), "1 or 2"),
     "fe.cms_modes": (lambda v: v >= 1, "an integer >= 1"),
+    "fe.interface_modes": (lambda v: v >= 0, "an integer >= 0 (0 keeps every contact attachment mode)"),
 }
 
 
