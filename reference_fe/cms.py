@@ -25,6 +25,18 @@ numerically dependent directions) turns them into M-orthonormal, K-diagonal
 vectors, so the basis ``T = [Phi, Psi V]`` gives ``T^T M T = I`` and
 ``T^T K T = diag``: paper Eq. (12) with a diagonal mass and stiffness.
 
+Interface reduction. The contact attachment modes of neighbouring face nodes
+are nearly parallel: a face a few millimetres wide barely deforms except
+through its smooth patterns. The residual flexibility seen by the contact
+coordinates, ``F_r = W Psi_W = W (K^-1 - Phi Lambda^-1 Phi^T) W^T``
+(symmetric, positive semi-definite), is diagonalized, ``F_r = U S U^T``, and
+only the attachment modes of the ``k`` principal face-force patterns
+``W^T U_k`` are kept (``Psi_W U_k``). The reduced face compliance is then
+``W Phi Lambda^-1 Phi^T W^T + U_k S_k U_k^T``: the best rank-k
+approximation of the residual part, its 2-norm error the largest dropped
+eigenvalue ``s_(k+1)`` (Eckart-Young). Load directions that are not contact
+forces (the aerodynamic load) keep their own attachment modes.
+
 Everything here is plain numpy/scipy on sparse matrices: the module knows
 nothing of meshes, and is tested on structures with exact solutions.
 """
@@ -89,6 +101,21 @@ def residual_attachment_modes(lu, Phi: np.ndarray, omega2: np.ndarray,
     return lu.solve(R) - Phi @ ((Phi.T @ R) / omega2[:, None])
 
 
+def principal_interface_modes(W, Psi_W: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Attachment modes of the ``count`` principal face-force patterns, and all residual flexibilities.
+
+    ``Psi_W`` (n, m) are the residual attachment modes of the columns of
+    ``W^T``. Returns ``(Psi_W U_k, s)`` with ``s`` the eigenvalues of the
+    residual face flexibility ``W Psi_W`` in descending order, m/N (the
+    spectrum that tells how many patterns matter); ``count = 0`` keeps all m.
+    """
+    F = np.asarray(W @ Psi_W)
+    s, U = sla.eigh(0.5 * (F + F.T))
+    s, U = s[::-1], U[:, ::-1]
+    k = s.size if count == 0 else min(count, s.size)
+    return Psi_W @ U[:, :k], s
+
+
 def _orthonormal_residual(K, M, Psi: np.ndarray, rtol: float) -> tuple[np.ndarray, np.ndarray]:
     """M-orthonormal, K-diagonal vectors spanning ``Psi`` up to relative tolerance ``rtol``.
 
@@ -108,15 +135,22 @@ def _orthonormal_residual(K, M, Psi: np.ndarray, rtol: float) -> tuple[np.ndarra
 
 
 def free_interface_basis(K, M, n_modes: int, forces: np.ndarray, rtol: float = 1e-10,
-                         lu=None) -> ReductionBasis:
-    """Kept normal modes plus residual attachment modes for the columns of ``forces``.
+                         lu=None, W=None, interface_modes: int = 0) -> ReductionBasis:
+    """Kept normal modes plus residual attachment modes for the contact and the loads.
 
-    ``forces`` is (n, m): each column a force direction the reduced model must
-    represent statically exactly (contact-node directions, load vectors).
+    ``forces`` is (n, l): each column a load direction the reduced model must
+    represent statically exactly. ``W`` (m, n), if given, are the contact
+    coordinates: the forces ``W^T`` they can receive get attachment modes
+    too, all of them (``interface_modes = 0``) or those of the leading
+    ``interface_modes`` principal face-force patterns
+    (principal_interface_modes).
     """
     lu = lu or factorize(K)
     omega2, Phi = normal_modes(K, M, n_modes, lu)
     Psi = residual_attachment_modes(lu, Phi, omega2, np.atleast_2d(forces.T).T)
+    if W is not None and W.shape[0]:
+        Psi_W = residual_attachment_modes(lu, Phi, omega2, sp.csr_matrix(W).T.toarray())
+        Psi = np.hstack([principal_interface_modes(W, Psi_W, interface_modes)[0], Psi])
     # Scale each column to unit M-norm before the dependence test, so a load
     # vector in N and a unit nodal force are judged alike.
     norms = np.sqrt(np.maximum(np.einsum("ij,ij->j", Psi, M @ Psi), 0.0))
