@@ -27,7 +27,9 @@ Two code paths, one per backend, doing the same arithmetic:
   (reduced and full beam, reduced FE), multiplying by the precomputed inverse.
 
 Both record the tip displacements, the per-side resultants of the contact
-forces and states, and the energy balance over a final window. Units: SI.
+forces and states, and over a final window the energy balance and, per
+contact element, the steps spent in each state and the peak normal force
+(the contact-state map of the solid models' shroud faces). Units: SI.
 """
 
 from __future__ import annotations
@@ -126,6 +128,9 @@ class Trajectory:
     diverged: str | None        # cause, if the run left the bounded regime
     elapsed_s: float
     method: str                 # "kernel" | "reference"
+    # Per contact element j over the window's steps (rows window+1 .. steps; None without a window):
+    element_share: np.ndarray | None       # (k, 3): share of steps separate / stick / slip
+    element_peak_normal: np.ndarray | None  # (k,): largest |N_j|, N
 
     @property
     def t(self) -> np.ndarray:
@@ -160,6 +165,14 @@ def side_resultants(y, N, F, state, rows, side, weight, i, r_N, r_F, r_w, r_stat
         r_w[i, 0] /= w1
     if w2 > 0.0:
         r_w[i, 1] /= w2
+
+
+@leaf
+def element_tally(N, state, counts, peak_normal):
+    """Add one step to each element's state count (k, 3) and raise its peak |N| (k,)."""
+    for j in range(N.size):
+        counts[j, state[j]] += 1
+        peak_normal[j] = max(peak_normal[j], abs(N[j]))
 
 
 def contact_resolution(Cc: np.ndarray, law: ContactLaw) -> float:
@@ -298,12 +311,27 @@ def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkSc
     n = system.dofs
     if law.count:
         W = system.contact.W
-        Wt = _dense(W.T)
-        Phi = np.column_stack([solve(Wt[:, i]) for i in range(Wt.shape[1])]).reshape(n, -1)
+        Phi = _solve_block(solve, _dense(W.T))
         Cc = np.asarray(W @ Phi)
     else:
         W, Phi, Cc = np.zeros((0, n)), np.zeros((n, 0)), np.zeros((0, 0))
     return _Step(solve=solve, W=W, Phi=Phi, Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc)
+
+
+def _solve_block(solve: Callable[[np.ndarray], np.ndarray], B: np.ndarray) -> np.ndarray:
+    """X with K_eff X = B (n, m): one multi-right-hand-side solve, by columns if ``solve`` is 1-D only.
+
+    One block back-substitution (SuperLU, LAPACK, MUMPS) passes over the
+    factors once instead of m times; a solver that rejects or mis-shapes
+    2-D input is called column by column.
+    """
+    try:
+        X = np.asarray(solve(B))
+    except (ValueError, TypeError, IndexError):
+        X = None
+    if X is None or X.shape != B.shape:
+        X = np.column_stack([solve(B[:, i]) for i in range(B.shape[1])])
+    return X.reshape(B.shape)
 
 
 def _symmetric(system: StructuralSystem) -> bool:
@@ -325,13 +353,16 @@ class _Record:
     energy: np.ndarray         # input, damping, friction, contact work, contact energy at start, end
     snap_q: np.ndarray         # q, v at the start of the energy window
     snap_v: np.ndarray
+    element_counts: np.ndarray  # (k, 3) window steps of each element separate / stick / slip
+    element_peak: np.ndarray    # (k,) largest |N| of each element in the window, N
 
     @classmethod
-    def empty(cls, steps: int, n: int) -> "_Record":
+    def empty(cls, steps: int, n: int, k: int) -> "_Record":
         return cls(tip=np.zeros((steps + 1, 2)), normal=np.zeros((steps + 1, 2)),
                    friction=np.zeros((steps + 1, 2)), tangential=np.zeros((steps + 1, 2)),
                    state=np.zeros((steps + 1, 2), np.int8), energy=np.zeros(6),
-                   snap_q=np.zeros(n), snap_v=np.zeros(n))
+                   snap_q=np.zeros(n), snap_v=np.zeros(n),
+                   element_counts=np.zeros((k, 3), np.int64), element_peak=np.zeros(k))
 
 
 def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q, v, rec, progress):
@@ -380,6 +411,8 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
         q, v, a = q_new, v_new, a_new
         tip_now = tip @ q
         _record_row(rec, i + 1, tip_now, y, N, F, state, law)
+        if i >= window:
+            element_tally(N, state, rec.element_counts, rec.element_peak)
         if not np.all(np.isfinite(tip_now)):
             return i + 1, NOT_FINITE, q, v, iterations, unconverged
         if np.max(np.abs(tip_now)) > bound:
@@ -411,7 +444,7 @@ def _affine(A, x, b, c, s, out):
 @njit(cache=True)
 def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2, a3, steps,
                   W, Phi, Cc, tip, rows, props, side, weight, implicit, bound, window,
-                  q0, v0, r_tip, r_N, r_F, r_w, r_state, energy, snap_q, snap_v, ws):
+                  q0, v0, r_tip, r_N, r_F, r_w, r_state, energy, snap_q, snap_v, r_counts, r_peak, ws):
     """The step of _reference_loop, compiled for dense systems.
 
     The state is stacked, x = [q, v, a], and S = K_eff^-1 folded into
@@ -496,6 +529,8 @@ def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2
         r_tip[i + 1, 0], r_tip[i + 1, 1] = tip_now[0], tip_now[1]
         if k > 0:
             side_resultants(y, N, F, state, rows, side, weight, i + 1, r_N, r_F, r_w, r_state)
+            if i >= window:
+                element_tally(N, state, r_counts, r_peak)
         for s in range(2):
             if not math.isfinite(tip_now[s]):
                 return i + 1, NOT_FINITE, iterations, unconverged
@@ -521,7 +556,8 @@ def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v,
         a0, a2, a3, steps, np.ascontiguousarray(W), np.ascontiguousarray(step.Phi),
         np.ascontiguousarray(step.Cc), np.ascontiguousarray(_dense(system.tip)), law.rows, law.props,
         law.side, law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
-        rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, workspace(law))
+        rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, rec.element_counts,
+        rec.element_peak, workspace(law))
     return done, status, q, v, iterations, unconverged
 
 
@@ -565,7 +601,7 @@ def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, 
     q = np.zeros(n) if q0 is None else np.array(q0, dtype=float)
     v = np.zeros(n) if v0 is None else np.array(v0, dtype=float)
     window = steps - energy_window if energy_window else steps + 1
-    rec = _Record.empty(steps, n)
+    rec = _Record.empty(steps, n, law.count)
     if method == "kernel":
         done, status, q, v, iterations, unconverged = _run_kernel(
             system, law, scheme, steps, implicit, bound, window, step, q, v, rec)
@@ -587,11 +623,14 @@ def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, 
         warn(f"the contact solve did not settle in {unconverged} of {done} steps "
              "(element states kept cycling); results near those steps are approximate")
     sl = slice(0, done + 1)
+    counted = done - window
+    share = rec.element_counts / counted if counted > 0 else None
     return Trajectory(dt=scheme.dt, steps=done, tip=rec.tip[sl], normal=rec.normal[sl],
                       friction=rec.friction[sl], tangential=rec.tangential[sl], state=rec.state[sl],
                       energy=energy, contact_iterations=int(iterations),
                       contact_unconverged=int(unconverged), diverged=cause,
-                      elapsed_s=time.perf_counter() - t_start, method=method)
+                      elapsed_s=time.perf_counter() - t_start, method=method,
+                      element_share=share, element_peak_normal=rec.element_peak if counted > 0 else None)
 
 
 def _energy_balance(system, rec, q, v, window, steps) -> EnergyBalance:

@@ -6,8 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from shroud.contact import contact_law
-from shroud.newmark import NewmarkScheme, explicit_lag_stability, integrate
+from shroud import signals
+from shroud.contact import STATE_NAMES, contact_law
+from shroud.newmark import NewmarkScheme, _factorize_step, explicit_lag_stability, integrate
 from shroud.params import Contact
 from shroud.system import ContactElements, StructuralSystem
 
@@ -123,6 +124,57 @@ def test_kernel_equals_reference_to_round_off(implicit):
     assert np.abs(k.friction - r.friction).max() < 1e-9 * np.abs(r.friction).max()
     assert np.array_equal(k.state, r.state)
     assert k.energy.friction == pytest.approx(r.energy.friction, rel=1e-8)
+    assert np.array_equal(k.element_share, r.element_share)
+    assert np.abs(k.element_peak_normal - r.element_peak_normal).max() < 1e-9 * r.element_peak_normal.max()
+
+
+def test_element_state_map_is_the_side_record_for_one_element_per_side():
+    """With one element per side, an element's state shares are its side's, counted a second way."""
+    sys_ = _contact_2dof()
+    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    spp = 256
+    tr = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / spp), spp * 30, energy_window=10 * spp)
+    assert tr.element_share.shape == (2, 3)
+    assert tr.element_share.sum(axis=1) == pytest.approx([1.0, 1.0], abs=1e-15)
+    for j in range(2):
+        expected = signals.state_fractions(tr.state[:, j], spp)
+        assert tr.element_share[j] == pytest.approx([expected[s] for s in STATE_NAMES], abs=1e-15)
+        window = tr.normal[-10 * spp:, j]
+        assert tr.element_peak_normal[j] == pytest.approx(np.abs(window).max(), rel=1e-15)
+    assert tr.element_share[:, 2].max() > 0.01             # slip visited: the test can tell states apart
+
+
+def test_full_stick_map_is_all_stick_and_no_window_no_map():
+    sys_ = _contact_2dof()
+    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=1e6))
+    scheme = NewmarkScheme(dt=1 / 100 / 64)
+    tr = integrate(sys_, law, scheme, 64 * 5, energy_window=64)
+    assert np.array_equal(tr.element_share, [[0.0, 1.0, 0.0]] * 2)
+    # the preload alone puts N0 on each element; the vibration only adds to it in compression
+    assert np.all(tr.element_peak_normal >= 1e6)
+    assert integrate(sys_, law, scheme, 64).element_share is None
+
+
+@pytest.mark.parametrize("accepts_blocks", [True, False])
+def test_contact_condensation_block_or_column_solves(accepts_blocks):
+    """Phi = K_eff^-1 W^T and Cc = W Phi, with a block solver and one that takes vectors only."""
+    sys_ = _contact_2dof()
+    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    scheme = NewmarkScheme(dt=1e-4)
+
+    def factorize(A):
+        def solve(b):
+            if b.ndim != 1 and not accepts_blocks:
+                raise ValueError("vectors only")
+            return np.linalg.solve(A, b)
+        return solve
+
+    step = _factorize_step(sys_, law, scheme, factorize)
+    a0, a1 = scheme.coefficients()[:2]
+    K_eff = sys_.K + a0 * sys_.M + a1 * sys_.C
+    Phi = np.linalg.inv(K_eff) @ sys_.contact.W.T
+    assert np.allclose(step.Phi, Phi, rtol=1e-12, atol=0)
+    assert np.allclose(step.Cc, sys_.contact.W @ Phi, rtol=1e-12, atol=0)
 
 
 def test_friction_dissipates_and_energy_balance_closes():
