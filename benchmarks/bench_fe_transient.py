@@ -11,22 +11,32 @@ coordinates: a zero-step integration), time per step, total, peak memory.
     python benchmarks/bench_fe_transient.py                 # 100 periods, both models
     python benchmarks/bench_fe_transient.py --periods 5     # per-step figures, extrapolated
     python benchmarks/bench_fe_transient.py --set fe.order=1
+
+Interface reduction of fe-reduced (fe.interface_modes): ``--interface-modes
+0 8 16 32`` runs "fe" once and "fe-reduced" with each count of kept
+contact-face patterns, and adds each one's agreement with "fe" (NRMSE of the
+Fig. 8 signals over the last ``--window`` periods, comparisons/_agreement).
+
+    python benchmarks/bench_fe_transient.py --periods 12 --interface-modes 0 8 16 32 64
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import resource
 import time
 
+from comparisons._agreement import agreement, signals_of
 from shroud.api import build_system
 from shroud.contact import contact_law
 from shroud.newmark import NewmarkScheme, integrate
 from shroud.scene import load_scene
 
 
-def measure(params, model: str) -> dict:
+def measure(params, model: str):
+    """The figures of one model's run, and its trajectory."""
     t0 = time.perf_counter()
     system = build_system(params, model)
     build_s = time.perf_counter() - t0
@@ -35,15 +45,21 @@ def measure(params, model: str) -> dict:
     steps = params.time.periods * params.time.steps_per_period
     implicit = params.time.contact == "implicit"
     setup = integrate(system, law, scheme, 0, implicit=implicit)
-    run = integrate(system, law, scheme, steps, implicit=implicit, label=f"bench {model}")
+    run = integrate(system, law, scheme, steps, implicit=implicit, bound=params.blade.length,
+                    label=f"bench {model}")
     per_step = (run.elapsed_s - setup.elapsed_s) / steps
     return {
-        "model": model, "dofs": system.dofs, "contact_elements": law.count, "build_s": build_s,
+        "model": model, "interface_modes": params.fe.interface_modes, "dofs": system.dofs,
+        "contact_elements": law.count, "build_s": build_s,
         "setup_s": setup.elapsed_s, "steps": steps, "run_s": run.elapsed_s, "per_step_ms": 1e3 * per_step,
         "run_100_periods_s": setup.elapsed_s + per_step * 100 * params.time.steps_per_period,
         "contact_iterations_max": run.contact_iterations,
         "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2,
-    }
+    }, run
+
+
+def show(row: dict) -> None:
+    print(json.dumps({k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}), flush=True)
 
 
 def main() -> None:
@@ -51,12 +67,22 @@ def main() -> None:
     parser.add_argument("--periods", type=int, default=100)
     parser.add_argument("--models", nargs="+", default=["fe-reduced", "fe"])
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    parser.add_argument("--interface-modes", nargs="+", type=int, metavar="K",
+                        help="compare fe-reduced with these fe.interface_modes against fe")
+    parser.add_argument("--window", type=int, default=10, help="periods compared (--interface-modes)")
     args = parser.parse_args()
     params = load_scene("scenes/fig8.toml", args.set + [f"time.periods={args.periods}"]).params
-    for model in args.models:
-        row = measure(params, model)
-        print(json.dumps({k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}), flush=True)
-
+    if not args.interface_modes:
+        for model in args.models:
+            show(measure(params, model)[0])
+        return
+    row, fe = measure(params, "fe")
+    show(row)
+    period = 2 * math.pi / (params.load.ke * params.speed.omega)
+    for k in args.interface_modes:
+        row, run = measure(params.with_overrides([f"fe.interface_modes={k}"]), "fe-reduced")
+        fit = agreement(run.t, signals_of(run), fe.t, signals_of(fe), period, min(args.window, args.periods))
+        show(row | {"worst_nrmse": fit.worst_nrmse} | {f"nrmse_{n}": v for n, v in fit.nrmse.items()})
 
 if __name__ == "__main__":
     main()

@@ -19,9 +19,11 @@ v_L, w_L are the shroud centre's displacement along e_v(L), e_w(L).
 
 "fe-reduced" projects all of it on the free-interface basis of
 reference_fe.cms: ``fe.cms_modes`` normal modes plus the residual
-attachment modes of every contact force direction and of the aerodynamic
-load. The basis makes M = I and K diagonal; the reduced operators are
-cached on disk by what shapes them (mesh, material, speed, kept modes), so a
+attachment modes of the aerodynamic load and of the contact forces: of
+every contact-node direction, or (``fe.interface_modes = k > 0``) of the k
+principal face-force patterns of the residual face flexibility. The basis
+makes M = I and K diagonal; the reduced operators are cached on disk by
+what shapes them (mesh, material, speed, kept modes and patterns), so a
 second run at the same speed does not touch DOLFINx at all.
 
 The systems are built serially (scipy sparse on the free DOFs; under
@@ -114,7 +116,8 @@ def reduction_inputs(params: Parameters, rpm: float) -> dict:
     from meshes.blade import MeshSpec
     return {"mesh": dataclasses.asdict(MeshSpec.from_params(params)),
             "material": dataclasses.asdict(params.material), "rpm": float(rpm),
-            "cms_modes": params.fe.cms_modes, "contact": _has_contact(params)}
+            "cms_modes": params.fe.cms_modes, "interface_modes": params.fe.interface_modes,
+            "contact": _has_contact(params)}
 
 
 def reduced_operators(params: Parameters, rpm: float | None = None) -> Path:
@@ -131,11 +134,12 @@ def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
 
     solid = _solid(params, rpm)
     W = solid.contact.W if solid.contact is not None else sp.csr_matrix((0, solid.M.shape[0]))
-    forces = np.column_stack([W.T.toarray(), solid.f_aero])
     t0 = time.perf_counter()
-    basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, forces, lu=MumpsCholesky(solid.K))
+    basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, solid.f_aero[:, None],
+                                 lu=MumpsCholesky(solid.K), W=W, interface_modes=params.fe.interface_modes)
     info(f"FE reduction at {rpm:g} r/min: {solid.M.shape[0]} DOF -> {basis.n_modes} modes + "
-         f"{basis.n_attachment} attachment modes in {time.perf_counter() - t0:.1f} s")
+         f"{basis.n_attachment} attachment modes ({params.fe.interface_modes or 'all'} of {W.shape[0]} "
+         f"contact-face patterns) in {time.perf_counter() - t0:.1f} s")
     T = basis.T
     contact = solid.contact
     with open(path, "wb") as fh:
