@@ -286,9 +286,17 @@ def default_factorize(A) -> Callable[[np.ndarray], np.ndarray]:
     the inverse anyway to fold S into its products; a multi-column LU solve
     through scipy instead wakes the BLAS threads and costs milliseconds per
     speed of a sweep on a busy machine.
+
+    SuperLU is handed one column at a time: its multi-column solve goes
+    through the threaded BLAS and measured slower on the 36888-DOF "fe"
+    step operator with 482 contact columns (2 cores: 32-52 s as one block,
+    21-23 s by columns; only with one BLAS thread, which the library does
+    not control, the block wins: 23 s against 29-45 s).
     """
     if scipy.sparse.issparse(A):
-        return scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(A)).solve
+        lu = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(A))
+        return lambda b: (lu.solve(b) if b.ndim == 1 else
+                          np.column_stack([lu.solve(b[:, i]) for i in range(b.shape[1])]))
     S = np.linalg.inv(np.asarray(A, dtype=float))
     return lambda b: S @ b
 

@@ -1,10 +1,12 @@
 """Newmark with contact against exact solutions: the discrete oscillator, harmonic steady
 states, an impact oscillator, a Coulomb-braked block, and the kernel against the reference."""
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
+import scipy.sparse
 
 from shroud import signals
 from shroud.contact import STATE_NAMES, contact_law
@@ -155,21 +157,26 @@ def test_full_stick_map_is_all_stick_and_no_window_no_map():
     assert integrate(sys_, law, scheme, 64).element_share is None
 
 
-@pytest.mark.parametrize("accepts_blocks", [True, False])
-def test_contact_condensation_block_or_column_solves(accepts_blocks):
-    """Phi = K_eff^-1 W^T and Cc = W Phi, with a block solver and one that takes vectors only."""
+@pytest.mark.parametrize("solver", ["blocks", "vectors only", "default sparse"])
+def test_contact_condensation_block_or_column_solves(solver):
+    """Phi = K_eff^-1 W^T and Cc = W Phi, with a block solver, one that takes vectors only, SuperLU."""
     sys_ = _contact_2dof()
     law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
     scheme = NewmarkScheme(dt=1e-4)
 
     def factorize(A):
         def solve(b):
-            if b.ndim != 1 and not accepts_blocks:
+            if b.ndim != 1 and solver == "vectors only":
                 raise ValueError("vectors only")
             return np.linalg.solve(A, b)
         return solve
 
-    step = _factorize_step(sys_, law, scheme, factorize)
+    if solver == "default sparse":
+        sparse = dataclasses.replace(sys_, M=scipy.sparse.csr_matrix(sys_.M),
+                                     C=scipy.sparse.csr_matrix(sys_.C), K=scipy.sparse.csr_matrix(sys_.K))
+        step = _factorize_step(sparse, law, scheme, None)
+    else:
+        step = _factorize_step(sys_, law, scheme, factorize)
     a0, a1 = scheme.coefficients()[:2]
     K_eff = sys_.K + a0 * sys_.M + a1 * sys_.C
     Phi = np.linalg.inv(K_eff) @ sys_.contact.W.T
