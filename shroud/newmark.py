@@ -550,6 +550,15 @@ def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2
     return steps, OK, iterations, unconverged
 
 
+def _kernel_array(x) -> np.ndarray:
+    """Writeable C-ordered float64: one compiled signature for every model.
+
+    (Cached model matrices are read-only; numba types those apart and would
+    compile the kernel again, seconds, for the first run of such a model.)
+    """
+    return np.require(x, dtype=np.float64, requirements=["C", "W"])
+
+
 def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v, rec):
     n = system.dofs
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
@@ -559,10 +568,10 @@ def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v,
     W = _dense(step.W) if law.count else np.zeros((0, n))
     Sfc, Sfa = S @ system.f_const, S @ system.f_aero
     done, status, iterations, unconverged = _dense_kernel(
-        A, W @ A, Sfc, Sfa, W @ Sfc, W @ Sfa, np.asarray(system.f_const, float),
-        np.asarray(system.f_aero, float), C, float(system.omega_e), scheme.dt, scheme.gamma,
-        a0, a2, a3, steps, np.ascontiguousarray(W), np.ascontiguousarray(step.Phi),
-        np.ascontiguousarray(step.Cc), np.ascontiguousarray(_dense(system.tip)), law.rows, law.props,
+        A, W @ A, Sfc, Sfa, W @ Sfc, W @ Sfa, _kernel_array(system.f_const),
+        _kernel_array(system.f_aero), _kernel_array(C), float(system.omega_e), scheme.dt, scheme.gamma,
+        a0, a2, a3, steps, _kernel_array(W), _kernel_array(step.Phi),
+        _kernel_array(step.Cc), _kernel_array(_dense(system.tip)), law.rows, law.props,
         law.side, law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
         rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, rec.element_counts,
         rec.element_peak, workspace(law))
