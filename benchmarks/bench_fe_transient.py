@@ -11,6 +11,7 @@ coordinates: a zero-step integration), time per step, total, peak memory.
     python benchmarks/bench_fe_transient.py                 # 100 periods, both models
     python benchmarks/bench_fe_transient.py --periods 5     # per-step figures, extrapolated
     python benchmarks/bench_fe_transient.py --set fe.order=1
+    python benchmarks/bench_fe_transient.py --models fe --mumps   # MUMPS LU for the step operator
 
 Interface reduction of fe-reduced (fe.interface_modes): ``--interface-modes
 0 8 16 32`` runs "fe" once and "fe-reduced" with each count of kept
@@ -35,8 +36,11 @@ from shroud.newmark import NewmarkScheme, integrate
 from shroud.scene import load_scene
 
 
-def measure(params, model: str):
-    """The figures of one model's run, and its trajectory."""
+def measure(params, model: str, factorize=None):
+    """The figures of one model's run, and its trajectory.
+
+    ``factorize``: of the step operator (None: shroud.newmark's default).
+    """
     t0 = time.perf_counter()
     system = build_system(params, model)
     build_s = time.perf_counter() - t0
@@ -44,9 +48,9 @@ def measure(params, model: str):
     scheme = NewmarkScheme(dt=params.time_step)
     steps = params.time.periods * params.time.steps_per_period
     implicit = params.time.contact == "implicit"
-    setup = integrate(system, law, scheme, 0, implicit=implicit)
+    setup = integrate(system, law, scheme, 0, implicit=implicit, factorize=factorize)
     run = integrate(system, law, scheme, steps, implicit=implicit, bound=params.blade.length,
-                    label=f"bench {model}")
+                    factorize=factorize, label=f"bench {model}")
     per_step = (run.elapsed_s - setup.elapsed_s) / steps
     return {
         "model": model, "interface_modes": params.fe.interface_modes, "dofs": system.dofs,
@@ -56,6 +60,11 @@ def measure(params, model: str):
         "contact_iterations_max": run.contact_iterations,
         "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2,
     }, run
+
+
+def _mumps_lu(A):
+    from reference_fe.factor import MumpsFactor
+    return MumpsFactor(A, symmetric=False).solve
 
 
 def show(row: dict) -> None:
@@ -70,11 +79,13 @@ def main() -> None:
     parser.add_argument("--interface-modes", nargs="+", type=int, metavar="K",
                         help="compare fe-reduced with these fe.interface_modes against fe")
     parser.add_argument("--window", type=int, default=10, help="periods compared (--interface-modes)")
+    parser.add_argument("--mumps", action="store_true",
+                        help="factorize the sparse step operator with MUMPS LU")
     args = parser.parse_args()
     params = load_scene("scenes/fig8.toml", args.set + [f"time.periods={args.periods}"]).params
     if not args.interface_modes:
         for model in args.models:
-            show(measure(params, model)[0])
+            show(measure(params, model, _mumps_lu if args.mumps and model == "fe" else None)[0])
         return
     row, fe = measure(params, "fe")
     show(row)

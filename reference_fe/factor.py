@@ -1,4 +1,4 @@
-"""A serial MUMPS Cholesky factorization of a scipy sparse SPD matrix, solving many right-hand sides.
+"""A serial MUMPS factorization of a scipy sparse matrix, solving many right-hand sides.
 
 The reduction basis of the solid (reference_fe.cms) needs K^-1 applied to
 hundreds of force directions (one per contact-node direction) and to the
@@ -7,6 +7,13 @@ the symmetric stiffness as L D L^T in about a quarter of SuperLU's LU time
 and solves a block of right-hand sides at once (MatMatSolve, BLAS-3): on the
 default blade mesh (36888 DOF) 40 right-hand sides take 0.46 s against
 1.7 s with SuperLU.
+
+The Newmark step operator of "fe" is not symmetric (Coriolis): there MUMPS
+LU with METIS ordering keeps 21.1 M factor entries against SuperLU's 32 M
+(COLAMD), factorizes in 1.1 s against 3.8 s, back-substitutes in 36 ms
+against 43 ms, and condenses the 482 contact coordinates as one block in
+1.7 s against 22 s column by column (SuperLU's own block solve: 56 s).
+Measured by benchmarks/bench_fe_transient.py --mumps.
 """
 
 from __future__ import annotations
@@ -17,22 +24,30 @@ import scipy.sparse as sp
 from petsc4py import PETSc
 
 
-class MumpsCholesky:
-    """``solve(b)`` with ``K x = b`` for b of shape (n,) or (n, k); K symmetric positive definite."""
+METIS_ORDERING = 5          # MUMPS ICNTL(7)
 
-    def __init__(self, K):
-        K = sp.csr_matrix(K)
-        self.n = K.shape[0]
-        self._A = PETSc.Mat().createAIJ(size=K.shape, csr=(K.indptr, K.indices, K.data),
+
+class MumpsFactor:
+    """``solve(b)`` with ``A x = b`` for b of shape (n,) or (n, k).
+
+    ``symmetric``: A symmetric positive definite (L D L^T); otherwise LU.
+    """
+
+    def __init__(self, A, symmetric: bool = True):
+        A = sp.csr_matrix(A)
+        self.n = A.shape[0]
+        self._A = PETSc.Mat().createAIJ(size=A.shape, csr=(A.indptr, A.indices, A.data),
                                         comm=PETSc.COMM_SELF)
         self._A.assemble()
-        self._A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        self._A.setOption(PETSc.Mat.Option.SYMMETRIC, symmetric)
         self._ksp = PETSc.KSP().create(PETSc.COMM_SELF)
         self._ksp.setOperators(self._A)
         self._ksp.setType("preonly")
         pc = self._ksp.getPC()
-        pc.setType("cholesky")
+        pc.setType("cholesky" if symmetric else "lu")
         pc.setFactorSolverType("mumps")
+        pc.setFactorSetUpSolverType()
+        pc.getFactorMatrix().setMumpsIcntl(7, METIS_ORDERING)
         self._ksp.setUp()
         self._factor = pc.getFactorMatrix()
         self._x, self._b = self._A.createVecs()

@@ -98,10 +98,10 @@ def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
 def full_system(params: Parameters) -> StructuralSystem:
     """The solid FE model on its free DOFs (scipy sparse), SI units."""
     from reference_fe.cms import normal_modes
-    from reference_fe.factor import MumpsCholesky
+    from reference_fe.factor import MumpsFactor
 
     solid = _solid(params, params.speed.rpm)
-    omega2, _ = normal_modes(solid.K, solid.M, 2, MumpsCholesky(solid.K))
+    omega2, _ = normal_modes(solid.K, solid.M, 2, MumpsFactor(solid.K))
     f1, f2 = np.sqrt(omega2) / (2 * math.pi)
     a, b = rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
     n = solid.M.shape[0]
@@ -129,14 +129,14 @@ def reduced_operators(params: Parameters, rpm: float | None = None) -> Path:
 
 def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
     from reference_fe.cms import free_interface_basis, project
-    from reference_fe.factor import MumpsCholesky
+    from reference_fe.factor import MumpsFactor
     from shroud.log import info
 
     solid = _solid(params, rpm)
     W = solid.contact.W if solid.contact is not None else sp.csr_matrix((0, solid.M.shape[0]))
     t0 = time.perf_counter()
     basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, solid.f_aero[:, None],
-                                 lu=MumpsCholesky(solid.K), W=W, interface_modes=params.fe.interface_modes)
+                                 lu=MumpsFactor(solid.K), W=W, interface_modes=params.fe.interface_modes)
     info(f"FE reduction at {rpm:g} r/min: {solid.M.shape[0]} DOF -> {basis.n_modes} modes + "
          f"{basis.n_attachment} attachment modes ({params.fe.interface_modes or 'all'} of {W.shape[0]} "
          f"contact-face patterns) in {time.perf_counter() - t0:.1f} s")
