@@ -12,8 +12,9 @@ The Newmark step operator of "fe" is not symmetric (Coriolis): there MUMPS
 LU with METIS ordering keeps 21.1 M factor entries against SuperLU's 32 M
 (COLAMD), factorizes in 1.1 s against 3.8 s, back-substitutes in 36 ms
 against 43 ms, and condenses the 482 contact coordinates as one block in
-1.7 s against 22 s column by column (SuperLU's own block solve: 56 s).
-Measured by benchmarks/bench_fe_transient.py --mumps.
+1.7 s against 22 s column by column (SuperLU's own block solve: 56 s), on
+the Fig. 8 case's step operator. The whole run with it:
+benchmarks/bench_fe_transient.py --models fe --mumps.
 """
 
 from __future__ import annotations
