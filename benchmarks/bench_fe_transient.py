@@ -11,7 +11,7 @@ coordinates: a zero-step integration), time per step, total, peak memory.
     python benchmarks/bench_fe_transient.py                 # 100 periods, both models
     python benchmarks/bench_fe_transient.py --periods 5     # per-step figures, extrapolated
     python benchmarks/bench_fe_transient.py --set fe.order=1
-    python benchmarks/bench_fe_transient.py --models fe --mumps   # MUMPS LU for the step operator
+    python benchmarks/bench_fe_transient.py --models fe --superlu  # SuperLU instead of the model's MUMPS LU
 
 Interface reduction of fe-reduced (fe.interface_modes): ``--interface-modes
 0 8 16 32`` runs "fe" once and "fe-reduced" with each count of kept
@@ -32,14 +32,14 @@ import time
 from comparisons._agreement import agreement, signals_of
 from shroud.api import build_system
 from shroud.contact import contact_law
-from shroud.newmark import NewmarkScheme, integrate
+from shroud.newmark import NewmarkScheme, default_factorize, integrate
 from shroud.scene import load_scene
 
 
 def measure(params, model: str, factorize=None):
     """The figures of one model's run, and its trajectory.
 
-    ``factorize``: of the step operator (None: shroud.newmark's default).
+    ``factorize``: of the step operator (None: the model's own, else shroud.newmark's default).
     """
     t0 = time.perf_counter()
     system = build_system(params, model)
@@ -62,11 +62,6 @@ def measure(params, model: str, factorize=None):
     }, run
 
 
-def _mumps_lu(A):
-    from reference_fe.factor import MumpsFactor
-    return MumpsFactor(A, symmetric=False).solve
-
-
 def show(row: dict) -> None:
     print(json.dumps({k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}), flush=True)
 
@@ -79,13 +74,13 @@ def main() -> None:
     parser.add_argument("--interface-modes", nargs="+", type=int, metavar="K",
                         help="compare fe-reduced with these fe.interface_modes against fe")
     parser.add_argument("--window", type=int, default=10, help="periods compared (--interface-modes)")
-    parser.add_argument("--mumps", action="store_true",
-                        help="factorize the sparse step operator with MUMPS LU")
+    parser.add_argument("--superlu", action="store_true",
+                        help="factorize the sparse step operator with SuperLU (default: the model's MUMPS LU)")
     args = parser.parse_args()
     params = load_scene("scenes/fig8.toml", args.set + [f"time.periods={args.periods}"]).params
     if not args.interface_modes:
         for model in args.models:
-            show(measure(params, model, _mumps_lu if args.mumps and model == "fe" else None)[0])
+            show(measure(params, model, default_factorize if args.superlu else None)[0])
         return
     row, fe = measure(params, "fe")
     show(row)

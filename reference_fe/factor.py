@@ -69,3 +69,8 @@ class MumpsFactor:
         B.destroy()
         X.destroy()
         return out
+
+
+def mumps_lu(A):
+    """``solve`` of a MUMPS LU of ``A`` (METIS): the "fe" model's Newmark step operator."""
+    return MumpsFactor(A, symmetric=False).solve

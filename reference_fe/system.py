@@ -98,7 +98,7 @@ def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
 def full_system(params: Parameters) -> StructuralSystem:
     """The solid FE model on its free DOFs (scipy sparse), SI units."""
     from reference_fe.cms import normal_modes
-    from reference_fe.factor import MumpsFactor
+    from reference_fe.factor import MumpsFactor, mumps_lu
 
     solid = _solid(params, params.speed.rpm)
     omega2, _ = normal_modes(solid.K, solid.M, 2, MumpsFactor(solid.K))
@@ -108,7 +108,8 @@ def full_system(params: Parameters) -> StructuralSystem:
     return StructuralSystem(
         model="fe", M=solid.M, C=(a * solid.M + b * solid.K + solid.G).tocsr(), K=solid.K,
         f_const=np.zeros(n), f_aero=params.load.F0 * solid.f_aero,
-        omega_e=params.load.ke * params.speed.omega, tip=solid.tip, contact=solid.contact)
+        omega_e=params.load.ke * params.speed.omega, tip=solid.tip, contact=solid.contact,
+        factorize=mumps_lu)
 
 
 def reduction_inputs(params: Parameters, rpm: float) -> dict:

@@ -315,7 +315,7 @@ def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkSc
                     factorize: Callable | None) -> _Step:
     a0, a1 = scheme.coefficients()[:2]
     K_eff = system.K + a0 * system.M + a1 * system.C
-    solve = (factorize or default_factorize)(K_eff)
+    solve = (factorize or system.factorize or default_factorize)(K_eff)
     n = system.dofs
     if law.count:
         W = system.contact.W

@@ -20,7 +20,7 @@ Conventions (shared/spec/geometry.md)
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -54,6 +54,10 @@ class StructuralSystem:
     tip: Any                  # (2, n): rows giving v_L, w_L
     contact: ContactElements | None
     build_s: float = 0.0      # wall time spent building it, s
+    # The model's own direct solver for the Newmark step operator,
+    # ``factorize(A) -> solve(b)`` with b a vector or an (n, k) block;
+    # None: shroud.newmark.default_factorize (LAPACK / SuperLU).
+    factorize: Callable[[Any], Callable] | None = None
 
     @property
     def dofs(self) -> int:
