@@ -100,8 +100,8 @@ def test_fe_modal_on_two_ranks_matches_serial(tmp_path):
 @pytest.mark.fe
 @pytest.mark.slow
 @pytest.mark.parametrize("model", ["fe-reduced", pytest.param("fe", marks=pytest.mark.xfail(
-    strict=True, reason="reference_fe.system exports the full solid's operators serially "
-    "(FreeOperators.free refuses mpirun); the full FE transient does not yet run on 2 ranks"))])
+    strict=True, reason="reference_fe.system builds the solid's operators on one process "
+    "(an InputError under mpirun); the full FE transient does not yet run on 2 ranks"))])
 def test_fe_transient_on_two_ranks_matches_serial(tmp_path, model):
     argv = ["transient", "--model", model, "--set", "time.periods=2", "--set", COARSE, "--json"]
     # Serial first: it builds (or reuses) the reduction basis, which the ranks then read from the cache.
