@@ -31,11 +31,9 @@ import math
 import time
 from pathlib import Path
 
-import numpy as np
-
 from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
 from comparisons.paper import TABLE3_SECONDS
-from shroud import api, transient
+from shroud import api
 from shroud.contact import STATE_NAMES
 from shroud.errors import InputError, RunDiverged
 from shroud.log import info, warn
@@ -71,18 +69,6 @@ def check(scene) -> None:
         raise InputError("options.plot_periods", f"{o['plot_periods']!r}; allowed: 1 .. time.periods")
 
 
-def compile_kernels(params) -> float:
-    """Wall time (s) of a one-period reduced-beam run: numba compiles (or loads) the kernels.
-
-    Whether that short run stays bounded does not matter: the kernels are compiled either way.
-    """
-    short = params.updated({"time.periods": 1})
-    system = api.build_system(short, "reduced")
-    t0 = time.perf_counter()
-    transient.run(system, short)
-    return time.perf_counter() - t0
-
-
 def run_models(params, models, out: Path) -> dict[str, dict]:
     """Build and integrate each model; a diverging model is reported, not fatal."""
     runs = {}
@@ -107,7 +93,7 @@ def run(scene, out: Path) -> dict:
     check(scene)
     params, o = scene.params, scene.options
     period = 2 * math.pi / (params.load.ke * params.speed.omega)
-    compile_s = compile_kernels(params)
+    compile_s = api.compile_kernels(params)
     info(f"kernels compiled in {compile_s:.2f} s (kept out of Table 3)")
     runs = run_models(params, o["models"], out)
     ok = {m: r for m, r in runs.items() if "result" in r}

@@ -6,6 +6,7 @@ DOLFINx or gmsh.
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 from shroud.params import Parameters
@@ -47,3 +48,17 @@ def sweep(params: Parameters, model: str, rpms):
     """Steady-state tip amplitude over speed: returns a shroud.sweep.SweepResult."""
     from shroud.sweep import run_sweep
     return run_sweep(params, model, rpms)
+
+
+def compile_kernels(params: Parameters, models=("reduced",)) -> float:
+    """Wall time (s) of one-period runs of ``models``, so later runs are timed at their steady cost.
+
+    numba compiles (or loads from its disk cache) the integrator's kernels on
+    a first run; a short run that diverges has compiled them all the same.
+    """
+    from shroud.transient import run
+    short = params.updated({"time.periods": 1})
+    t0 = time.perf_counter()
+    for model in dict.fromkeys(models):
+        run(build_system(short, model), short)
+    return time.perf_counter() - t0
