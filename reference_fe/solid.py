@@ -54,7 +54,7 @@ import dolfinx_solver  # noqa: F401  (must precede dolfinx / petsc4py)
 import numpy as np
 import scipy.sparse as sp
 import ufl
-from dolfinx import fem, mesh as dmesh
+from dolfinx import fem
 from dolfinx.fem import petsc as fem_petsc
 from dolfinx.io import gmsh as gmshio
 from petsc4py import PETSc
