@@ -30,7 +30,10 @@ contact compliance of the factorized Newmark operator). The law is piecewise
 linear, so for a fixed set of element states ``lam`` is affine in ``y`` and
 the equation is solved exactly; :func:`solve_contact` iterates over the
 states (a semi-smooth Newton / active-set method) until they reproduce
-themselves, with a residual line search as a guard against cycling.
+themselves, with a residual line search as a guard against cycling. When
+the compliance has low rank, Cc = Wc P with r < m (a modal model with
+fewer modes than face coordinates: the reduced solid), the affine solve
+works in the r-dimensional space instead.
 
 Units: N, m, N/m.
 """
@@ -275,13 +278,111 @@ def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, acti
         y_out[i] = acc
 
 
-def workspace(law: ContactLaw):
-    """Scratch arrays for :func:`solve_contact` (allocated once per run: they belong to one Cc)."""
+@leaf
+def _element_compliance(H, P, Wc, nr, tr, s, kn, kt, mu, key, sign):
+    """H += sign P D_j Wc: element j's share of P D Wc for its state key (see _affine_solution_low_rank).
+
+    key = 2 state + (1 if a slip pushes along +e_ws): 0 separate, 2 stick, 4/5 slip -/+.
+    """
+    if key == 0:
+        return
+    r = H.shape[0]
+    for a in range(r):                  # normal spring, D[nr, nr] = -kn
+        pa = -sign * kn * P[a, nr]
+        for b in range(r):
+            H[a, b] += pa * Wc[nr, b]
+    if key == 2:                        # sticking tangent, D[tr, tr] = -kt
+        for a in range(r):
+            pa = -sign * kt * P[a, tr]
+            for b in range(r):
+                H[a, b] += pa * Wc[tr, b]
+    else:                               # slip: D[tr, nr] = mu sigma s kn
+        sigma = 1.0 if key == 5 else -1.0
+        for a in range(r):
+            pa = sign * mu * sigma * s * kn * P[a, tr]
+            for b in range(r):
+                H[a, b] += pa * Wc[nr, b]
+
+
+@leaf
+def _affine_solution_low_rank(y_pred, Wc, P, z_old, rows, props, state, F, y_out, H, A, u, key, piv, cache):
+    """The affine solve of :func:`_affine_solution` when Cc = Wc P has rank r < m.
+
+    With y = y_pred + Wc u and u = P lam, fixed states (lam = D y + e) give
+    the r x r system (I - P D Wc) u = P (D y_pred + e): for the reduced
+    solid (r = 33 modes, m = 482 face coordinates) a step's solve costs
+    O(m r) instead of O(m |A|), and a change of states updates H = P D Wc
+    element by element, O(r^2) each, instead of rebuilding and refactoring
+    an |A| x |A| matrix. H is rebuilt from scratch once as many element
+    updates as there are elements have accumulated, so round-off cannot
+    drift.
+    """
+    k, r = rows.shape[0], H.shape[0]
+    changed = 0
+    if cache[0] == 1:
+        for j in range(k):
+            kj = 2 * state[j] + (1 if state[j] == SLIP and F[j] > 0.0 else 0)
+            if kj != key[j]:
+                changed += 1
+                cache[2] += 1
+                nr, tr = rows[j, 0], rows[j, 1]
+                s, kn, kt, mu = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU]
+                _element_compliance(H, P, Wc, nr, tr, s, kn, kt, mu, key[j], -1.0)
+                _element_compliance(H, P, Wc, nr, tr, s, kn, kt, mu, kj, 1.0)
+                key[j] = kj
+    if cache[0] == 0 or cache[2] > k:
+        for a in range(r):
+            for b in range(r):
+                H[a, b] = 0.0
+        for j in range(k):
+            key[j] = 2 * state[j] + (1 if state[j] == SLIP and F[j] > 0.0 else 0)
+            _element_compliance(H, P, Wc, rows[j, 0], rows[j, 1], props[j, SIGN], props[j, KN],
+                                props[j, KT], props[j, MU], key[j], 1.0)
+        cache[0], cache[2] = 1, 0
+        changed = 1
+    if changed:
+        for a in range(r):
+            for b in range(r):
+                A[a, b] = (1.0 if a == b else 0.0) - H[a, b]
+        _lu_factor(A, piv, r)
+    for a in range(r):
+        u[a] = 0.0
+    for j in range(k):                  # u = P g with g = D y_pred + e (the affine law at y_pred)
+        if state[j] == SEPARATE:
+            continue
+        nr, tr = rows[j, 0], rows[j, 1]
+        s, kn, kt, mu, n0 = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU], props[j, N0]
+        g_n = -s * n0 - kn * y_pred[nr]
+        if state[j] == STICK:
+            g_t = kt * (z_old[j] - y_pred[tr])
+        else:
+            g_t = mu * (1.0 if F[j] > 0.0 else -1.0) * (n0 + s * kn * y_pred[nr])
+        for a in range(r):
+            u[a] += P[a, nr] * g_n + P[a, tr] * g_t
+    _lu_solve(A, piv, u, r)
+    for i in range(y_out.size):         # y = y_pred + Wc u
+        acc = y_pred[i]
+        for b in range(r):
+            acc += Wc[i, b] * u[b]
+        y_out[i] = acc
+
+
+def workspace(law: ContactLaw, Wc: np.ndarray | None = None, P: np.ndarray | None = None):
+    """Scratch arrays for :func:`solve_contact` (allocated once per run: they belong to one Cc).
+
+    ``Wc, P``: factors of a low-rank compliance Cc = Wc P (m x r, r x m,
+    r < m), solved in the r-dimensional space; None: the dense m x m path.
+    """
     m, k = law.m, law.count
-    return (np.zeros((m, m)), np.zeros(m), np.zeros(m, np.int64), np.zeros((m, m)), np.zeros(m),
+    r = 0 if Wc is None else Wc.shape[1]
+    Wc = np.zeros((m, 0)) if Wc is None else np.ascontiguousarray(Wc, dtype=float)
+    P = np.zeros((0, m)) if P is None else np.ascontiguousarray(P, dtype=float)
+    return (np.zeros((m, m)) if r == 0 else np.zeros((0, 0)), np.zeros(m), np.zeros(m, np.int64),
+            np.zeros((m, m)) if r == 0 else np.zeros((0, 0)), np.zeros(m),
             np.zeros(m), np.zeros(m), np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k, np.int64),
             np.zeros(k, np.int64), np.zeros(k),
-            np.full(k, -1, np.int64), np.zeros(m, np.int64), np.zeros(2, np.int64))   # LU reuse
+            np.full(k, -1, np.int64), np.zeros(max(m, r), np.int64), np.zeros(3, np.int64),  # LU reuse
+            Wc, P, np.zeros((r, r)), np.zeros((r, r)), np.zeros(r))                     # low rank
 
 
 @leaf
@@ -298,7 +399,9 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
     Returns (iterations, converged).
     On return ``lam, N, F, z, state`` are the law evaluated at ``y``.
     """
-    G, e, active, A, b, y_try, lam_try, N_try, F_try, z_try, st_used, st_try, F_used, key, piv, cache = ws
+    (G, e, active, A, b, y_try, lam_try, N_try, F_try, z_try, st_used, st_try, F_used, key, piv, cache,
+     Wc, P, H, A_r, u) = ws
+    low_rank = H.shape[0] > 0
     copy_into(y, y_pred)
     evaluate(y, z_old, rows, props, lam, N, F, z, state)
     touching = False
@@ -310,8 +413,12 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
     copy_into(F_used, F)
     r = -1.0                             # residual at y, computed once an iteration fails
     for it in range(1, _MAX_ITERATIONS + 1):
-        _affine_solution(y_pred, Cc, z_old, rows, props, st_used, F_used, y_try, G, e, active, A, b,
-                         key, piv, cache)
+        if low_rank:
+            _affine_solution_low_rank(y_pred, Wc, P, z_old, rows, props, st_used, F_used, y_try, H, A_r,
+                                      u, key, piv, cache)
+        else:
+            _affine_solution(y_pred, Cc, z_old, rows, props, st_used, F_used, y_try, G, e, active, A, b,
+                             key, piv, cache)
         full_step = True
         if it <= _PLAIN_ITERATIONS:      # plain active-set step: the law at y_try is the new iterate
             copy_into(y, y_try)

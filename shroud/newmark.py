@@ -309,6 +309,11 @@ class _Step:
     W: Any                     # (m, n)
     Phi: np.ndarray            # (n, m) = S W^T
     Cc: np.ndarray             # (m, m) = W S W^T
+    low_rank: bool = False     # n < m / 2 (dense): solve the contact in the n-space, Cc = W Phi
+
+    def contact_workspace(self, law: ContactLaw):
+        """shroud.contact.workspace for this step's compliance (factored as W Phi when low rank)."""
+        return workspace(law, _dense(self.W), self.Phi) if self.low_rank else workspace(law)
 
 
 def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme,
@@ -323,7 +328,8 @@ def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkSc
         Cc = np.asarray(W @ Phi)
     else:
         W, Phi, Cc = np.zeros((0, n)), np.zeros((n, 0)), np.zeros((0, 0))
-    return _Step(solve=solve, W=W, Phi=Phi, Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc)
+    return _Step(solve=solve, W=W, Phi=Phi, Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc,
+                 low_rank=_is_dense(system) and 2 * n <= law.m)
 
 
 def _solve_block(solve: Callable[[np.ndarray], np.ndarray], B: np.ndarray) -> np.ndarray:
@@ -380,7 +386,7 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
     M, C, K, W, Phi, Cc = system.M, system.C, system.K, step.W, step.Phi, step.Cc
     tip = system.tip
     k, m = law.count, law.m
-    ws = workspace(law)
+    ws = step.contact_workspace(law)
     a = np.zeros_like(q)                               # zero initial acceleration (paper)
     z = np.asarray(W @ q)[law.rows[:, 1]].copy() if k else np.zeros(0)
     N, F, state, lam = np.zeros(k), np.zeros(k), np.zeros(k, np.int64), np.zeros(m)
@@ -574,7 +580,7 @@ def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v,
         _kernel_array(step.Cc), _kernel_array(_dense(system.tip)), law.rows, law.props,
         law.side, law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
         rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, rec.element_counts,
-        rec.element_peak, workspace(law))
+        rec.element_peak, step.contact_workspace(law))
     return done, status, q, v, iterations, unconverged
 
 

@@ -145,3 +145,46 @@ def test_many_elements_fixed_point():
     assert ok
     assert set(np.unique(state)) >= {SEPARATE, STICK}
     assert np.abs(y - y_pred - Cc @ lam).max() <= 1e-10 * np.abs(y_pred).max()
+
+
+def test_low_rank_compliance_solve_matches_the_dense_solve_over_a_sequence():
+    """Cc = Wc P of rank r < m (a modal model): the r-space solve gives the dense solve's y.
+
+    One workspace serves 300 successive steps, as in a run, so the element by
+    element updates of P D Wc (and their periodic rebuild) are exercised
+    against a dense solve with a fresh workspace every step.
+    """
+    rng = np.random.default_rng(11)
+    k, r = 60, 9
+    m = 2 * k
+    side = np.repeat([1, 2], k // 2)
+    weight = np.concatenate([rng.dirichlet(np.ones(k // 2)), rng.dirichlet(np.ones(k // 2))])
+    el = ContactElements(W=np.eye(m), normal_row=np.arange(0, m, 2), tangent_row=np.arange(1, m, 2),
+                         side=side, weight=weight)
+    law = contact_law(el, Contact(kn=1e8, kt=5e7, mu=0.3, N0=5.0))
+    Wc = rng.normal(size=(m, r))
+    B = rng.normal(size=(r, r))
+    S = (B @ B.T + 0.3 * np.eye(r)) * 1e-9                 # the modal step compliance (n x n)
+    S[0, 1] += 2e-10                                       # a Coriolis-like skew part
+    S[1, 0] -= 2e-10
+    P = S @ Wc.T
+    Cc = Wc @ P
+    ws_low = workspace(law, Wc, P)
+    z_old = np.zeros(k)
+    states_seen = set()
+    for step in range(300):
+        y_pred = rng.normal(size=m) * 2e-7 + 1e-7 * np.sin(0.05 * step) * np.where(
+            np.arange(m) % 2 == 0, np.repeat(np.where(side == 1, 1.0, -1.0), 2), 1.0)
+        out = {}
+        for name, ws in (("low", ws_low), ("dense", workspace(law))):
+            y, lam = np.zeros(m), np.zeros(m)
+            N, F, z, state = np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k, np.int64)
+            it, ok = solve_contact(y_pred, Cc, z_old, law.rows, law.props, y, lam, N, F, z, state, ws)
+            assert ok
+            out[name] = (y, z, state.copy())
+        scale = np.abs(out["dense"][0]).max()
+        assert np.abs(out["low"][0] - out["dense"][0]).max() <= 1e-9 * scale
+        assert np.array_equal(out["low"][2], out["dense"][2])
+        states_seen.update(np.unique(out["dense"][2]).tolist())
+        z_old = out["dense"][1]
+    assert states_seen == {SEPARATE, STICK, SLIP}

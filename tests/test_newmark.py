@@ -130,6 +130,32 @@ def test_kernel_equals_reference_to_round_off(implicit):
     assert np.abs(k.element_peak_normal - r.element_peak_normal).max() < 1e-9 * r.element_peak_normal.max()
 
 
+def test_low_rank_contact_solve_in_a_run_matches_the_dense_one():
+    """More contact coordinates than DOFs (m = 12 > 2 n, as the reduced solid's faces): the
+    compiled run solves the contact in the n-space (Cc = W Phi); the same system given as
+    scipy.sparse runs the reference loop with the dense m x m solve. Both end where the law holds."""
+    base = _contact_2dof()
+    a = math.radians(30)
+    e_vs, e_ws = np.array([math.cos(a), math.sin(a)]), np.array([-math.sin(a), math.cos(a)])
+    lever = [0.7, 1.0, 1.3]                           # three nodes per face, each its own state
+    W = np.vstack([row for c in lever + lever for row in (c * e_vs, e_ws + 0.2 * (c - 1) * e_vs)])
+    contact = ContactElements(W=W, normal_row=np.arange(0, 12, 2), tangent_row=np.arange(1, 12, 2),
+                              side=np.repeat([1, 2], 3), weight=np.full(6, 1 / 3))
+    dense = dataclasses.replace(base, contact=contact)
+    sparse = dataclasses.replace(dense, M=scipy.sparse.csr_matrix(dense.M), C=scipy.sparse.csr_matrix(dense.C),
+                                 K=scipy.sparse.csr_matrix(dense.K))
+    law = contact_law(contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    scheme = NewmarkScheme(dt=1 / 100 / 256)
+    assert _factorize_step(dense, law, scheme, None).low_rank
+    assert not _factorize_step(sparse, law, scheme, None).low_rank
+    k = integrate(dense, law, scheme, 256 * 20, method="kernel")
+    r = integrate(sparse, law, scheme, 256 * 20, method="reference")
+    assert set(np.unique(k.state)) >= {1, 2}
+    assert np.abs(k.tip - r.tip).max() < 1e-8 * np.abs(r.tip).max()
+    assert np.abs(k.normal - r.normal).max() < 1e-8 * np.abs(r.normal).max()
+    assert np.array_equal(k.state, r.state)
+
+
 def test_element_state_map_is_the_side_record_for_one_element_per_side():
     """With one element per side, an element's state shares are its side's, counted a second way."""
     sys_ = _contact_2dof()
