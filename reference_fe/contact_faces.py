@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 import ufl
 from dolfinx import fem, la
+from mpi4py import MPI
 
 from shroud.errors import InputError
 from shroud.params import Parameters
@@ -69,7 +70,9 @@ class ContactFace:
 def face_nodes(V: fem.FunctionSpace, facet_tags, tag: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Consistent nodal areas of the facets tagged ``tag``: (dofs (k, 3), areas (k,), coords (k, 3)).
 
-    Only nodes owned by this process and with a positive area are returned.
+    The nodes with a positive area, gathered from every rank (each rank
+    contributes the nodes it owns, in rank order); ``dofs`` are global
+    unrolled indices (DOLFINx/PETSc numbering; the local ones serially).
     """
     V0, to_parent = V.sub(0).collapse()
     ds = ufl.Measure("ds", domain=V.mesh, subdomain_data=facet_tags)
@@ -77,11 +80,15 @@ def face_nodes(V: fem.FunctionSpace, facet_tags, tag: int) -> tuple[np.ndarray, 
     nodal.scatter_reverse(la.InsertMode.add)
     owned = V0.dofmap.index_map.size_local
     areas = nodal.array[:owned]
+    comm = V.mesh.comm
+    largest = comm.allreduce(np.abs(areas).max(initial=0.0), op=MPI.MAX)
     # Corner nodes of quadratic triangles integrate to zero (up to round-off).
-    keep = np.flatnonzero(areas > 1e-12 * max(np.abs(areas).max(initial=0.0), 1e-300))
-    first = np.asarray(to_parent).ravel()[keep]
+    keep = np.flatnonzero(areas > 1e-12 * max(largest, 1e-300))
+    offset = V.dofmap.index_map_bs * V.dofmap.index_map.local_range[0]
+    first = offset + np.asarray(to_parent).ravel()[keep]
     dofs = first[:, None] + np.arange(3)[None, :]
-    return dofs, areas[keep], V0.tabulate_dof_coordinates()[keep]
+    parts = comm.allgather((dofs, areas[keep], V0.tabulate_dof_coordinates()[keep]))
+    return tuple(np.concatenate([p[i] for p in parts]) for i in range(3))
 
 
 def contact_faces(V: fem.FunctionSpace, facet_tags, tags: tuple[int, int],

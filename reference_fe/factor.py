@@ -31,17 +31,25 @@ METIS_ORDERING = 5          # MUMPS ICNTL(7)
 class MumpsFactor:
     """``solve(b)`` with ``A x = b`` for b of shape (n,) or (n, k).
 
+    ``A``: scipy sparse (one process), or a reference_fe.distributed
+    DistributedMatrix under mpirun: then MUMPS works on the ranks' rows and
+    ``b`` and the solution are complete (replicated) on every rank.
     ``symmetric``: A symmetric positive definite (L D L^T); otherwise LU.
     """
 
     def __init__(self, A, symmetric: bool = True):
-        A = sp.csr_matrix(A)
-        self.n = A.shape[0]
-        self._A = PETSc.Mat().createAIJ(size=A.shape, csr=(A.indptr, A.indices, A.data),
-                                        comm=PETSc.COMM_SELF)
-        self._A.assemble()
+        from reference_fe.distributed import DistributedMatrix
+        if isinstance(A, DistributedMatrix):
+            self._A, self._layout, comm = A.mat, A.layout, A.mat.getComm()
+        else:
+            A = sp.csr_matrix(A)
+            comm = PETSc.COMM_SELF
+            self._A = PETSc.Mat().createAIJ(size=A.shape, csr=(A.indptr, A.indices, A.data), comm=comm)
+            self._A.assemble()
+            self._layout = None
+        self.n = self._A.getSize()[0]
         self._A.setOption(PETSc.Mat.Option.SYMMETRIC, symmetric)
-        self._ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+        self._ksp = PETSc.KSP().create(comm)
         self._ksp.setOperators(self._A)
         self._ksp.setType("preonly")
         pc = self._ksp.getPC()
@@ -53,19 +61,28 @@ class MumpsFactor:
         self._factor = pc.getFactorMatrix()
         self._x, self._b = self._A.createVecs()
 
+    def _own(self, b: np.ndarray) -> np.ndarray:
+        return b if self._layout is None else self._layout.own(b)
+
+    def _gather(self, x: np.ndarray) -> np.ndarray:
+        return x.copy() if self._layout is None else self._layout.gather(x)
+
     def solve(self, b: np.ndarray) -> np.ndarray:
         b = np.asarray(b, dtype=float)
         if b.ndim == 1:
-            self._b.setArray(b)
+            self._b.setArray(self._own(b))
             self._ksp.solve(self._b, self._x)
-            return self._x.getArray().copy()
-        B = PETSc.Mat().createDense(b.shape, array=np.asfortranarray(b).copy(), comm=PETSc.COMM_SELF)
-        X = PETSc.Mat().createDense(b.shape, comm=PETSc.COMM_SELF)
+            return self._gather(self._x.getArray())
+        rows = self._own(b)
+        sizes = ((rows.shape[0], b.shape[0]), (b.shape[1], b.shape[1]))
+        comm = self._A.getComm()
+        B = PETSc.Mat().createDense(sizes, array=np.asfortranarray(rows).copy(), comm=comm)
+        X = PETSc.Mat().createDense(sizes, comm=comm)
         X.setUp()
         B.assemble()
         X.assemble()
         self._factor.matSolve(B, X)
-        out = X.getDenseArray().copy()
+        out = self._gather(X.getDenseArray())
         B.destroy()
         X.destroy()
         return out

@@ -36,11 +36,12 @@ Contract (used by engineer D's transient and CMS; names are stable)
     (clamped rows: diag 1 on K, 0 on M and G, so they add no finite
     eigenvalue), ``K_e``, the load vectors ``f_c`` and ``f_aero`` (PETSc Vecs,
     zero on clamped rows) and ``u0`` (the prestatic displacement, a Function).
-``RotatingOperators.free() -> FreeOperators`` (serial only)
-    scipy CSR ``M, K, G, K_e`` and arrays ``f_c, f_aero`` on the free DOFs;
-    ``free`` (free -> unrolled index), ``free_index`` (unrolled -> free, -1
-    when clamped), ``coords`` (n_free, 3) and ``component`` (n_free,) of each
-    free DOF.
+``RotatingOperators.free() -> FreeOperators``
+    ``M, K, G, K_e`` on the free DOFs (scipy CSR serially; under mpirun
+    reference_fe.distributed matrices acting on replicated vectors) and
+    arrays ``f_c, f_aero``; ``free`` (free -> global unrolled index),
+    ``free_index`` (global unrolled -> free, -1 when clamped), ``coords``
+    (n_free, 3) and ``component`` (n_free,) of each free DOF.
 """
 
 from __future__ import annotations
@@ -62,7 +63,7 @@ from petsc4py import PETSc
 from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, check_geometry,
                           mesh_file, tip_points)
 from shroud.log import info
-from shroud.parallel import task_comm
+from shroud.parallel import in_task, task_comm
 from shroud.params import Material, Parameters
 
 
@@ -110,16 +111,16 @@ class UnitOperators:
 
 @dataclass(frozen=True)
 class FreeOperators:
-    """Serial scipy copies on the free (unclamped) DOFs, SI units."""
+    """The operators on the free (unclamped) DOFs, SI units; arrays complete on every rank."""
 
-    M: sp.csr_matrix
-    K: sp.csr_matrix
-    G: sp.csr_matrix
-    K_e: sp.csr_matrix
+    M: Any                    # scipy CSR (serial) or reference_fe.distributed.DistributedMatrix
+    K: Any
+    G: Any
+    K_e: Any
     f_c: np.ndarray
     f_aero: np.ndarray
-    free: np.ndarray          # (n_free,) unrolled DOF index of each free DOF
-    free_index: np.ndarray    # (n_all,) free index of each unrolled DOF, -1 if clamped
+    free: np.ndarray          # (n_free,) global unrolled DOF index of each free DOF
+    free_index: np.ndarray    # (n_all,) free index of each global unrolled DOF, -1 if clamped
     coords: np.ndarray        # (n_free, 3) position of each free DOF's node, m
     component: np.ndarray     # (n_free,) 0, 1, 2 for X, Y, Z
 
@@ -144,18 +145,44 @@ class RotatingOperators:
     u0: Any            # prestatic displacement (fem.Function), m
 
     def free(self) -> FreeOperators:
-        """scipy CSR operators on the free DOFs (serial runs only)."""
-        if self.model.comm.size > 1:
-            raise RuntimeError("FreeOperators is a serial export; run without mpirun")
-        n_all = self.model.owned_dofs
-        free = np.setdiff1d(np.arange(n_all), self.model.clamped_dofs)
-        free_index = np.full(n_all, -1, dtype=np.int64)
+        """The operators on the free DOFs: scipy CSR serially, row-distributed under mpirun.
+
+        Free DOFs are numbered rank by rank (reference_fe.distributed); the
+        index arrays, loads and coordinates are complete on every rank.
+        """
+        model = self.model
+        comm = model.comm
+        mine = np.setdiff1d(np.arange(model.owned_dofs), model.clamped_dofs)   # owned, unclamped
+        offset = global_offset(model)
+        free = np.concatenate(comm.allgather(offset + mine))
+        free_index = np.full(model.global_dofs, -1, dtype=np.int64)
         free_index[free] = np.arange(free.size)
-        nodes = self.model.V.tabulate_dof_coordinates()
+        if comm.size == 1:
+            matrices = [_csr(A, mine) for A in (self.M, self.K, self.G, self.K_e)]
+            gather = np.asarray
+        else:
+            from reference_fe.distributed import Layout, free_rows
+            layout = Layout.of(comm, mine.size)
+            matrices = [free_rows(A, offset + mine, layout) for A in (self.M, self.K, self.G, self.K_e)]
+            gather = layout.gather
+        nodes = model.V.tabulate_dof_coordinates()
+        M, K, G, K_e = matrices
         return FreeOperators(
-            M=_csr(self.M, free), K=_csr(self.K, free), G=_csr(self.G, free), K_e=_csr(self.K_e, free),
-            f_c=self.f_c.getArray()[free].copy(), f_aero=self.f_aero.getArray()[free].copy(),
-            free=free, free_index=free_index, coords=nodes[free // 3], component=free % 3)
+            M=M, K=K, G=G, K_e=K_e, f_c=gather(self.f_c.getArray()[mine]),
+            f_aero=gather(self.f_aero.getArray()[mine]), free=free, free_index=free_index,
+            coords=gather(nodes[mine // 3]), component=free % 3)
+
+
+def global_offset(model: SolidModel) -> int:
+    """Global unrolled index of this rank's first owned DOF (DOLFINx/PETSc numbering)."""
+    return model.V.dofmap.index_map_bs * model.V.dofmap.index_map.local_range[0]
+
+
+def tip_centre_dofs(model: SolidModel) -> np.ndarray:
+    """Global unrolled DOFs (x, y, z) of the embedded tip-centre node, on every rank."""
+    mine = model.tip_dofs[0]
+    found = model.comm.allgather(global_offset(model) + mine if mine[0] >= 0 else None)
+    return next(d for d in found if d is not None)
 
 
 def _csr(A, keep: np.ndarray) -> sp.csr_matrix:
@@ -180,12 +207,14 @@ def solid_model(params: Parameters) -> SolidModel:
     """The (cached) solid for ``params``' geometry, mesh size, order and material."""
     spec = MeshSpec.from_params(params)
     check_geometry(spec)      # on every rank, before any gmsh work
-    return _solid_model(spec, params.material)
+    return _solid_model(spec, params.material, in_task())
 
 
 @functools.lru_cache(maxsize=4)
-def _solid_model(spec: MeshSpec, material: Material) -> SolidModel:
-    comm = task_comm()       # COMM_WORLD, or COMM_SELF inside a campaign item spread over ranks
+def _solid_model(spec: MeshSpec, material: Material, alone: bool) -> SolidModel:
+    # COMM_WORLD, or COMM_SELF for a rank working alone (an item of a spread campaign, or
+    # serial work on rank 0): ``alone`` keys the cache so the two never share a model.
+    comm = task_comm()
     path = mesh_file(spec) if comm.rank == 0 else None
     path = comm.bcast(path, root=0)
     data = _read_mesh(path, comm)

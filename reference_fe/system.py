@@ -26,10 +26,13 @@ makes M = I and K diagonal; the reduced operators are cached on disk by
 what shapes them (mesh, material, speed, kept modes and patterns), so a
 second run at the same speed does not touch DOLFINx at all.
 
-The systems are built serially (scipy sparse on the free DOFs; under
-mpirun an InputError says so): the time loop of shroud.newmark factorizes
-the step operator once (SuperLU) and condenses the contact onto the face
-nodes, so a step is one back-substitution plus a small contact solve.
+"fe" is scipy sparse on the free DOFs serially and row-distributed under
+mpirun (reference_fe.distributed: MatMult and MUMPS over the ranks,
+vectors replicated); the time loop of shroud.newmark factorizes the step
+operator once (MUMPS LU) and condenses the contact onto the face nodes, so
+a step is one back-substitution plus a small contact solve. The reduction
+basis of "fe-reduced" is built serially: under mpirun rank 0 builds it into
+the disk cache and every rank reads it.
 """
 
 from __future__ import annotations
@@ -44,8 +47,8 @@ import scipy.sparse as sp
 
 from shroud.cache import cached
 from shroud.damping import rayleigh
-from shroud.errors import InputError
 from shroud.params import Parameters
+from shroud.parallel import on_rank_zero
 from shroud.system import ContactElements, StructuralSystem
 
 
@@ -67,13 +70,9 @@ def _has_contact(params: Parameters) -> bool:
 
 def _solid(params: Parameters, rpm: float) -> _Solid:
     from reference_fe.contact_faces import contact_elements, contact_faces, tip_frame, tip_rows
-    from reference_fe.solid import rotating_operators, solid_model
+    from reference_fe.solid import rotating_operators, solid_model, tip_centre_dofs
 
     model = solid_model(params)
-    if model.comm.size > 1:
-        raise InputError("model", "the solid FE transients (fe, fe-reduced) are built serially: the "
-                         "contact condensation needs the operators on one process; run them without "
-                         "mpirun (sweeps and campaigns spread whole runs over ranks instead)")
     ops = rotating_operators(params, rpm).free()
     frame = tip_frame(params)
     if params.shroud.thickness > 0:
@@ -81,7 +80,7 @@ def _solid(params: Parameters, rpm: float) -> _Solid:
         tip = tip_rows(faces, frame, ops.free_index, ops.n)
         contact = contact_elements(faces, frame, ops.free_index, ops.n) if _has_contact(params) else None
     else:                               # no shroud: the embedded tip-centre node
-        centre = ops.free_index[model.tip_dofs[0]]
+        centre = ops.free_index[tip_centre_dofs(model)]
         tip = sp.csr_matrix((np.concatenate([frame.e_v, frame.e_w]),
                              (np.repeat([0, 1], 3), np.tile(centre, 2))), shape=(2, ops.n))
         contact = None
@@ -96,7 +95,7 @@ def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
 
 
 def full_system(params: Parameters) -> StructuralSystem:
-    """The solid FE model on its free DOFs (scipy sparse), SI units."""
+    """The solid FE model on its free DOFs (scipy sparse, or row-distributed under mpirun), SI units."""
     from reference_fe.cms import normal_modes
     from reference_fe.factor import MumpsFactor, mumps_lu
 
@@ -106,10 +105,10 @@ def full_system(params: Parameters) -> StructuralSystem:
     a, b = rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
     n = solid.M.shape[0]
     return StructuralSystem(
-        model="fe", M=solid.M, C=(a * solid.M + b * solid.K + solid.G).tocsr(), K=solid.K,
+        model="fe", M=solid.M, C=a * solid.M + b * solid.K + solid.G, K=solid.K,
         f_const=np.zeros(n), f_aero=params.load.F0 * solid.f_aero,
         omega_e=params.load.ke * params.speed.omega, tip=solid.tip, contact=solid.contact,
-        factorize=mumps_lu)
+        factorize=mumps_lu, layout=getattr(solid.M, "layout", None))
 
 
 def reduction_inputs(params: Parameters, rpm: float) -> dict:
@@ -124,8 +123,10 @@ def reduction_inputs(params: Parameters, rpm: float) -> dict:
 def reduced_operators(params: Parameters, rpm: float | None = None) -> Path:
     """Path of the cached .npz of the reduced operators at ``rpm`` (built if missing)."""
     rpm = params.speed.rpm if rpm is None else float(rpm)
-    return cached("fe_reduction", reduction_inputs(params, rpm), ".npz",
-                  lambda path: _build_reduction(params, rpm, path), what="FE reduction basis")
+    # The basis is built serially (scipy): under mpirun rank 0 builds it into the cache for all.
+    return on_rank_zero(lambda: cached("fe_reduction", reduction_inputs(params, rpm), ".npz",
+                                       lambda path: _build_reduction(params, rpm, path),
+                                       what="FE reduction basis"))
 
 
 def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:

@@ -101,7 +101,9 @@ def cmd_transient(args) -> None:
         raise InputError("speed.rpm", f"{params.speed.rpm!r} is out of range; allowed: a speed > 0 r/min for a transient")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    result = transient(params, args.model, csv_path=out / f"transient_{args.model}.csv")
+    from shroud.parallel import mpi_rank
+    csv_path = out / f"transient_{args.model}.csv" if mpi_rank() == 0 else None   # one rank writes
+    result = transient(params, args.model, csv_path=csv_path)
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
 

@@ -11,6 +11,9 @@ class InputError(ValueError):
         self.key = key
         self.message = message
 
+    def __reduce__(self):              # pickles whole (an error raised on one MPI rank reaches all)
+        return (InputError, (self.key, self.message))
+
     def line(self) -> str:
         return f"error: {self.key}: {self.message}"
 

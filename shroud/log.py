@@ -1,18 +1,34 @@
-"""Logging and progress on stderr (stdout is kept for --json)."""
+"""Logging and progress on stderr (stdout is kept for --json).
+
+Under mpirun the ranks running one study together say the same things:
+rank 0 speaks for them. Ranks running separate items of a spread sweep or
+campaign (shroud.parallel.map_parallel) each speak for themselves.
+"""
 
 from __future__ import annotations
 
 import sys
 import time
 
+from shroud.parallel import in_task, mpi_rank
+
+
+def _speaks() -> bool:
+    return in_task() or mpi_rank() == 0
+
+
+def _say(line: str) -> None:
+    if _speaks():
+        print(line, file=sys.stderr, flush=True)
+
 
 def info(message: str) -> None:
     """One log line on stderr: what was built, reused, and why."""
-    print(f"[shroud] {message}", file=sys.stderr, flush=True)
+    _say(f"[shroud] {message}")
 
 
 def warn(message: str) -> None:
-    print(f"[shroud] warning: {message}", file=sys.stderr, flush=True)
+    _say(f"[shroud] warning: {message}")
 
 
 class Progress:
@@ -34,11 +50,11 @@ class Progress:
         self.last = now
         frac = done / self.total
         eta = (now - self.t0) * (1 - frac) / frac if frac > 0 else float("nan")
-        print(f"[shroud] {self.label}: {done}/{self.total} ({100 * frac:.0f} %), "
-              f"{now - self.t0:.1f} s, ~{eta:.0f} s left", file=sys.stderr, flush=True)
+        _say(f"[shroud] {self.label}: {done}/{self.total} ({100 * frac:.0f} %), "
+             f"{now - self.t0:.1f} s, ~{eta:.0f} s left")
 
     def done(self) -> float:
         elapsed = time.perf_counter() - self.t0
         if elapsed >= self.after_s:
-            print(f"[shroud] {self.label}: done in {elapsed:.1f} s", file=sys.stderr, flush=True)
+            _say(f"[shroud] {self.label}: done in {elapsed:.1f} s")
         return elapsed

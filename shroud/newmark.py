@@ -307,13 +307,41 @@ class _Step:
 
     solve: Callable[[np.ndarray], np.ndarray]
     W: Any                     # (m, n)
-    Phi: np.ndarray            # (n, m) = S W^T
+    Phi: np.ndarray            # (n, m) = S W^T; sparse systems: column-major, this rank's rows under a layout
     Cc: np.ndarray             # (m, m) = W S W^T
     low_rank: bool = False     # n < m / 2 (dense): solve the contact in the n-space, Cc = W Phi
+    layout: Any = None         # StructuralSystem.layout: rows of Phi spread over MPI ranks
 
     def contact_workspace(self, law: ContactLaw):
         """shroud.contact.workspace for this step's compliance (factored as W Phi when low rank)."""
         return workspace(law, _dense(self.W), self.Phi) if self.low_rank else workspace(law)
+
+    def respond(self, q_pred: np.ndarray, lam: np.ndarray) -> np.ndarray:
+        """q_pred + Phi lam: the step's end state under the contact forces ``lam``.
+
+        Phi of a solid is large (36888 x 482: 142 MB) and most of its columns
+        are unloaded in any step (separated face nodes), so only the loaded
+        columns are read; under mpirun each rank adds its own rows.
+        """
+        if not np.any(lam):
+            return q_pred
+        if self.layout is None:
+            out = q_pred.copy()
+            _add_loaded_columns(self.Phi, lam, out)
+            return out
+        own = self.layout.own(q_pred)
+        _add_loaded_columns(self.Phi, lam, own)
+        return self.layout.gather(own)
+
+
+@njit(cache=True, fastmath={"reassoc", "contract"}, _nrt=False)   # a leaf (contact.leaf)
+def _add_loaded_columns(Phi, lam, out):
+    """out += Phi lam over the columns with lam != 0 (Phi column-major: each read is contiguous)."""
+    for j in range(lam.size):
+        scale = lam[j]
+        if scale != 0.0:
+            for r in range(out.size):
+                out[r] += scale * Phi[r, j]
 
 
 def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme,
@@ -322,14 +350,17 @@ def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkSc
     K_eff = system.K + a0 * system.M + a1 * system.C
     solve = (factorize or system.factorize or default_factorize)(K_eff)
     n = system.dofs
+    layout = system.layout
     if law.count:
         W = system.contact.W
         Phi = _solve_block(solve, _dense(W.T))
         Cc = np.asarray(W @ Phi)
+        if not _is_dense(system):        # column-major for respond(); the dense kernel reads rows
+            Phi = np.asfortranarray(Phi if layout is None else layout.own(Phi))
     else:
-        W, Phi, Cc = np.zeros((0, n)), np.zeros((n, 0)), np.zeros((0, 0))
+        W, Phi, Cc = np.zeros((0, n)), np.zeros((n, 0), order="F"), np.zeros((0, 0))
     return _Step(solve=solve, W=W, Phi=Phi, Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc,
-                 low_rank=_is_dense(system) and 2 * n <= law.m)
+                 low_rank=_is_dense(system) and 2 * n <= law.m, layout=layout)
 
 
 def _solve_block(solve: Callable[[np.ndarray], np.ndarray], B: np.ndarray) -> np.ndarray:
@@ -351,6 +382,8 @@ def _solve_block(solve: Callable[[np.ndarray], np.ndarray], B: np.ndarray) -> np
 def _symmetric(system: StructuralSystem) -> bool:
     """C symmetric (no Coriolis) makes K_eff, hence Cc, symmetric: symmetrize round-off away."""
     C = system.C
+    if hasattr(C, "is_symmetric"):      # a row-distributed operator (reference_fe.distributed)
+        return C.is_symmetric()
     diff = C - C.T
     return (abs(diff).max() if scipy.sparse.issparse(diff) else np.abs(diff).max()) == 0
 
@@ -383,7 +416,7 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
     """Newmark step by step, as written in the module docstring (Python; any backend)."""
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
     dt, gamma, w_e = scheme.dt, scheme.gamma, system.omega_e
-    M, C, K, W, Phi, Cc = system.M, system.C, system.K, step.W, step.Phi, step.Cc
+    M, C, K, W, Cc = system.M, system.C, system.K, step.W, step.Cc
     tip = system.tip
     k, m = law.count, law.m
     ws = step.contact_workspace(law)
@@ -407,7 +440,7 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
                                    y, lam, N, F, z, state, ws)
             iterations, unconverged = max(iterations, it), unconverged + (not ok)
         lam_step = lam.copy()                           # explicit: the law at t
-        q_new = q_pred + Phi @ lam_step
+        q_new = step.respond(q_pred, lam_step)
         if k and not implicit:                          # the law at t + dt, for the next step
             y = np.asarray(W @ q_new)
             evaluate(y, z_old, law.rows, law.props, lam, N, F, z, state)

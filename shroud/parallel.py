@@ -86,6 +86,30 @@ def map_parallel(func: Callable[[T], R], items: Iterable[T], processes: int | No
         return pool.map(func, items, chunksize=chunk)
 
 
+def on_rank_zero(func: Callable[[], R]) -> R:
+    """``func()`` run by rank 0 alone (FE work on COMM_SELF) while the others wait; its result on every rank.
+
+    For serial-only work inside a job whose ranks run one study together:
+    a reduction basis built once and shared through the disk cache. An
+    error raised on rank 0 is raised on every rank. Outside mpirun, or
+    inside an item of a spread map, it is just ``func()``.
+    """
+    if _IN_TASK or mpi_size() == 1:
+        return func()
+    from mpi4py import MPI
+    comm = MPI.COMM_WORLD
+    result, error = None, None
+    if comm.rank == 0:
+        try:
+            result = _as_task(lambda _: func(), None)
+        except Exception as exc:       # handed to every rank below
+            error = exc
+    result, error = comm.bcast((result, error), root=0)
+    if error is not None:
+        raise error
+    return result
+
+
 def _as_task(func: Callable[[T], R], item: T) -> R:
     global _IN_TASK
     _IN_TASK = True

@@ -58,6 +58,11 @@ class StructuralSystem:
     # ``factorize(A) -> solve(b)`` with b a vector or an (n, k) block;
     # None: shroud.newmark.default_factorize (LAPACK / SuperLU).
     factorize: Callable[[Any], Callable] | None = None
+    # How the rows of the model's vectors are spread over MPI ranks when M, C,
+    # K are row-distributed (reference_fe.distributed.Layout: ``own(x)`` gives
+    # this rank's rows of a replicated vector, ``gather(rows)`` the replicated
+    # vector back); None: one process holds every row.
+    layout: Any = None
 
     @property
     def dofs(self) -> int:

@@ -99,9 +99,7 @@ def test_fe_modal_on_two_ranks_matches_serial(tmp_path):
 
 @pytest.mark.fe
 @pytest.mark.slow
-@pytest.mark.parametrize("model", ["fe-reduced", pytest.param("fe", marks=pytest.mark.xfail(
-    strict=True, reason="reference_fe.system builds the solid's operators on one process "
-    "(an InputError under mpirun); the full FE transient does not yet run on 2 ranks"))])
+@pytest.mark.parametrize("model", ["fe-reduced", "fe"])
 def test_fe_transient_on_two_ranks_matches_serial(tmp_path, model):
     argv = ["transient", "--model", model, "--set", "time.periods=2", "--set", COARSE, "--json"]
     # Serial first: it builds (or reuses) the reduction basis, which the ranks then read from the cache.

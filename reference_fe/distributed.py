@@ -1,0 +1,112 @@
+"""The solid's free-DOF operators spread over MPI ranks, applied to replicated vectors.
+
+Under ``mpirun -n P`` DOLFINx assembles M, K and G row-distributed over the
+ranks. The time loop of shroud.newmark is written for vectors it can index
+and add freely; a vector of the solid is 37k doubles (0.3 MB), so every rank
+keeps all of it (replicated) and only the costly parts are spread: products
+with the sparse operators and the back-substitutions of the factorized step
+operator. Each such product takes the rank's own rows of the input, works
+on them with PETSc (MatMult, MUMPS), and gathers the output rows from every
+rank (MPI Allgatherv). Everything else of a step is O(n) on every rank and
+gives every rank the same numbers.
+
+The free DOFs are numbered rank by rank (a rank's owned, unclamped DOFs in
+their PETSc order); ``Layout`` knows which rows each rank owns. Serial runs
+use scipy.sparse instead (reference_fe.solid.FreeOperators) and never come here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import dolfinx_solver  # noqa: F401  (must precede petsc4py)
+import numpy as np
+from mpi4py import MPI
+from petsc4py import PETSc
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Rows of the free-DOF numbering owned by each rank (contiguous, rank by rank)."""
+
+    comm: Any                  # mpi4py communicator
+    counts: np.ndarray         # (P,) rows of each rank
+
+    @classmethod
+    def of(cls, comm, local_rows: int) -> "Layout":
+        return cls(comm=comm, counts=np.asarray(comm.allgather(int(local_rows)), dtype=np.int64))
+
+    @property
+    def size(self) -> int:
+        return int(self.counts.sum())
+
+    @property
+    def start(self) -> int:
+        return int(self.counts[:self.comm.rank].sum())
+
+    @property
+    def stop(self) -> int:
+        return self.start + int(self.counts[self.comm.rank])
+
+    def own(self, x: np.ndarray) -> np.ndarray:
+        """This rank's rows of a replicated array (contiguous copy)."""
+        return np.ascontiguousarray(x[self.start:self.stop], dtype=float)
+
+    def gather(self, rows: np.ndarray) -> np.ndarray:
+        """The replicated array from every rank's rows (1-D, or 2-D with rows first)."""
+        rows = np.ascontiguousarray(rows, dtype=float)
+        width = int(np.prod(rows.shape[1:], dtype=np.int64))
+        out = np.empty((self.size, *rows.shape[1:]))
+        counts = self.counts * width
+        displs = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        self.comm.Allgatherv(rows, [out, counts, displs, MPI.DOUBLE])
+        return out
+
+
+class DistributedMatrix:
+    """A row-distributed PETSc matrix acting on replicated vectors: ``A @ x``, ``A + B``, ``s * A``."""
+
+    dtype = np.dtype(float)
+
+    def __init__(self, mat: PETSc.Mat, layout: Layout):
+        self.mat = mat
+        self.layout = layout
+        self._x, self._y = mat.createVecs()
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return tuple(self.mat.getSize())
+
+    def matvec(self, x: np.ndarray) -> np.ndarray:
+        self._x.setArray(self.layout.own(np.ravel(x)))
+        self.mat.mult(self._x, self._y)
+        return self.layout.gather(self._y.getArray())
+
+    def __matmul__(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        if x.ndim == 1:
+            return self.matvec(x)
+        return np.column_stack([self.matvec(x[:, i]) for i in range(x.shape[1])])
+
+    def __add__(self, other: "DistributedMatrix") -> "DistributedMatrix":
+        out = self.mat.copy()
+        out.axpy(1.0, other.mat, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        return DistributedMatrix(out, self.layout)
+
+    def __mul__(self, scale: float) -> "DistributedMatrix":
+        out = self.mat.copy()
+        out.scale(float(scale))
+        return DistributedMatrix(out, self.layout)
+
+    __rmul__ = __mul__
+
+    def is_symmetric(self) -> bool:
+        """Exactly symmetric (no Coriolis part)."""
+        return bool(self.mat.isSymmetric(0.0))
+
+
+def free_rows(A: PETSc.Mat, free_global: np.ndarray, layout: Layout) -> DistributedMatrix:
+    """``A`` restricted to the free DOFs; ``free_global``: this rank's free rows in A's numbering."""
+    index = PETSc.IS().createGeneral(np.asarray(free_global, dtype=PETSc.IntType), comm=layout.comm)
+    return DistributedMatrix(A.createSubMatrix(index, index), layout)
