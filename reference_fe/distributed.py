@@ -1,14 +1,19 @@
-"""The solid's free-DOF operators spread over MPI ranks, applied to replicated vectors.
+"""The solid's free-DOF operators spread over MPI ranks, acting on replicated vectors.
 
 Under ``mpirun -n P`` DOLFINx assembles M, K and G row-distributed over the
-ranks. The time loop of shroud.newmark is written for vectors it can index
-and add freely; a vector of the solid is 37k doubles (0.3 MB), so every rank
-keeps all of it (replicated) and only the costly parts are spread: products
-with the sparse operators and the back-substitutions of the factorized step
-operator. Each such product takes the rank's own rows of the input, works
-on them with PETSc (MatMult, MUMPS), and gathers the output rows from every
-rank (MPI Allgatherv). Everything else of a step is O(n) on every rank and
-gives every rank the same numbers.
+ranks. A vector of the solid is 37k doubles (0.3 MB), so every rank keeps
+all of it (replicated) and only the costly parts are spread: products with
+the sparse operators and the back-substitutions of the factorized step
+operator. ``A @ x`` (DistributedMatrix) takes the rank's rows of x, works on
+them with PETSc (MatMult) and gathers the rows of every rank (MPI
+Allgatherv): any code written for scipy matrices runs unchanged.
+
+The Newmark loop (shroud.newmark) goes further, with one message of a
+vector per step: each rank forms its rows of the step's right-hand side
+from its ``row_block`` (its rows, every column) and the replicated state,
+back-substitutes them with MUMPS (MumpsFactor.solve_rows), adds its rows of
+the contact response, and gathers the end state; the contact coordinates
+W q come from each rank's columns of W summed over the ranks (``sum``).
 
 The free DOFs are numbered rank by rank (a rank's owned, unclamped DOFs in
 their PETSc order); ``Layout`` knows which rows each rank owns. Serial runs
@@ -17,11 +22,13 @@ use scipy.sparse instead (reference_fe.solid.FreeOperators) and never come here.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Any
 
 import dolfinx_solver  # noqa: F401  (must precede petsc4py)
 import numpy as np
+import scipy.sparse as sp
 from mpi4py import MPI
 from petsc4py import PETSc
 
@@ -48,6 +55,12 @@ class Layout:
     @property
     def stop(self) -> int:
         return self.start + int(self.counts[self.comm.rank])
+
+    def sum(self, part: np.ndarray) -> np.ndarray:
+        """The sum over the ranks of each rank's ``part`` (MPI Allreduce): W q from each rank's columns."""
+        out = np.empty_like(part, dtype=float)
+        self.comm.Allreduce(np.ascontiguousarray(part, dtype=float), out, op=MPI.SUM)
+        return out
 
     def own(self, x: np.ndarray) -> np.ndarray:
         """This rank's rows of a replicated array (contiguous copy)."""
@@ -77,6 +90,12 @@ class DistributedMatrix:
     @property
     def shape(self) -> tuple[int, int]:
         return tuple(self.mat.getSize())
+
+    @functools.cached_property
+    def row_block(self) -> sp.csr_matrix:
+        """This rank's rows with every column (scipy CSR): own rows of ``A x`` from a replicated x, no messages."""
+        indptr, indices, data = self.mat.getValuesCSR()
+        return sp.csr_matrix((data, indices, indptr), shape=(self.layout.stop - self.layout.start, self.shape[1]))
 
     def matvec(self, x: np.ndarray) -> np.ndarray:
         self._x.setArray(self.layout.own(np.ravel(x)))

@@ -61,11 +61,20 @@ class MumpsFactor:
         self._factor = pc.getFactorMatrix()
         self._x, self._b = self._A.createVecs()
 
+    def solve_rows(self, b_rows: np.ndarray) -> np.ndarray:
+        """This rank's rows of x from this rank's rows of b (1-D; no gather: the time loop's step)."""
+        self._b.setArray(b_rows)
+        self._ksp.solve(self._b, self._x)
+        return self._x.getArray().copy()
+
     def _own(self, b: np.ndarray) -> np.ndarray:
         return b if self._layout is None else self._layout.own(b)
 
     def _gather(self, x: np.ndarray) -> np.ndarray:
         return x.copy() if self._layout is None else self._layout.gather(x)
+
+    def __call__(self, b: np.ndarray) -> np.ndarray:
+        return self.solve(b)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         b = np.asarray(b, dtype=float)
@@ -88,6 +97,6 @@ class MumpsFactor:
         return out
 
 
-def mumps_lu(A):
-    """``solve`` of a MUMPS LU of ``A`` (METIS): the "fe" model's Newmark step operator."""
-    return MumpsFactor(A, symmetric=False).solve
+def mumps_lu(A) -> MumpsFactor:
+    """A MUMPS LU of ``A`` (METIS): the "fe" model's Newmark step operator (called as ``solve``)."""
+    return MumpsFactor(A, symmetric=False)

@@ -22,7 +22,9 @@ Two code paths, one per backend, doing the same arithmetic:
   above, with ``@`` products and a factorization's ``solve``. It is the
   reference the tests hold the kernel to, and the backend for sparse or
   PETSc-backed FE systems (``M, C, K`` support ``@``, ``+`` and scalar ``*``;
-  ``factorize(K_eff) -> solve`` may be a MUMPS factorization).
+  ``factorize(K_eff) -> solve`` may be a MUMPS factorization). Under mpirun
+  (a system with a layout) each rank forms, back-substitutes and corrects
+  its own rows of q_pred, and the end state is gathered once per step.
 * :func:`_dense_kernel`: the same step compiled with numba for dense systems
   (reduced and full beam, reduced FE), multiplying by the precomputed inverse.
 
@@ -301,37 +303,64 @@ def default_factorize(A) -> Callable[[np.ndarray], np.ndarray]:
     return lambda b: S @ b
 
 
+class _AllRows:
+    """One process holds every row: the trivial case of reference_fe.distributed.Layout.
+
+    A row share has ``start``/``stop`` (this process's rows), ``own(x)`` (its
+    rows of a replicated array), ``gather(rows)`` (the replicated array) and
+    ``sum(part)`` (the sum of every process's part).
+    """
+
+    def __init__(self, n: int):
+        self.start, self.stop = 0, n
+
+    @staticmethod
+    def own(x: np.ndarray) -> np.ndarray:
+        return x
+
+    @staticmethod
+    def gather(rows: np.ndarray) -> np.ndarray:
+        return rows
+
+    @staticmethod
+    def sum(part: np.ndarray) -> np.ndarray:
+        return part
+
+
 @dataclass(frozen=True)
 class _Step:
-    """The factorized step operator and its contact projections."""
+    """The factorized step operator and its contact projections.
+
+    The time loop (_reference_loop) works on this process's rows of the
+    predictor: its rows of M and C, of the back-substitution and of Phi,
+    and gathers the step's end state once. On one process that is every row.
+    """
 
     solve: Callable[[np.ndarray], np.ndarray]
+    solve_rows: Callable[[np.ndarray], np.ndarray]   # this process's rows of b -> of x
     W: Any                     # (m, n)
-    Phi: np.ndarray            # (n, m) = S W^T; sparse systems: column-major, this rank's rows under a layout
+    W_rows: Any                # (m, rows): W's columns of this process's rows
+    Phi: np.ndarray            # (n, m) = S W^T; sparse systems: column-major, this process's rows
     Cc: np.ndarray             # (m, m) = W S W^T
+    share: Any                 # the row share (StructuralSystem.layout, or _AllRows)
     low_rank: bool = False     # n < m / 2 (dense): solve the contact in the n-space, Cc = W Phi
-    layout: Any = None         # StructuralSystem.layout: rows of Phi spread over MPI ranks
 
     def contact_workspace(self, law: ContactLaw):
         """shroud.contact.workspace for this step's compliance (factored as W Phi when low rank)."""
         return workspace(law, _dense(self.W), self.Phi) if self.low_rank else workspace(law)
 
     def respond(self, q_pred: np.ndarray, lam: np.ndarray) -> np.ndarray:
-        """q_pred + Phi lam: the step's end state under the contact forces ``lam``.
+        """q_pred + Phi lam on this process's rows: the step's end state under the contact forces ``lam``.
 
         Phi of a solid is large (36888 x 482: 142 MB) and most of its columns
         are unloaded in any step (separated face nodes), so only the loaded
-        columns are read; under mpirun each rank adds its own rows.
+        columns are read.
         """
         if not np.any(lam):
             return q_pred
-        if self.layout is None:
-            out = q_pred.copy()
-            _add_loaded_columns(self.Phi, lam, out)
-            return out
-        own = self.layout.own(q_pred)
-        _add_loaded_columns(self.Phi, lam, own)
-        return self.layout.gather(own)
+        out = q_pred.copy()
+        _add_loaded_columns(self.Phi, lam, out)
+        return out
 
 
 @njit(cache=True, fastmath={"reassoc", "contract"}, _nrt=False)   # a leaf (contact.leaf)
@@ -344,23 +373,31 @@ def _add_loaded_columns(Phi, lam, out):
                 out[r] += scale * Phi[r, j]
 
 
+def _row_block(A):
+    """This process's rows of A with every column (a row-distributed operator's ``row_block``; else A)."""
+    return getattr(A, "row_block", A)
+
+
 def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme,
                     factorize: Callable | None) -> _Step:
     a0, a1 = scheme.coefficients()[:2]
     K_eff = system.K + a0 * system.M + a1 * system.C
     solve = (factorize or system.factorize or default_factorize)(K_eff)
     n = system.dofs
-    layout = system.layout
+    share = _AllRows(n) if system.layout is None else system.layout
+    # Under a layout the factorization solves on the ranks' rows (StructuralSystem.factorize).
+    solve_rows = solve if system.layout is None else solve.solve_rows
     if law.count:
         W = system.contact.W
         Phi = _solve_block(solve, _dense(W.T))
         Cc = np.asarray(W @ Phi)
         if not _is_dense(system):        # column-major for respond(); the dense kernel reads rows
-            Phi = np.asfortranarray(Phi if layout is None else layout.own(Phi))
+            Phi = np.asfortranarray(share.own(Phi))
     else:
         W, Phi, Cc = np.zeros((0, n)), np.zeros((n, 0), order="F"), np.zeros((0, 0))
-    return _Step(solve=solve, W=W, Phi=Phi, Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc,
-                 low_rank=_is_dense(system) and 2 * n <= law.m, layout=layout)
+    return _Step(solve=solve, solve_rows=solve_rows, W=W, W_rows=W[:, share.start:share.stop], Phi=Phi,
+                 Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc, share=share,
+                 low_rank=_is_dense(system) and 2 * n <= law.m)
 
 
 def _solve_block(solve: Callable[[np.ndarray], np.ndarray], B: np.ndarray) -> np.ndarray:
@@ -417,6 +454,10 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
     dt, gamma, w_e = scheme.dt, scheme.gamma, system.omega_e
     M, C, K, W, Cc = system.M, system.C, system.K, step.W, step.Cc
+    share = step.share
+    mine = slice(share.start, share.stop)             # this process's rows of the predictor
+    M_rows, C_rows = _row_block(M), _row_block(C)
+    f_const_rows, f_aero_rows = system.f_const[mine], system.f_aero[mine]
     tip = system.tip
     k, m = law.count, law.m
     ws = step.contact_workspace(law)
@@ -429,18 +470,17 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
     _record_row(rec, 0, tip @ q, y, N, F, state, law)
     iterations, unconverged = 0, 0
     for i in range(steps):
-        t0, t1 = i * dt, (i + 1) * dt
-        f0 = system.f_const + math.sin(w_e * t0) * system.f_aero
-        f1 = system.f_const + math.sin(w_e * t1) * system.f_aero
-        rhs = f1 + M @ (a0 * q + a2 * v + a3 * a) + C @ (a1 * q + a4 * v + a5 * a)
-        q_pred = step.solve(rhs)
+        s0, s1 = math.sin(w_e * i * dt), math.sin(w_e * (i + 1) * dt)
+        rhs = (f_const_rows + s1 * f_aero_rows + M_rows @ (a0 * q + a2 * v + a3 * a)
+               + C_rows @ (a1 * q + a4 * v + a5 * a))
+        q_pred = step.solve_rows(rhs)                   # this process's rows
         z_old, F_old, N_old, y_old = z.copy(), F.copy(), N.copy(), y.copy()
         if k and implicit:                              # the law holds at t + dt
-            it, ok = solve_contact(np.asarray(W @ q_pred), Cc, z_old, law.rows, law.props,
-                                   y, lam, N, F, z, state, ws)
+            y_pred = share.sum(np.asarray(step.W_rows @ q_pred))
+            it, ok = solve_contact(y_pred, Cc, z_old, law.rows, law.props, y, lam, N, F, z, state, ws)
             iterations, unconverged = max(iterations, it), unconverged + (not ok)
         lam_step = lam.copy()                           # explicit: the law at t
-        q_new = step.respond(q_pred, lam_step)
+        q_new = share.gather(step.respond(q_pred, lam_step))
         if k and not implicit:                          # the law at t + dt, for the next step
             y = np.asarray(W @ q_new)
             evaluate(y, z_old, law.rows, law.props, lam, N, F, z, state)
@@ -451,7 +491,8 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
             rec.energy[4] = contact_energy(N_old, F_old, law.props)
         if i >= window:
             v_mid = 0.5 * (v + v_new)
-            rec.energy[:4] += (float((q_new - q) @ (0.5 * (f0 + f1))), dt * float(v_mid @ (C @ v_mid)),
+            f_mid = system.f_const + 0.5 * (s0 + s1) * system.f_aero
+            rec.energy[:4] += (float((q_new - q) @ f_mid), dt * float(v_mid @ (C @ v_mid)),
                                friction_dissipation(F_old, F, z_old, z) if k else 0.0,
                                float((y - y_old) @ (0.5 * (lam_eq + lam_step))) if k else 0.0)
         lam_eq = lam_step

@@ -56,12 +56,15 @@ class StructuralSystem:
     build_s: float = 0.0      # wall time spent building it, s
     # The model's own direct solver for the Newmark step operator,
     # ``factorize(A) -> solve(b)`` with b a vector or an (n, k) block;
-    # None: shroud.newmark.default_factorize (LAPACK / SuperLU).
+    # None: shroud.newmark.default_factorize (LAPACK / SuperLU). With a
+    # layout, ``solve`` also has ``solve_rows(b_rows) -> x_rows`` on this
+    # rank's rows alone.
     factorize: Callable[[Any], Callable] | None = None
     # How the rows of the model's vectors are spread over MPI ranks when M, C,
-    # K are row-distributed (reference_fe.distributed.Layout: ``own(x)`` gives
-    # this rank's rows of a replicated vector, ``gather(rows)`` the replicated
-    # vector back); None: one process holds every row.
+    # K are row-distributed (reference_fe.distributed.Layout: ``start, stop``,
+    # ``own(x)`` this rank's rows of a replicated vector, ``gather(rows)`` the
+    # replicated vector back, ``sum(part)`` over the ranks; the matrices'
+    # ``row_block`` holds this rank's rows); None: one process holds every row.
     layout: Any = None
 
     @property
