@@ -12,6 +12,7 @@ coordinates: a zero-step integration), time per step, total, peak memory.
     python benchmarks/bench_fe_transient.py --periods 5     # per-step figures, extrapolated
     python benchmarks/bench_fe_transient.py --set fe.order=1
     python benchmarks/bench_fe_transient.py --models fe --superlu  # SuperLU instead of the model's MUMPS LU
+    OMP_NUM_THREADS=1 mpirun -n 2 python benchmarks/bench_fe_transient.py --models fe   # over 2 ranks
 
 Interface reduction of fe-reduced (fe.interface_modes): ``--interface-modes
 0 8 16 32`` runs "fe" once and "fe-reduced" with each count of kept
@@ -33,6 +34,7 @@ from comparisons._agreement import agreement, signals_of
 from shroud.api import build_system
 from shroud.contact import contact_law
 from shroud.newmark import NewmarkScheme, default_factorize, integrate
+from shroud.parallel import mpi_rank, mpi_size
 from shroud.scene import load_scene
 
 
@@ -58,12 +60,22 @@ def measure(params, model: str, factorize=None):
         "setup_s": setup.elapsed_s, "steps": steps, "run_s": run.elapsed_s, "per_step_ms": 1e3 * per_step,
         "run_100_periods_s": setup.elapsed_s + per_step * 100 * params.time.steps_per_period,
         "contact_iterations_max": run.contact_iterations,
-        "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2,
+        "ranks": mpi_size(), "peak_rss_gb": peak_rss_gb(),
     }, run
 
 
+def peak_rss_gb() -> float:
+    """Peak resident memory of this process, summed over the MPI ranks under mpirun, GB."""
+    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2
+    if mpi_size() == 1:
+        return own
+    from mpi4py import MPI
+    return MPI.COMM_WORLD.allreduce(own)
+
+
 def show(row: dict) -> None:
-    print(json.dumps({k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}), flush=True)
+    if mpi_rank() == 0:
+        print(json.dumps({k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}), flush=True)
 
 
 def main() -> None:

@@ -3,13 +3,9 @@
 Paper (Sect. 2.2.1, alpha 15 deg, kt = kn = 1e7 N/m, mu 0.3): the two agree
 on all six cases; the reduced model takes ~70 % of the full model's time.
 
-Near the resonance of a gap case the blade can have two steady states at one
-speed (impact makes the response multivalued); runs from rest may land on
-different ones in the two models. Where the curves differ by more than
-``coexist_threshold``, both models are restarted from the same physical
-initial states (the static deflection under the aerodynamic load scaled to
-tip deflections of -1 .. 1 times the larger amplitude) and the sets of steady
-amplitudes they reach are compared.
+Where the curves differ by more than ``coexist_threshold``, both models are
+restarted from the same physical initial states to tell coexisting steady
+states from model error (comparisons._coexistence).
 """
 
 from __future__ import annotations
@@ -19,32 +15,14 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons import paper
+from comparisons import _coexistence, paper
 from shroud.plotting import MODEL_COLOURS, figure, save
 from shroud.report import markdown_table, seconds
-from shroud.sweep import coexisting_states, run_sweeps
+from shroud.sweep import run_sweeps
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
-           "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 53,
-           "coexist_threshold": 0.05, "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0]}
-
-
-def coexistence(cases, sweeps, rpms, opts) -> list[dict]:
-    """Speeds where the two curves differ: the steady states each model reaches from the same starts."""
-    rows = []
-    for i, (label, params) in enumerate(cases):
-        red, full = sweeps["reduced"][i].amplitude_v_L, sweeps["full"][i].amplitude_v_L
-        for k in np.flatnonzero(np.abs(red - full) > opts["coexist_threshold"] * np.maximum(red, full)):
-            starts = [c * max(red[k], full[k]) for c in opts["coexist_starts"]]
-            found = {m: coexisting_states(params, m, float(rpms[k]), starts) for m in ("reduced", "full")}
-            same = len(found["reduced"]) == len(found["full"]) and all(
-                abs(a - b) <= 0.01 * b for a, b in zip(found["reduced"], found["full"]))
-            rows.append({"case": label, "rpm": float(rpms[k]), "from_rest_reduced_m": float(red[k]),
-                         "from_rest_full_m": float(full[k]), "reduced_states_m": found["reduced"],
-                         "full_states_m": found["full"], "same_states": same,
-                         "largest_state_difference": max((abs(a - b) / b for a, b in
-                                                          zip(found["reduced"], found["full"])), default=0.0)})
-    return rows
+           "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 53, **_coexistence.OPTIONS}
+MODELS = ("reduced", "full")
 
 
 def run(scene, out: Path) -> dict:
@@ -69,7 +47,7 @@ def run(scene, out: Path) -> dict:
                      full.resonance["amplitude"] * 1e3, 100 * diff, seconds(red.cpu_s), seconds(full.cpu_s)))
         out_json[label] = {"reduced": red.to_json(), "full": full.to_json(), "max_difference_percent": 100 * diff}
     save(fig, out / "fig4_reduced_vs_full.png")
-    coexist = coexistence(cases, sweeps, rpms, opts)
+    coexist = _coexistence.coexistence(cases, sweeps, rpms, opts, MODELS)
     t_red = sum(s.cpu_s for s in sweeps["reduced"])
     t_full = sum(s.cpu_s for s in sweeps["full"])
     with open(out / "fig4.csv", "w", newline="") as fh:
@@ -83,37 +61,14 @@ def run(scene, out: Path) -> dict:
              f"N = {params.reduced.N}.\n",
              "| paper | here |", "|---|---|",
              f"| reduced and full agree on all six cases | largest amplitude difference from rest "
-             f"{max(r[5] for r in rows):.3f} % of the full model's peak"
-             + (f"; on matched coexisting steady states {100 * max(r['largest_state_difference'] for r in coexist):.2f} %"
-                f" ({'all' if all(r['same_states'] for r in coexist) else 'not all'} differing speeds explained)"
-                if coexist else "") + " |",
+             f"{max(r[5] for r in rows):.3f} % of the full model's peak{_coexistence.summary(coexist)} |",
              f"| reduced run time ~{100 * paper.FIG4_TIME_SHARE:.0f} % of the full one | {100 * t_red / t_full:.0f} % "
              f"({seconds(t_red)} vs {seconds(t_full)}, build + integration summed over all runs) |", "",
              markdown_table(["case", "resonance reduced (r/min)", "resonance full (r/min)",
                              "amplitude reduced (mm)", "amplitude full (mm)", "max difference (%)",
                              "reduced cost", "full cost"], rows),
              "![fig4_reduced_vs_full.png](fig4_reduced_vs_full.png)",
-             *_coexistence_section(coexist, opts)]
+             *_coexistence.section(coexist, opts, MODELS, MODELS)]
     (out / "report.md").write_text("\n".join(lines) + "\n")
     return {"cases": out_json, "time_ratio_reduced_to_full": t_red / t_full,
             "cpu_s": {"reduced": t_red, "full": t_full}, "coexisting_states": coexist}
-
-
-def _coexistence_section(rows: list[dict], opts) -> list[str]:
-    if not rows:
-        return [f"\nNo speed where the curves differ by more than {100 * opts['coexist_threshold']:g} %.\n"]
-    um = lambda xs: ", ".join(f"{1e6 * x:.2f}" for x in xs)  # noqa: E731
-    return [f"\n## Speeds where the curves differ by more than {100 * opts['coexist_threshold']:g} %\n",
-            "Both models restarted from the same physical initial states (static deflection under the "
-            "aerodynamic load, tip deflection " + ", ".join(f"{c:g}" for c in opts["coexist_starts"]) +
-            " times the larger amplitude); the distinct steady amplitudes each reaches:\n",
-            markdown_table(["case", "speed (r/min)", "from rest: reduced (um)", "from rest: full (um)",
-                            "steady states reduced (um)", "steady states full (um)", "same states",
-                            "largest difference between matched states"],
-                           [(r["case"], r["rpm"], 1e6 * r["from_rest_reduced_m"], 1e6 * r["from_rest_full_m"],
-                             um(r["reduced_states_m"]), um(r["full_states_m"]), "yes" if r["same_states"] else "no",
-                             f"{100 * r['largest_state_difference']:.2f} %") for r in rows]),
-            "\nWhere the states are the same, the difference of the curves is not a model error: the blade "
-            "has coexisting steady states there and the two runs from rest fall into different ones "
-            "(their transients differ by the truncation's small amount, enough to cross the basin "
-            "boundary).\n"]

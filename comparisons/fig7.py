@@ -11,7 +11,11 @@ per speed, before the sweeps, and every curve reuses it from the cache.
 
 Per curve: the resonance (speed and amplitude of the largest steady v_L
 amplitude) of both models, and the gap between the curves (RMS difference
-over the speeds divided by the beam curve's peak).
+over the speeds divided by the beam curve's peak). Where the curves differ
+by more than ``coexist_threshold`` at a speed, both models are restarted
+from the same initial states to tell coexisting steady states (a jump
+reached from rest by one model and not the other) from model error
+(comparisons._coexistence).
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from comparisons import _coexistence
 from comparisons import _families as fam
 from shroud.errors import InputError
 from shroud.log import Progress, info
@@ -34,6 +39,7 @@ OPTIONS = {
     "preloads_N": [0.0, 10.0, 50.0],
     "rpm_from": 6000.0, "rpm_to": 14000.0, "rpm_count": 17,
     "models": ["reduced", "fe-reduced"],
+    **_coexistence.OPTIONS,
 }
 LINE, POINTS = "reduced", "fe-reduced"
 
@@ -88,12 +94,14 @@ def run(scene, out: Path) -> dict:
             curves.append({"case": c.label, "rpm": rpm, "reduced_v_L_m": line.amplitude_v_L[i],
                            "fe_reduced_v_L_m": pts.amplitude_v_L[i], "reduced_w_L_m": line.amplitude_w_L[i],
                            "fe_reduced_w_L_m": pts.amplitude_w_L[i]})
+    coexist = _coexistence.coexistence([(c.label, c.params) for c in cases], sweeps, rpms, o, (LINE, POINTS))
     _csv(out / "fig7_curves.csv", curves)
     _csv(out / "fig7_resonances.csv", rows)
     figure_name = _figure(cases, sweeps, out)
     dofs = {m: sweeps[m][0].dofs for m in (LINE, POINTS)}
-    (out / "report.md").write_text(_report(scene, rows, dofs, build_s, figure_name, len(rpms)))
+    (out / "report.md").write_text(_report(scene, rows, dofs, build_s, figure_name, len(rpms), coexist))
     return {"rpm": rpms, "dofs": dofs, "reduction_build_s": build_s, "resonances": rows,
+            "coexisting_states": coexist,
             "curves": {c.label: {m: sweeps[m][k].to_json() for m in (LINE, POINTS)} for k, c in enumerate(cases)}}
 
 
@@ -124,7 +132,7 @@ def _figure(cases, sweeps, out: Path) -> str:
     return save(fig, out / "fig7.png").name
 
 
-def _report(scene, rows, dofs, build_s, figure_name, n_speeds) -> str:
+def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist) -> str:
     p = scene.params
     lines = [f"# {scene.title}\n",
              f"alpha = {p.contact.alpha_deg:g} deg, kn = {p.contact.kn:g} N/m, kt = {p.contact.kt:g} N/m, "
@@ -141,5 +149,6 @@ def _report(scene, rows, dofs, build_s, figure_name, n_speeds) -> str:
                              for r in rows]),
              "\nCurve gap: RMS of (FE - beam) amplitude over the speeds divided by the beam curve's peak. "
              "The paper shows the two models agreeing by eye; its numbers are not printed.\n",
-             "Data: `fig7_curves.csv`, `fig7_resonances.csv`.\n"]
+             "Data: `fig7_curves.csv`, `fig7_resonances.csv`.\n",
+             *_coexistence.section(coexist, scene.options, (LINE, POINTS), ("beam", "solid FE"))]
     return "\n".join(lines)

@@ -53,11 +53,14 @@ def face_geometry(params: Parameters) -> tuple[FaceGeometry, FaceGeometry]:
     msh = model.mesh
     fdim = msh.topology.dim - 1
     msh.topology.create_connectivity(fdim, msh.topology.dim)
+    owned = msh.topology.index_map(fdim).size_local
     by_tag = {}
     for tag in model.contact_tags:
         facets = model.facet_tags.find(tag)
+        facets = facets[facets < owned]                                  # each facet from one rank
         corners = dmesh.entities_to_geometry(msh, fdim, facets)[:, :3]   # vertices lead the P2 facet
-        by_tag[tag] = msh.geometry.x[corners]
+        # Under mpirun every rank draws (rank 0 into the output): all of the face's facets.
+        by_tag[tag] = np.concatenate(msh.comm.allgather(msh.geometry.x[corners].reshape(-1, 3, 3)))
     out = []
     for face in faces:
         # the tag whose facets hold this face's nodes: nearest facet-centroid cloud

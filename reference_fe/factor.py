@@ -14,7 +14,15 @@ LU with METIS ordering keeps 21.1 M factor entries against SuperLU's 32 M
 against 43 ms, and condenses the 482 contact coordinates as one block in
 1.7 s against 22 s column by column (SuperLU's own block solve: 56 s), on
 the Fig. 8 case's step operator. The whole run with it:
-benchmarks/bench_fe_transient.py --models fe --mumps.
+benchmarks/bench_fe_transient.py --models fe (--superlu compares).
+
+What else was tried for that back-substitution (same operator, one right-hand
+side, 2 MPI ranks, ms per solve; repeats vary by about 3 ms): METIS 19.9
+(21.7 M factor entries), SCOTCH 19.2 (22.3 M), PORD 27.4 (20.0 M), QAMD 29.6
+(25.2 M), parallel analysis with PT-SCOTCH 25.7 (23.5 M); block low-rank
+factors (ICNTL(35) = 2) 18.7 at CNTL(7) = 1e-12 (residual 4e-10 instead of
+1e-12) and 21.7 at 1e-14; SuperLU_DIST 32.4 (34.2 on one rank). On one
+process MUMPS with METIS takes 27-31 ms. So METIS LU, without compression.
 """
 
 from __future__ import annotations
