@@ -27,6 +27,7 @@ import ufl
 from dolfinx import fem, la
 from mpi4py import MPI
 
+from reference_fe.distributed import global_offset
 from shroud.errors import InputError
 from shroud.params import Parameters
 from shroud.system import ContactElements
@@ -84,8 +85,7 @@ def face_nodes(V: fem.FunctionSpace, facet_tags, tag: int) -> tuple[np.ndarray, 
     largest = comm.allreduce(np.abs(areas).max(initial=0.0), op=MPI.MAX)
     # Corner nodes of quadratic triangles integrate to zero (up to round-off).
     keep = np.flatnonzero(areas > 1e-12 * max(largest, 1e-300))
-    offset = V.dofmap.index_map_bs * V.dofmap.index_map.local_range[0]
-    first = offset + np.asarray(to_parent).ravel()[keep]
+    first = global_offset(V) + np.asarray(to_parent).ravel()[keep]
     dofs = first[:, None] + np.arange(3)[None, :]
     parts = comm.allgather((dofs, areas[keep], V0.tabulate_dof_coordinates()[keep]))
     return tuple(np.concatenate([p[i] for p in parts]) for i in range(3))

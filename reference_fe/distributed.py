@@ -33,6 +33,11 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 
+def global_offset(V) -> int:
+    """Global unrolled index of this rank's first owned DOF of the space ``V`` (DOLFINx/PETSc numbering)."""
+    return V.dofmap.index_map_bs * V.dofmap.index_map.local_range[0]
+
+
 @dataclass(frozen=True)
 class Layout:
     """Rows of the free-DOF numbering owned by each rank (contiguous, rank by rank)."""

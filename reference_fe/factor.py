@@ -87,9 +87,7 @@ class MumpsFactor:
     def solve(self, b: np.ndarray) -> np.ndarray:
         b = np.asarray(b, dtype=float)
         if b.ndim == 1:
-            self._b.setArray(self._own(b))
-            self._ksp.solve(self._b, self._x)
-            return self._gather(self._x.getArray())
+            return self._gather(self.solve_rows(self._own(b)))
         rows = self._own(b)
         sizes = ((rows.shape[0], b.shape[0]), (b.shape[1], b.shape[1]))
         comm = self._A.getComm()

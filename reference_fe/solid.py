@@ -62,6 +62,7 @@ from petsc4py import PETSc
 
 from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, check_geometry,
                           mesh_file, tip_points)
+from reference_fe.distributed import global_offset
 from shroud.log import info
 from shroud.parallel import in_task, task_comm
 from shroud.params import Material, Parameters
@@ -153,7 +154,7 @@ class RotatingOperators:
         model = self.model
         comm = model.comm
         mine = np.setdiff1d(np.arange(model.owned_dofs), model.clamped_dofs)   # owned, unclamped
-        offset = global_offset(model)
+        offset = global_offset(model.V)
         free = np.concatenate(comm.allgather(offset + mine))
         free_index = np.full(model.global_dofs, -1, dtype=np.int64)
         free_index[free] = np.arange(free.size)
@@ -173,15 +174,10 @@ class RotatingOperators:
             coords=gather(nodes[mine // 3]), component=free % 3)
 
 
-def global_offset(model: SolidModel) -> int:
-    """Global unrolled index of this rank's first owned DOF (DOLFINx/PETSc numbering)."""
-    return model.V.dofmap.index_map_bs * model.V.dofmap.index_map.local_range[0]
-
-
 def tip_centre_dofs(model: SolidModel) -> np.ndarray:
     """Global unrolled DOFs (x, y, z) of the embedded tip-centre node, on every rank."""
     mine = model.tip_dofs[0]
-    found = model.comm.allgather(global_offset(model) + mine if mine[0] >= 0 else None)
+    found = model.comm.allgather(global_offset(model.V) + mine if mine[0] >= 0 else None)
     return next(d for d in found if d is not None)
 
 
