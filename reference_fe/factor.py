@@ -32,6 +32,8 @@ import numpy as np
 import scipy.sparse as sp
 from petsc4py import PETSc
 
+from reference_fe.distributed import DistributedMatrix
+
 
 METIS_ORDERING = 5          # MUMPS ICNTL(7)
 
@@ -46,7 +48,6 @@ class MumpsFactor:
     """
 
     def __init__(self, A, symmetric: bool = True):
-        from reference_fe.distributed import DistributedMatrix
         if isinstance(A, DistributedMatrix):
             self._A, self._layout, comm = A.mat, A.layout, A.mat.getComm()
         else:

@@ -384,9 +384,10 @@ def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkSc
     K_eff = system.K + a0 * system.M + a1 * system.C
     solve = (factorize or system.factorize or default_factorize)(K_eff)
     n = system.dofs
-    share = _AllRows(n) if system.layout is None else system.layout
-    # Under a layout the factorization solves on the ranks' rows (StructuralSystem.factorize).
-    solve_rows = solve if system.layout is None else solve.solve_rows
+    if system.layout is None:
+        share, solve_rows = _AllRows(n), solve
+    else:                                # the factorization solves on the ranks' rows (StructuralSystem.factorize)
+        share, solve_rows = system.layout, solve.solve_rows
     if law.count:
         W = system.contact.W
         Phi = _solve_block(solve, _dense(W.T))
@@ -395,7 +396,7 @@ def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkSc
             Phi = np.asfortranarray(share.own(Phi))
     else:
         W, Phi, Cc = np.zeros((0, n)), np.zeros((n, 0), order="F"), np.zeros((0, 0))
-    return _Step(solve=solve, solve_rows=solve_rows, W=W, W_rows=W[:, share.start:share.stop], Phi=Phi,
+    return _Step(solve=solve, solve_rows=solve_rows, W=W, W_rows=W if system.layout is None else W[:, share.start:share.stop], Phi=Phi,
                  Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc, share=share,
                  low_rank=_is_dense(system) and 2 * n <= law.m)
 
