@@ -31,22 +31,22 @@ import resource
 import time
 
 from comparisons._agreement import agreement, signals_of
-from shroud.api import build_system
-from shroud.contact import contact_law
-from shroud.newmark import NewmarkScheme, default_factorize, integrate
-from shroud.parallel import mpi_rank, mpi_size
-from shroud.scene import load_scene
+from shroud.analysis.api import build_system
+from shroud.analysis.transient import contact_law_for
+from shroud.core.newmark import NewmarkScheme, default_factorize, integrate
+from shroud.base.parallel import mpi_rank, mpi_size
+from shroud.app.scene import load_scene
 
 
 def measure(params, model: str, factorize=None):
     """The figures of one model's run, and its trajectory.
 
-    ``factorize``: of the step operator (None: the model's own, else shroud.newmark's default).
+    ``factorize``: of the step operator (None: the model's own, else shroud.core.newmark's default).
     """
     t0 = time.perf_counter()
     system = build_system(params, model)
     build_s = time.perf_counter() - t0
-    law = contact_law(system.contact, params.contact)
+    law = contact_law_for(system, params.contact)
     scheme = NewmarkScheme(dt=params.time_step)
     steps = params.time.periods * params.time.steps_per_period
     implicit = params.time.contact == "implicit"

@@ -17,11 +17,11 @@ import time
 import numpy as np
 
 from comparisons.paper import TABLE3_SECONDS
-from shroud.api import build_system
-from shroud.contact import contact_law
-from shroud.newmark import NewmarkScheme, integrate
+from shroud.analysis.api import build_system
+from shroud.analysis.transient import contact_law_for
+from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.params import Parameters
-from shroud.sweep import run_sweep
+from shroud.analysis.sweep import run_sweep
 
 
 def best_of(fn, repeat: int) -> tuple[float, float]:
@@ -44,13 +44,13 @@ def main() -> None:
     params = Parameters()                                   # Fig. 8 case: N0 = 0, 10000 r/min
     for model in ("reduced", "full"):
         system = build_system(params, model)
-        law = contact_law(system.contact, params.contact)
+        law = contact_law_for(system, params.contact)
         scheme = NewmarkScheme(params.time_step)
         steps = params.time.periods * params.time.steps_per_period
         run = lambda method: integrate(system, law, scheme, steps, method=method, energy_window=2560)  # noqa: E731
         run("kernel")                                       # compile / load the cache
         kw, kc = best_of(lambda: run("kernel"), args.repeat)
-        free = contact_law(system.contact, params.updated({"contact.enabled": False}).contact)
+        free = contact_law_for(system, params.updated({"contact.enabled": False}).contact)
         fw, fc = best_of(lambda: integrate(system, free, scheme, steps, method="kernel", energy_window=2560),
                          args.repeat)
         rw, rc = best_of(lambda: run("reference"), 1)

@@ -1,1 +1,7 @@
-"""Studies: one module per scene kind (``study = "<module>"`` in scenes/*.toml)."""
+"""Studies: one module per scene kind (``study = "<module>"`` in scenes/*.toml).
+
+Importing the package registers the models the studies compare.
+"""
+
+import reduced_model  # noqa: F401  (registers "reduced", "full")
+import reference_fe  # noqa: F401  (registers "fe", "fe-reduced")

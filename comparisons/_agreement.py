@@ -34,7 +34,7 @@ class Agreement:
 
 
 def signals_of(trajectory) -> dict[str, np.ndarray]:
-    """The six compared signals of a shroud.newmark.Trajectory, by name."""
+    """The six compared signals of a shroud.core.newmark.Trajectory, by name."""
     tr = trajectory
     return {"v_L": tr.tip[:, 0], "w_L": tr.tip[:, 1], "N1": tr.normal[:, 0], "N2": tr.normal[:, 1],
             "Ff1": tr.friction[:, 0], "Ff2": tr.friction[:, 1]}

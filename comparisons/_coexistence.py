@@ -6,7 +6,7 @@ on different ones in two models whose transients differ only slightly.
 Where two curves differ by more than ``coexist_threshold`` of the larger
 amplitude, both models are restarted from the same physical initial states
 (the static deflection under the aerodynamic load scaled to tip deflections
-of ``coexist_starts`` times the larger amplitude, shroud.sweep.coexisting_states)
+of ``coexist_starts`` times the larger amplitude, shroud.analysis.sweep.coexisting_states)
 and the sets of steady amplitudes they reach are compared. Used by the
 Fig. 4 (reduced against full beam) and Fig. 7 (beam against reduced solid)
 studies.
@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from shroud.report import markdown_table
-from shroud.sweep import coexisting_states
+from shroud.base.markdown import markdown_table
+from shroud.analysis.sweep import coexisting_states
 
 OPTIONS = {"coexist_threshold": 0.05, "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0]}
 

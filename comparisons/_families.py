@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from shroud.params import Parameters
-from shroud.plotting import figure, save
-from shroud.sweep import SweepResult, run_sweeps
+from shroud.core.plotting import figure, save
+from shroud.analysis.sweep import SweepResult, run_sweeps
 
 FAMILY_OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],

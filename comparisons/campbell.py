@@ -5,7 +5,7 @@ Frequencies of the lowest modes over a speed range, tracked by MAC
 the excitation (k_e = 2 obstacles in the paper) and the speeds where they
 cross a mode: the resonances the Fig. 4 sweeps pass through. Option
 ``with_fe`` overlays our 3D solid's frequencies at a few speeds, matched by
-label (shroud.api.modal(params, "fe")).
+label (shroud.analysis.api.modal(params, "fe")).
 """
 
 from __future__ import annotations
@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 
 from reduced_model.campbell import campbell
-from shroud.errors import InputError
-from shroud.plotting import MODEL_COLOURS, figure, save
-from shroud.report import markdown_table, seconds
+from shroud.base.errors import InputError
+from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.base.markdown import markdown_table, seconds
 
 OPTIONS = {
     "rpm_from": 0.0,
@@ -45,7 +45,7 @@ def check(scene) -> None:
 
 def fe_points(params, rpms, n_modes) -> list[dict]:
     """Our solid's frequencies by label at a few speeds (loads the FE stack)."""
-    from shroud.api import modal
+    from shroud.analysis.api import modal
     out = []
     for rpm in rpms:
         result = modal(params.updated({"speed.rpm": rpm}), "fe", rpm=rpm, n_modes=n_modes + 2)

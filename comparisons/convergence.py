@@ -18,7 +18,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from comparisons import paper
-from shroud.plotting import MODEL_COLOURS, figure, save
+from shroud.core.plotting import MODEL_COLOURS, figure, save
 
 OPTIONS = {
     "sizes": [0.0035, 0.0028, 0.0022],   # element sizes, m, coarse to fine
@@ -58,7 +58,7 @@ def richardson(h: np.ndarray, f: np.ndarray) -> tuple[float, float | None]:
 
 def _check_sizes(params, sizes: list[float]) -> None:
     from meshes.blade import MeshSpec, check_geometry
-    from shroud.errors import InputError
+    from shroud.base.errors import InputError
     if len(sizes) < 3 or sorted(sizes, reverse=True) != list(sizes):
         raise InputError("options.sizes", f"{sizes!r}; allowed: at least three sizes, coarse to fine")
     for size in sizes:

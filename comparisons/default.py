@@ -14,7 +14,7 @@ What ``bash scripts/main.sh`` runs on a fresh machine, in a few minutes:
    states, tip displacements, agreement (NRMSE over ``window_periods``)
    and the cost of each beside the paper's Table 3.
 
-Everything comes from ``shroud.api`` and the fig8 study; this module only
+Everything comes from ``shroud.analysis.api`` and the fig8 study; this module only
 arranges and reports.
 """
 
@@ -28,10 +28,11 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import paper
-from shroud import api
-from shroud.errors import InputError
-from shroud.plotting import MODEL_COLOURS, figure, save
-from shroud.report import demote, markdown_table, relink, seconds
+from shroud.analysis import api
+from shroud.core import registry
+from shroud.base.errors import InputError
+from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.base.markdown import demote, markdown_table, relink, seconds
 
 OPTIONS = {
     "modal_rpm": 8500.0,                      # r/min, the speed of the paper's Table 1
@@ -51,7 +52,7 @@ FIDELITY = ("fe", "fe-reduced", "full", "reduced")
 def check(scene) -> None:
     """Options that name models or counts are checked before anything runs."""
     o = scene.options
-    for key, allowed in (("modal_models", api.MODAL_MODELS), ("transient_models", api.TRANSIENT_MODELS)):
+    for key, allowed in (("modal_models", registry.names("modal")), ("transient_models", registry.names("transient"))):
         bad = [m for m in o[key] if m not in allowed]
         if bad or len(set(o[key])) != len(o[key]):
             raise InputError(f"options.{key}", f"{o[key]!r}; allowed: distinct names from {', '.join(allowed)}")

@@ -22,12 +22,13 @@ from pathlib import Path
 import numpy as np
 
 from comparisons._agreement import agreement, signals_of
-from shroud import api
-from shroud.errors import InputError, RunDiverged
-from shroud.log import info, warn
-from shroud.plotting import MODEL_COLOURS, figure, save
-from shroud.report import markdown_table, seconds
-from shroud.transient import simulate
+from shroud.analysis import api
+from shroud.core import registry
+from shroud.base.errors import InputError, RunDiverged
+from shroud.base.log import info, warn
+from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.base.markdown import markdown_table, seconds
+from shroud.analysis.transient import simulate
 
 OPTIONS = {
     "reduced_nr": [2, 4, 6, 10],          # beam model, kept modes (at reduced.N)
@@ -54,8 +55,8 @@ def check(scene) -> None:
         raise InputError("options.fe_orders", f"{o['fe_orders']!r}; allowed: a non-empty list of 1 and 2")
     if any(nr > 5 * scene.params.reduced.N or nr < 1 for nr in o["reduced_nr"]):
         raise InputError("options.reduced_nr", f"{o['reduced_nr']!r}; allowed: 1 .. 5 reduced.N")
-    if any(m not in api.TRANSIENT_MODELS for m in o["step_models"]):
-        raise InputError("options.step_models", f"allowed: models from {', '.join(api.TRANSIENT_MODELS)}")
+    if any(m not in registry.names("transient") for m in o["step_models"]):
+        raise InputError("options.step_models", f"allowed: models from {', '.join(registry.names("transient"))}")
     if not 1 <= o["window_periods"] <= scene.params.time.periods:
         raise InputError("options.window_periods", "allowed: 1 .. time.periods")
     for key in ("steps_per_period", "cms_modes", "beam_N"):

@@ -11,10 +11,10 @@ from pathlib import Path
 
 import numpy as np
 
-from shroud.api import build_system, compile_kernels
-from shroud.plotting import figure, save
-from shroud.report import markdown_table, seconds
-from shroud.transient import simulate
+from shroud.analysis.api import build_system, compile_kernels
+from shroud.core.plotting import figure, save
+from shroud.base.markdown import markdown_table, seconds
+from shroud.analysis.transient import simulate
 
 OPTIONS = {"nr_values": [6, 30], "zoom_periods": 2}
 

@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import _coexistence, paper
-from shroud.plotting import MODEL_COLOURS, figure, save
-from shroud.report import markdown_table, seconds
-from shroud.sweep import run_sweeps
+from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.base.markdown import markdown_table, seconds
+from shroud.analysis.sweep import run_sweeps
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 53, **_coexistence.OPTIONS}

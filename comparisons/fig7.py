@@ -27,11 +27,11 @@ import numpy as np
 
 from comparisons import _coexistence
 from comparisons import _families as fam
-from shroud.errors import InputError
-from shroud.log import Progress, info
-from shroud.plotting import figure, save
-from shroud.report import markdown_table, seconds
-from shroud.sweep import run_sweeps
+from shroud.base.errors import InputError
+from shroud.base.log import Progress, info
+from shroud.core.plotting import figure, save
+from shroud.base.markdown import markdown_table, seconds
+from shroud.analysis.sweep import run_sweeps
 
 OPTIONS = {
     "gaps_um": [600.0, 100.0, 50.0],

@@ -33,14 +33,15 @@ from pathlib import Path
 
 from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
 from comparisons.paper import TABLE3_SECONDS
-from shroud import api
-from shroud.contact import STATE_NAMES
-from shroud.errors import InputError, RunDiverged
-from shroud.log import info, warn
-from shroud.plotting import MODEL_COLOURS, figure, save
-from shroud.report import markdown_table, seconds
-from shroud.signals import STEADY_PERIODS
-from shroud.transient import simulate
+from shroud.analysis import api
+from shroud.core import registry
+from shroud.core.contact import STATE_NAMES
+from shroud.base.errors import InputError, RunDiverged
+from shroud.base.log import info, warn
+from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.base.markdown import markdown_table, seconds
+from shroud.core.signals import STEADY_PERIODS
+from shroud.analysis.transient import simulate
 
 OPTIONS = {
     "models": ["reduced", "full", "fe-reduced", "fe"],
@@ -58,9 +59,9 @@ PAPER_STATE = {STATE_NAMES.index("separate"): 1, STATE_NAMES.index("slip"): 2, S
 
 def check(scene) -> None:
     o = scene.options
-    unknown = [m for m in o["models"] if m not in api.TRANSIENT_MODELS]
+    unknown = [m for m in o["models"] if m not in registry.names("transient")]
     if unknown or not o["models"]:
-        raise InputError("options.models", f"{o['models']!r}; allowed: a list from {', '.join(api.TRANSIENT_MODELS)}")
+        raise InputError("options.models", f"{o['models']!r}; allowed: a list from {', '.join(registry.names("transient"))}")
     if o["reference"] not in o["models"]:
         raise InputError("options.reference", f"{o['reference']!r} is not among options.models")
     if not 1 <= o["window_periods"] <= scene.params.time.periods:

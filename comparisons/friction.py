@@ -11,8 +11,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from comparisons import _families as fam
-from shroud.report import markdown_table, seconds
-from shroud.sweep import coexisting_states
+from shroud.base.markdown import markdown_table, seconds
+from shroud.analysis.sweep import coexisting_states
 
 OPTIONS = {**fam.FAMILY_OPTIONS, "values": [0.1, 0.3, 0.5], "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0]}
 

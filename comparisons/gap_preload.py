@@ -15,10 +15,10 @@ import scipy.linalg
 
 from comparisons import _families as fam
 from comparisons import paper
-from shroud.api import build_system
-from shroud.contact import contact_law
-from shroud.newmark import stuck_stiffness
-from shroud.report import markdown_table, seconds
+from shroud.analysis.api import build_system
+from shroud.analysis.transient import contact_law_for
+from shroud.core.newmark import stuck_stiffness
+from shroud.base.markdown import markdown_table, seconds
 
 OPTIONS = dict(fam.FAMILY_OPTIONS)
 
@@ -28,7 +28,7 @@ def stuck_first_frequency(params, model: str, rpm: float) -> tuple[float, float]
     contact springs kn, kt added): the two limits a preload moves the resonance between."""
     p = params.updated({"speed.rpm": rpm})
     system = build_system(p, model)
-    law = contact_law(system.contact, p.contact)
+    law = contact_law_for(system, p.contact)
     W = np.asarray(system.contact.W, float)
     K, M = np.asarray(system.K, float), np.asarray(system.M, float)
     free = scipy.linalg.eigh(K, M, eigvals_only=True, subset_by_index=[0, 0])[0]

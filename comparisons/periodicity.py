@@ -18,12 +18,12 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import paper
-from shroud import signals
-from shroud.api import build_system
-from shroud.plotting import figure, save
-from shroud.report import markdown_table, seconds
-from shroud.sweep import run_sweeps
-from shroud.transient import simulate
+from shroud.core import signals
+from shroud.analysis.api import build_system
+from shroud.core.plotting import figure, save
+from shroud.base.markdown import markdown_table, seconds
+from shroud.analysis.sweep import run_sweeps
+from shroud.analysis.transient import simulate
 
 OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0, 50.0],
            "plot_periods": 20,

@@ -18,13 +18,13 @@ from pathlib import Path
 
 import numpy as np
 
-from shroud import signals
-from shroud.api import build_system
-from shroud.contact import contact_law
-from shroud.newmark import LAG_CHECK_MAX_DOFS, NewmarkScheme, explicit_lag_stability, stuck_stiffness
-from shroud.plotting import figure, save
-from shroud.report import markdown_table, seconds
-from shroud.transient import run as run_transient
+from shroud.core import signals
+from shroud.analysis.api import build_system
+from shroud.analysis.transient import contact_law_for
+from shroud.core.newmark import LAG_CHECK_MAX_DOFS, NewmarkScheme, explicit_lag_stability, stuck_stiffness
+from shroud.core.plotting import figure, save
+from shroud.base.markdown import markdown_table, seconds
+from shroud.analysis.transient import run as run_transient
 
 OPTIONS = {"kn_values": [1e6, 1e7, 1e8, 1e9, 1e10], "steps_per_period": [256, 64, 32, 16],
            "treatments": ["implicit", "explicit"], "refine": 8, "huge_preload_N": 1e5,
@@ -77,7 +77,7 @@ def lag_analysis(params, kn_values, spp_values, model: str) -> list[dict]:
             system = build_system(p, model)
             if system.dofs > LAG_CHECK_MAX_DOFS or not isinstance(system.K, np.ndarray):
                 return []                # dense eigen-analysis of the step too costly: left out
-            law = contact_law(system.contact, p.contact, m=system.contact.W.shape[0])
+            law = contact_law_for(system, p.contact)
             lag = explicit_lag_stability(system, law, NewmarkScheme(p.time_step))
             est = lag_estimate(system, law, p.time_step)
             rows.append({"kn": kn, "steps_per_period": spp, "frequency_hz": est["frequency_hz"],
@@ -137,7 +137,7 @@ def run(scene, out: Path) -> dict:
             p, system, tr = _one(base, spp0, treatment, opts["model"])
             rows.append(_row(label, spp0, treatment, tr, fine, refine))
             if treatment == "implicit" and label in ("full stick (huge preload)", "gap never reached"):
-                law = contact_law(system.contact, p.contact, m=2) if "stick" in label else None
+                law = contact_law_for(system, p.contact) if "stick" in label else None
                 exact = linear_amplitude(system, law)
                 linear[label] = {"transient_m": rows[-1]["amplitude_v_L_m"], "linear_m": exact,
                                  "relative_difference": abs(rows[-1]["amplitude_v_L_m"] - exact) / exact}

@@ -6,7 +6,7 @@ beam model at the same N, and its ANSYS Beam188 + Mass21 reference), with the
 errors against both; a reference run at a large N shows where our basis
 converges. A term-by-term table at N = 6 shows what each rotation term and the
 shroud mass do to the four frequencies. Option ``with_fe`` adds our DOLFINx
-solid (shroud.api.modal(params, "fe")) as a third reference.
+solid (shroud.analysis.api.modal(params, "fe")) as a third reference.
 
 Our shape functions are polynomials (reduced_model.basis), the paper's are
 not given (its Ref. [50]); both converge from above (Rayleigh-Ritz), at
@@ -25,9 +25,9 @@ from comparisons import paper
 from reduced_model.beam import beam_matrices
 from reduced_model.modal import gyroscopic_modes, modal_analysis
 from reduced_model.reduction import undamped_modes
-from shroud.errors import InputError
-from shroud.plotting import MODEL_COLOURS, figure, save
-from shroud.report import markdown_table, seconds
+from shroud.base.errors import InputError
+from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.base.markdown import markdown_table, seconds
 
 OPTIONS = {
     "N_values": [4, 5, 6, 7],
@@ -68,7 +68,7 @@ def beam_row(params, N: int, rpm: float, coriolis: bool) -> dict:
 
 def term_study(params, N: int, rpm: float) -> list[tuple[str, dict[str, float]]]:
     """Frequencies by label as the terms of Eq. (1) are switched on one by one."""
-    from shroud.modes import label_modes
+    from shroud.core.modes import label_modes
     omega = 2 * np.pi * rpm / 60
     beam = beam_matrices(params.blade, params.material, params.shroud_mass, N)
     bare = beam_matrices(params.blade, params.material, 0.0, N)
@@ -87,7 +87,7 @@ def term_study(params, N: int, rpm: float) -> list[tuple[str, dict[str, float]]]
 
 
 def fe_column(params, rpm: float, coriolis: bool) -> dict:
-    from shroud.api import modal            # the FE stack is loaded only when asked for
+    from shroud.analysis.api import modal            # the FE stack is loaded only when asked for
     result = modal(params, "fe", rpm=rpm, n_modes=N_MODES, coriolis=coriolis)
     f = result.by_label()
     return {"f": {lab: f.get(lab) for lab in PAPER_LABELS}, "dofs": result.dofs, "elapsed_s": result.elapsed_s}

@@ -31,8 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-from shroud.cache import cached
-from shroud.errors import InputError
+from shroud.base.cache import cached
+from shroud.base.errors import InputError
 from shroud.params import Parameters
 
 # Physical group tags (facets dim 2, cells dim 3).

@@ -18,8 +18,8 @@ from scipy.optimize import linear_sum_assignment
 
 from reduced_model.beam import for_parameters
 from reduced_model.modal import modes_at
-from shroud.log import Progress
-from shroud.modes import label_modes, mac
+from shroud.base.log import Progress
+from shroud.core.modes import label_modes, mac
 from shroud.params import Parameters
 
 EXTRA_CANDIDATES = 4   # modes computed beyond the tracked ones, so a track can swap order

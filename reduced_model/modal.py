@@ -6,7 +6,7 @@ through a state-space form (in flexibility form, see gyroscopic_modes),
 whose eigenvalues come in pairs lambda = +-i omega when G is skew and K
 positive definite; the frequency is |Im lambda| / 2 pi and the real part
 (zero up to round-off here) is reported as a damping ratio, a check.
-Modes are labelled by tip kinematics (shroud.modes).
+Modes are labelled by tip kinematics (shroud.core.modes).
 """
 
 from __future__ import annotations
@@ -19,10 +19,10 @@ import scipy.linalg
 
 from reduced_model.beam import BeamMatrices, for_parameters
 from reduced_model.reduction import stiffness_scaling, undamped_modes
-from shroud.errors import InputError
-from shroud.modes import label_modes
+from shroud.base.errors import InputError
+from shroud.core.modes import label_modes
 from shroud.params import Parameters
-from shroud.results import Mode, ModalResult
+from shroud.core.results import Mode, ModalResult
 
 
 @dataclass(frozen=True)

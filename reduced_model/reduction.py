@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from shroud.errors import InputError
+from shroud.base.errors import InputError
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""The beam model as a shroud.system.StructuralSystem at one speed (paper Eqs. 1-12).
+"""The beam model as a shroud.core.system.StructuralSystem at one speed (paper Eqs. 1-12).
 
     M q'' + (D + G) q' + (K_e + K_c + K_s [+ K_acc]) q
         = F_1 [+ acceleration loads] + f_aero F0 sin(ke Omega t) + W^T lambda(W q)
@@ -21,9 +21,9 @@ import numpy as np
 
 from reduced_model.beam import for_parameters
 from reduced_model.reduction import project, undamped_modes
-from shroud.damping import rayleigh
+from shroud.core.damping import rayleigh
 from shroud.params import Parameters
-from shroud.system import ContactElements, StructuralSystem
+from shroud.core.system import ContactElements, StructuralSystem
 
 
 def shroud_frame(alpha_deg: float) -> np.ndarray:

@@ -28,9 +28,9 @@ from dolfinx import fem, la
 from mpi4py import MPI
 
 from reference_fe.distributed import global_offset
-from shroud.errors import InputError
+from shroud.base.errors import InputError
 from shroud.params import Parameters
-from shroud.system import ContactElements
+from shroud.core.system import ContactElements
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,7 @@
 In the solid FE models ("fe", "fe-reduced") every contact-face node with a
 share of the face's penalty is one contact element with its own separate /
 stick / slip state (reference_fe.contact_faces; paper Eqs. 3-7 per node).
-shroud.newmark counts, per element, the steps of the final window spent in
+shroud.core.newmark counts, per element, the steps of the final window spent in
 each state and the element's peak normal force; this module places those
 numbers on the faces:
 
@@ -32,7 +32,7 @@ from dolfinx import mesh as dmesh
 
 from reference_fe.contact_faces import contact_faces, tip_frame
 from reference_fe.solid import solid_model
-from shroud.contact import STATE_NAMES
+from shroud.core.contact import STATE_NAMES
 from shroud.params import Parameters
 
 

@@ -8,7 +8,7 @@ operator. ``A @ x`` (DistributedMatrix) takes the rank's rows of x, works on
 them with PETSc (MatMult) and gathers the rows of every rank (MPI
 Allgatherv): any code written for scipy matrices runs unchanged.
 
-The Newmark loop (shroud.newmark) goes further, with one message of a
+The Newmark loop (shroud.core.newmark) goes further, with one message of a
 vector per step: each rank forms its rows of the step's right-hand side
 from its ``row_block`` (its rows, every column) and the replicated state,
 back-substitutes them with MUMPS (MumpsFactor.solve_rows), adds its rows of

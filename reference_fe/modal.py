@@ -14,7 +14,7 @@ is solved by SLEPc's PEP (TOAR, shift-invert about 0, problem type
 GYROSCOPIC). Clamped rows carry diag 1 on K and 0 on M and G: they only add
 infinite eigenvalues, far from the shift.
 
-Modes are named by the kinematics of the tip section (shroud.modes): flap =
+Modes are named by the kinematics of the tip section (shroud.core.modes): flap =
 displacement of the tip-section centre along e_v(L), chord = along e_w(L),
 axial = along X, torsion = rotation about X times b/2 (the chord-edge
 displacement it causes). The tip-section centre (x = L on the blade axis) is
@@ -38,10 +38,10 @@ from slepc4py import SLEPc
 
 from meshes.blade import section_frame
 from reference_fe.solid import RotatingOperators, SolidModel, rotating_operators
-from shroud.log import Progress, info
-from shroud.modes import label_modes
+from shroud.base.log import Progress, info
+from shroud.core.modes import label_modes
 from shroud.params import Parameters
-from shroud.results import ModalResult, Mode
+from shroud.core.results import ModalResult, Mode
 
 
 @dataclass(frozen=True)
@@ -203,7 +203,7 @@ def solve_modes(params: Parameters, rpm: float | None = None, n_modes: int = 6,
 
 def modal_analysis(params: Parameters, rpm: float | None = None, n_modes: int = 6,
                    coriolis: bool = True) -> ModalResult:
-    """shroud.api entry: the solid's modes as a ModalResult (Coriolis frequencies if asked)."""
+    """shroud.analysis.api entry: the solid's modes as a ModalResult (Coriolis frequencies if asked)."""
     modes = solve_modes(params, rpm, n_modes, coriolis)
     f = modes.f_coriolis if coriolis else modes.f_undamped
     order = np.argsort(f, kind="stable")

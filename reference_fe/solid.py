@@ -63,8 +63,8 @@ from petsc4py import PETSc
 from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, check_geometry,
                           mesh_file, tip_points)
 from reference_fe.distributed import global_offset
-from shroud.log import info
-from shroud.parallel import in_task, task_comm
+from shroud.base.log import info
+from shroud.base.parallel import in_task, task_comm
 from shroud.params import Material, Parameters
 
 

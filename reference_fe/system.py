@@ -1,4 +1,4 @@
-"""The solid blade as a shroud.system.StructuralSystem: models "fe" and "fe-reduced".
+"""The solid blade as a shroud.core.system.StructuralSystem: models "fe" and "fe-reduced".
 
     M q'' + (D + G) q' + (K_e + K_sigma + K_spin) q = f_aero F0 sin(ke Omega t) + W^T lam(W q)
 
@@ -28,7 +28,7 @@ second run at the same speed does not touch DOLFINx at all.
 
 "fe" is scipy sparse on the free DOFs serially and row-distributed under
 mpirun (reference_fe.distributed: MatMult and MUMPS over the ranks,
-vectors replicated); the time loop of shroud.newmark factorizes the step
+vectors replicated); the time loop of shroud.core.newmark factorizes the step
 operator once (MUMPS LU) and condenses the contact onto the face nodes, so
 a step is one back-substitution plus a small contact solve. The reduction
 basis of "fe-reduced" is built serially: under mpirun rank 0 builds it into
@@ -45,11 +45,11 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
-from shroud.cache import cached
-from shroud.damping import rayleigh
+from shroud.base.cache import cached
+from shroud.core.damping import rayleigh
 from shroud.params import Parameters
-from shroud.parallel import on_rank_zero
-from shroud.system import ContactElements, StructuralSystem
+from shroud.base.parallel import on_rank_zero
+from shroud.core.system import ContactElements, StructuralSystem
 
 
 @dataclasses.dataclass(frozen=True)
@@ -132,7 +132,7 @@ def reduced_operators(params: Parameters, rpm: float | None = None) -> Path:
 def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
     from reference_fe.cms import free_interface_basis, project
     from reference_fe.factor import MumpsFactor
-    from shroud.log import info
+    from shroud.base.log import info
 
     solid = _solid(params, rpm)
     W = solid.contact.W if solid.contact is not None else sp.csr_matrix((0, solid.M.shape[0]))

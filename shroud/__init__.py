@@ -1,24 +1,19 @@
-"""Shared core of the shrouded-blade workbench: parameters, the contact law,
-the Newmark integrator, signals, scenes and the ``shroud`` command."""
+"""The shrouded-blade verification workbench, in layers that import one way::
 
-import hashlib as _hashlib
-import os as _os
-from pathlib import Path as _Path
+    shroud.app          command line, runner, campaigns, scenes, reports, gates
+       |
+    comparisons         studies (Table 1, Fig. 8, ...): compute -> plot -> report
+       |
+    reduced_model  reference_fe + meshes      model builders (register with the core)
+       |
+    shroud.analysis     parameter-driven runs of any registered model (transient, sweep)
+       |
+    shroud.params       the parameter schema, validated once
+       |
+    shroud.core         physics: system, contact law, Newmark, harmonic balance, results
+       |
+    shroud.base         errors, logging, cache, MPI helpers (no physics)
 
-
-def _numba_cache_dir() -> str:
-    """Folder of numba's compiled-kernel cache, named by a hash of the compiled sources.
-
-    numba keys a cached function on its own file's time stamp only: the
-    Newmark kernel (newmark.py) compiled with an older contact law
-    (contact.py) would be reused after a change to contact.py alone, and run
-    the old law silently. Keying the folder on both sources rebuilds instead.
-    """
-    here = _Path(__file__).resolve().parent
-    digest = _hashlib.sha256()
-    for name in ("contact.py", "newmark.py"):
-        digest.update((here / name).read_bytes())
-    return str(here / "__pycache__" / f"numba-{digest.hexdigest()[:12]}")
-
-
-_os.environ.setdefault("NUMBA_CACHE_DIR", _numba_cache_dir())
+A module imports only from its own layer or the ones below it
+(tests/test_layers.py holds the graph).
+"""

@@ -23,7 +23,7 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
-from shroud.errors import InputError
+from shroud.base.errors import InputError
 
 
 @dataclass(frozen=True)

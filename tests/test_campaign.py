@@ -17,9 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from shroud.campaign import load_campaign, run_campaign
-from shroud.errors import InputError
-from shroud.parallel import map_parallel
+from shroud.app.campaign import load_campaign, run_campaign
+from shroud.base.errors import InputError
+from shroud.base.parallel import map_parallel
 
 
 def _pid(_):

@@ -6,10 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from shroud.contact import (SEPARATE, SLIP, STICK, contact_law, evaluate, friction_return_map,
+from shroud.core.contact import (SEPARATE, SLIP, STICK, contact_law, evaluate, friction_return_map,
                             normal_force, solve_contact, workspace)
-from shroud.params import Contact
-from shroud.system import ContactElements
+from shroud.core.system import ContactElements
 
 
 def test_normal_force_eq3_both_sides_gap_and_preload():
@@ -57,8 +56,8 @@ def _random_case(rng, k_scale):
     """Two elements (sides 1, 2) on shared rows [v_s, w_s], as the beam has."""
     el = ContactElements(W=np.eye(2), normal_row=np.array([0, 0]), tangent_row=np.array([1, 1]),
                          side=np.array([1, 2]), weight=np.array([1.0, 1.0]))
-    law = contact_law(el, Contact(kn=k_scale, kt=rng.uniform(0.2, 1.5) * k_scale,
-                                  mu=rng.uniform(0.05, 0.8), N0=rng.uniform(-5, 20)))
+    law = contact_law(el, kn=k_scale, kt=rng.uniform(0.2, 1.5) * k_scale,
+                      mu=rng.uniform(0.05, 0.8), N0=rng.uniform(-5, 20))
     B = rng.normal(size=(2, 2))
     Cc = (B @ B.T + 0.1 * np.eye(2)) * rng.uniform(0.1, 10) / k_scale
     y_pred = rng.normal(size=2) * 3 / k_scale * 10
@@ -133,7 +132,7 @@ def test_many_elements_fixed_point():
     weight = np.concatenate([rng.dirichlet(np.ones(k // 2)), rng.dirichlet(np.ones(k // 2))])
     el = ContactElements(W=np.eye(m), normal_row=np.arange(0, m, 2), tangent_row=np.arange(1, m, 2),
                          side=side, weight=weight)
-    law = contact_law(el, Contact(kn=1e8, kt=5e7, mu=0.3, N0=20.0))
+    law = contact_law(el, kn=1e8, kt=5e7, mu=0.3, N0=20.0)
     B = rng.normal(size=(m, m)) / math.sqrt(m)
     Cc = (B @ B.T + 0.05 * np.eye(m)) * 1e-7
     y_pred = rng.normal(size=m) * 1e-6
@@ -161,7 +160,7 @@ def test_low_rank_compliance_solve_matches_the_dense_solve_over_a_sequence():
     weight = np.concatenate([rng.dirichlet(np.ones(k // 2)), rng.dirichlet(np.ones(k // 2))])
     el = ContactElements(W=np.eye(m), normal_row=np.arange(0, m, 2), tangent_row=np.arange(1, m, 2),
                          side=side, weight=weight)
-    law = contact_law(el, Contact(kn=1e8, kt=5e7, mu=0.3, N0=5.0))
+    law = contact_law(el, kn=1e8, kt=5e7, mu=0.3, N0=5.0)
     Wc = rng.normal(size=(m, r))
     B = rng.normal(size=(r, r))
     S = (B @ B.T + 0.3 * np.eye(r)) * 1e-9                 # the modal step compliance (n x n)

@@ -7,7 +7,7 @@ import pytest
 
 from reduced_model.reduction import undamped_modes
 from reduced_model.system import build_system
-from shroud.damping import rayleigh
+from shroud.core.damping import rayleigh
 from shroud.params import Parameters
 
 

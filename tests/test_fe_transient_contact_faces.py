@@ -11,7 +11,7 @@ from mpi4py import MPI  # noqa: E402
 from dolfinx import fem, mesh  # noqa: E402
 
 from reference_fe.contact_faces import contact_elements, contact_faces, tip_frame, tip_rows  # noqa: E402
-from shroud.errors import InputError  # noqa: E402
+from shroud.base.errors import InputError  # noqa: E402
 from shroud.params import Parameters  # noqa: E402
 
 LOW, HIGH = 1, 2   # facet tags of the faces y = 0 and y = 2

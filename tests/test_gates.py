@@ -19,7 +19,7 @@ import json
 
 import pytest
 
-from shroud.runner import run_scene
+from shroud.app.runner import run_scene
 
 # Beam (N = 6) against the solid at 8500 r/min, |f_beam / f_solid - 1| in %.
 # Measured: flap1 0.05, chord1 0.87, flap2 2.66, flap3 5.22. The beam's

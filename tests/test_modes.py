@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from reduced_model.modal import modal_analysis
-from shroud.modes import label_modes, mac
+from shroud.core.modes import label_modes, mac
 from shroud.params import Parameters
 
 

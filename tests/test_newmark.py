@@ -8,11 +8,10 @@ import numpy as np
 import pytest
 import scipy.sparse
 
-from shroud import signals
-from shroud.contact import STATE_NAMES, contact_law
-from shroud.newmark import NewmarkScheme, _factorize_step, explicit_lag_stability, integrate
-from shroud.params import Contact
-from shroud.system import ContactElements, StructuralSystem
+from shroud.core import signals
+from shroud.core.contact import STATE_NAMES, contact_law
+from shroud.core.newmark import NewmarkScheme, _factorize_step, explicit_lag_stability, integrate
+from shroud.core.system import ContactElements, StructuralSystem
 
 
 def two_sided(n, W):
@@ -31,7 +30,7 @@ def system(M, C, K, f_aero, omega_e, W=None, tip=None, f_const=None):
 
 
 def no_contact(n):
-    return contact_law(None, Contact(), m=0)
+    return contact_law(None, m=0)
 
 
 def test_undamped_oscillator_is_the_exact_discrete_solution():
@@ -73,7 +72,7 @@ def test_impact_oscillator_between_two_walls():
     m, kn, g, V = 0.5, 1e6, 1e-3, 0.2
     el_W = np.array([[1.0], [0.0]])
     sys_ = system([[m]], [[0.0]], [[0.0]], [0.0], 1.0, W=el_W, tip=np.array([[1.0], [0.0]]))
-    law = contact_law(sys_.contact, Contact(kn=kn, kt=0.0, mu=0.0, N0=-kn * g))
+    law = contact_law(sys_.contact, kn=kn, kt=0.0, mu=0.0, N0=-kn * g)
     T_exact = 4 * g / V + 2 * math.pi * math.sqrt(m / kn)
     dt = math.pi * math.sqrt(m / kn) / 400
     steps = int(3.2 * T_exact / dt)
@@ -92,7 +91,7 @@ def test_coulomb_braked_block_stops_where_the_energy_runs_out():
     m, V, N0, mu, kt = 0.2, 0.5, 40.0, 0.3, 1e8
     W = np.array([[0.0], [1.0]])                     # the block moves along w_s only
     sys_ = system([[m]], [[0.0]], [[1e-9]], [0.0], 1.0, W=W, tip=np.array([[0.0], [1.0]]))
-    law = contact_law(sys_.contact, Contact(kn=1e7, kt=kt, mu=mu, N0=N0))
+    law = contact_law(sys_.contact, kn=1e7, kt=kt, mu=mu, N0=N0)
     t_stop = m * V / (2 * mu * N0)
     dt = t_stop / 4000
     tr = integrate(sys_, law, NewmarkScheme(dt=dt), 6000, v0=[V], method="kernel")
@@ -115,7 +114,7 @@ def _contact_2dof():
 @pytest.mark.parametrize("implicit", [True, False])
 def test_kernel_equals_reference_to_round_off(implicit):
     sys_ = _contact_2dof()
-    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    law = contact_law(sys_.contact, kn=1e6, kt=5e5, mu=0.3, N0=2.0)
     scheme = NewmarkScheme(dt=1 / 100 / 256)
     runs = [integrate(sys_, law, scheme, 256 * 30, implicit=implicit, method=m, energy_window=2560)
             for m in ("kernel", "reference")]
@@ -144,7 +143,7 @@ def test_low_rank_contact_solve_in_a_run_matches_the_dense_one():
     dense = dataclasses.replace(base, contact=contact)
     sparse = dataclasses.replace(dense, M=scipy.sparse.csr_matrix(dense.M), C=scipy.sparse.csr_matrix(dense.C),
                                  K=scipy.sparse.csr_matrix(dense.K))
-    law = contact_law(contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    law = contact_law(contact, kn=1e6, kt=5e5, mu=0.3, N0=2.0)
     scheme = NewmarkScheme(dt=1 / 100 / 256)
     assert _factorize_step(dense, law, scheme, None).low_rank
     assert not _factorize_step(sparse, law, scheme, None).low_rank
@@ -159,7 +158,7 @@ def test_low_rank_contact_solve_in_a_run_matches_the_dense_one():
 def test_element_state_map_is_the_side_record_for_one_element_per_side():
     """With one element per side, an element's state shares are its side's, counted a second way."""
     sys_ = _contact_2dof()
-    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    law = contact_law(sys_.contact, kn=1e6, kt=5e5, mu=0.3, N0=2.0)
     spp = 256
     tr = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / spp), spp * 30, energy_window=10 * spp)
     assert tr.element_share.shape == (2, 3)
@@ -174,7 +173,7 @@ def test_element_state_map_is_the_side_record_for_one_element_per_side():
 
 def test_full_stick_map_is_all_stick_and_no_window_no_map():
     sys_ = _contact_2dof()
-    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=1e6))
+    law = contact_law(sys_.contact, kn=1e6, kt=5e5, mu=0.3, N0=1e6)
     scheme = NewmarkScheme(dt=1 / 100 / 64)
     tr = integrate(sys_, law, scheme, 64 * 5, energy_window=64)
     assert np.array_equal(tr.element_share, [[0.0, 1.0, 0.0]] * 2)
@@ -187,7 +186,7 @@ def test_full_stick_map_is_all_stick_and_no_window_no_map():
 def test_contact_condensation_block_or_column_solves(solver):
     """Phi = K_eff^-1 W^T and Cc = W Phi, with a block solver, one that takes vectors only, SuperLU."""
     sys_ = _contact_2dof()
-    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    law = contact_law(sys_.contact, kn=1e6, kt=5e5, mu=0.3, N0=2.0)
     scheme = NewmarkScheme(dt=1e-4)
 
     def factorize(A):
@@ -212,7 +211,7 @@ def test_contact_condensation_block_or_column_solves(solver):
 
 def test_friction_dissipates_and_energy_balance_closes():
     sys_ = _contact_2dof()
-    law = contact_law(sys_.contact, Contact(kn=1e6, kt=5e5, mu=0.3, N0=2.0))
+    law = contact_law(sys_.contact, kn=1e6, kt=5e5, mu=0.3, N0=2.0)
     tr = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / 256), 256 * 40, energy_window=2560)
     e = tr.energy
     assert e.friction > 0.005 * e.input_work
@@ -226,7 +225,7 @@ def test_full_stick_is_the_linear_system_with_contact_springs():
     """A huge preload never lets go: the response is that of K + W^T diag(2 kn, 2 kt) W."""
     sys_ = _contact_2dof()
     kn, kt = 1e6, 5e5
-    law = contact_law(sys_.contact, Contact(kn=kn, kt=kt, mu=0.3, N0=1e6))
+    law = contact_law(sys_.contact, kn=kn, kt=kt, mu=0.3, N0=1e6)
     spp = 256
     tr = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / spp), spp * 40)
     assert np.all(tr.state[1:] == 1)
@@ -241,7 +240,7 @@ def test_full_stick_is_the_linear_system_with_contact_springs():
 def test_unbounded_run_stops_and_names_the_cause():
     """Explicit contact with kn far beyond the step's reach diverges; the trajectory so far is kept."""
     sys_ = _contact_2dof()
-    law = contact_law(sys_.contact, Contact(kn=1e12, kt=5e11, mu=0.3, N0=0.0))
+    law = contact_law(sys_.contact, kn=1e12, kt=5e11, mu=0.3, N0=0.0)
     tr = integrate(sys_, law, NewmarkScheme(dt=1 / 100 / 32), 32 * 20, implicit=False, bound=0.15)
     assert tr.diverged is not None and tr.steps < 32 * 20
     assert len(tr.tip) == tr.steps + 1
@@ -257,7 +256,7 @@ def test_explicit_contact_lag_is_a_negative_damping():
     w = math.sqrt(2 * kn / m)
     el_W = np.array([[1.0], [0.0]])
     sys_ = system([[m]], [[2 * zeta_c * m * w]], [[0.0]], [0.0], 1.0, W=el_W, tip=np.array([[1.0], [0.0]]))
-    law = contact_law(sys_.contact, Contact(kn=kn, kt=0.0, mu=0.0, N0=1.0))   # preloaded: stays closed
+    law = contact_law(sys_.contact, kn=kn, kt=0.0, mu=0.0, N0=1.0)   # preloaded: stays closed
     dt_star = math.asin(2 * zeta_c) / w
     for ratio in (0.5, 2.0):
         lag = explicit_lag_stability(sys_, law, NewmarkScheme(dt=ratio * dt_star))

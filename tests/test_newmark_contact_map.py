@@ -17,7 +17,7 @@ pytest.importorskip("dolfinx_solver")
 
 def test_fig8_contact_map_of_the_reduced_solid(tmp_path):
     from comparisons import fig8
-    from shroud.scene import load_scene
+    from shroud.app.scene import load_scene
     scene = load_scene("scenes/fig8.toml", [
         "fe.mesh_size=0.0035", "fe.order=1", "time.periods=3", 'options.models=["fe-reduced"]',
         "options.reference=fe-reduced", "options.window_periods=2", "options.plot_periods=1"])

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from shroud.errors import InputError
+from shroud.base.errors import InputError
 from shroud.params import Parameters, all_keys
 
 

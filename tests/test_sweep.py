@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from shroud.params import Parameters
-from shroud.sweep import run_sweep, run_sweeps
-from shroud.system import StructuralSystem
+from shroud.analysis.sweep import run_sweep, run_sweeps
+from shroud.core.system import StructuralSystem
 
 F_N = 300.0      # Hz
 

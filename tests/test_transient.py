@@ -8,12 +8,12 @@ import sys
 import numpy as np
 import pytest
 
-from shroud import signals
-from shroud.api import build_system
+from shroud.core import signals
+from shroud.analysis.api import build_system
 from shroud.params import Parameters
-from shroud.transient import simulate
+from shroud.analysis.transient import simulate
 
-SHROUD = [sys.executable, "-m", "shroud.cli"]
+SHROUD = [sys.executable, "-m", "shroud.app.cli"]
 
 
 @pytest.mark.parametrize("args, key", [

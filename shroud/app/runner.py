@@ -33,10 +33,10 @@ from typing import Any
 
 import numpy as np
 
-from shroud.errors import InputError
-from shroud.log import info, warn
-from shroud.parallel import mpi_rank, mpi_size
-from shroud.scene import Scene, load_scene, study_module
+from shroud.base.errors import InputError
+from shroud.base.log import info, warn
+from shroud.base.parallel import mpi_rank, mpi_size
+from shroud.app.scene import Scene, load_scene, study_module
 
 INCOMPLETE_MARK = "# status: incomplete"
 
@@ -195,7 +195,7 @@ def mark_incomplete(folder: Path, since: float, why: str) -> list[Path]:
     """Mark every CSV and report written since ``since`` (epoch s) as incomplete.
 
     A CSV's first line becomes ``# status: incomplete: <why>`` (replacing a
-    ``# status:`` line a writer put there, as shroud.transient does);
+    ``# status:`` line a writer put there, as shroud.analysis.transient does);
     comment-aware readers such as numpy.loadtxt skip it, a person sees it first.
     """
     marked = []

@@ -2,14 +2,14 @@
 
 All functions take a signal sampled ``steps_per_period`` times per excitation
 period (the Newmark step, dt = T_e / steps_per_period) with the last sample at
-the end of a whole period, as shroud.newmark records it.
+the end of a whole period, as shroud.core.newmark records it.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from shroud.contact import STATE_NAMES
+from shroud.core.contact import STATE_NAMES
 
 STEADY_PERIODS = 10        # amplitudes, peaks and state fractions: the last 10 periods
 

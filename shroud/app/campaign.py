@@ -24,13 +24,14 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
-from shroud.errors import InputError
-from shroud.log import info, warn
+from shroud.base.errors import InputError
+from shroud.base.log import info, warn
 from shroud.params import unknown_key
-from shroud.parallel import map_parallel, mpi_rank, mpi_size, workers
-from shroud.report import SceneOutcome, seconds, stitch
-from shroud.runner import jsonable, output_folder, run_scene, versions
-from shroud.scene import load_scene, read_toml
+from shroud.base.parallel import map_parallel, mpi_rank, mpi_size, workers
+from shroud.base.markdown import seconds
+from shroud.app.report import SceneOutcome, stitch
+from shroud.app.runner import jsonable, output_folder, run_scene, versions
+from shroud.app.scene import load_scene, read_toml
 
 _TOP_KEYS = ("campaign", "title", "description", "quick", "overrides")
 

@@ -2,7 +2,7 @@
 
 Under mpirun the ranks running one study together say the same things:
 rank 0 speaks for them. Ranks running separate items of a spread sweep or
-campaign (shroud.parallel.map_parallel) each speak for themselves.
+campaign (shroud.base.parallel.map_parallel) each speak for themselves.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 import time
 
-from shroud.parallel import in_task, mpi_rank
+from shroud.base.parallel import in_task, mpi_rank
 
 
 def _speaks() -> bool:

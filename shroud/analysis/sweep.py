@@ -16,11 +16,13 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from shroud.errors import RunDiverged
-from shroud.log import Progress
+from shroud.analysis.transient import contact_law_for, run, steady_state
+from shroud.base.errors import RunDiverged
+from shroud.base.log import Progress
+from shroud.base.parallel import map_parallel
+from shroud.core import registry
+from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
-from shroud.parallel import map_parallel
-from shroud.system import StructuralSystem
 
 
 @dataclass(frozen=True)
@@ -53,13 +55,11 @@ class SweepResult:
 
 
 def _model_builder(model: str) -> Callable[[Parameters], StructuralSystem]:
-    from shroud.api import build_system
-    return lambda p: build_system(p, model)
+    return registry.model(model).build_system
 
 
 def steady_point(task: tuple[Parameters, str, float, Callable | None]) -> tuple:
     """One speed: (amp v_L, amp w_L, period, slip fraction, dofs, seconds)."""
-    from shroud.transient import run, steady_state
     params, model, rpm, build = task
     t0 = time.perf_counter()
     p = params.updated({"speed.rpm": rpm})
@@ -77,7 +77,7 @@ def run_sweeps(cases: Sequence[Parameters], model: str, rpms: Sequence[float],
                build: Callable[[Parameters], StructuralSystem] | None = None) -> list[SweepResult]:
     """One sweep over ``rpms`` per parameter set in ``cases``, all points spread over the cores.
 
-    ``build(params) -> StructuralSystem`` replaces the model dispatch (shroud.api)
+    ``build(params) -> StructuralSystem`` replaces the model dispatch (shroud.analysis.api)
     when given; it must be a module-level function (it is pickled).
     """
     rpms = np.asarray(rpms, dtype=float)
@@ -120,12 +120,11 @@ def coexisting_states(params: Parameters, model: str, rpm: float, tip_deflection
     physical state for any model), at rest; amplitudes within ``rel`` of
     each other count as one state.
     """
-    from shroud.contact import contact_law
-    from shroud.newmark import NewmarkScheme, integrate
-    from shroud.signals import amplitude
+    from shroud.core.newmark import NewmarkScheme, integrate
+    from shroud.core.signals import amplitude
     p = params.updated({"speed.rpm": rpm})
     system = _model_builder(model)(p)
-    law = contact_law(system.contact, p.contact, m=system.contact.W.shape[0] if system.contact else 0)
+    law = contact_law_for(system, p.contact)
     shape = np.linalg.solve(system.K, system.f_aero)
     shape = shape / (np.asarray(system.tip)[0] @ shape)
     spp = p.time.steps_per_period

@@ -13,7 +13,7 @@ one step is
     q'     = q_pred + Phi lam
 
 with ``lam = lam(y)`` solved exactly (``implicit``: the step's end state
-satisfies the contact law, shroud.contact.solve_contact) or taken from the
+satisfies the contact law, shroud.core.contact.solve_contact) or taken from the
 start of the step (``explicit``, as the paper's scheme does).
 
 Two code paths, one per backend, doing the same arithmetic:
@@ -46,10 +46,10 @@ import scipy.sparse
 import scipy.sparse.linalg
 from numba import njit
 
-from shroud.contact import (SLIP, STICK, ContactLaw, contact_energy, copy_into, evaluate,
+from shroud.core.contact import (SLIP, STICK, ContactLaw, contact_energy, copy_into, evaluate,
                             friction_dissipation, leaf, solve_contact, workspace)
-from shroud.log import Progress, warn
-from shroud.system import StructuralSystem
+from shroud.base.log import Progress, warn
+from shroud.core.system import StructuralSystem
 
 OK, NOT_FINITE, UNBOUNDED = 0, 1, 2
 
@@ -346,7 +346,7 @@ class _Step:
     low_rank: bool = False     # n < m / 2 (dense): solve the contact in the n-space, Cc = W Phi
 
     def contact_workspace(self, law: ContactLaw):
-        """shroud.contact.workspace for this step's compliance (factored as W Phi when low rank)."""
+        """shroud.core.contact.workspace for this step's compliance (factored as W Phi when low rank)."""
         return workspace(law, _dense(self.W), self.Phi) if self.low_rank else workspace(law)
 
     def respond(self, q_pred: np.ndarray, lam: np.ndarray) -> np.ndarray:

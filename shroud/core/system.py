@@ -4,7 +4,7 @@
 
 ``M, C, K`` are a 6x6 dense matrix (reduced beam) or a 100k-DOF sparse one
 (solid FE); the contact acts only on a few projected coordinates ``y = W q``
-(paper Eqs. 3-8). One integrator (shroud.newmark) serves all four models.
+(paper Eqs. 3-8). One integrator (shroud.core.newmark) serves all four models.
 
 Conventions (shared/spec/geometry.md)
 -------------------------------------
@@ -56,7 +56,7 @@ class StructuralSystem:
     build_s: float = 0.0      # wall time spent building it, s
     # The model's own direct solver for the Newmark step operator,
     # ``factorize(A) -> solve(b)`` with b a vector or an (n, k) block;
-    # None: shroud.newmark.default_factorize (LAPACK / SuperLU). With a
+    # None: shroud.core.newmark.default_factorize (LAPACK / SuperLU). With a
     # layout, ``solve`` also has ``solve_rows(b_rows) -> x_rows`` on this
     # rank's rows alone.
     factorize: Callable[[Any], Callable] | None = None

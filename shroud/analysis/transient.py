@@ -15,13 +15,13 @@ from typing import Any
 
 import numpy as np
 
-from shroud import signals
-from shroud.contact import contact_law
-from shroud.errors import RunDiverged
-from shroud.log import info
-from shroud.newmark import EnergyBalance, NewmarkScheme, Trajectory, integrate
-from shroud.params import Parameters
-from shroud.system import StructuralSystem
+from shroud.core import signals
+from shroud.core.contact import ContactLaw, contact_law
+from shroud.base.errors import RunDiverged
+from shroud.base.log import info
+from shroud.core.newmark import EnergyBalance, NewmarkScheme, Trajectory, integrate
+from shroud.params import Contact, Parameters
+from shroud.core.system import StructuralSystem
 
 CSV_COLUMNS = ("t", "v_L", "w_L", "w_s1", "w_s2", "N1", "N2", "Ff1", "Ff2", "state1", "state2")
 CSV_UNITS = "s, m, m, m, m, N, N, N, N, 0 separate / 1 stick / 2 slip"
@@ -67,11 +67,19 @@ def steady_state(trajectory: Trajectory, steps_per_period: int) -> dict[str, Any
     }
 
 
+def contact_law_for(system: StructuralSystem, contact: Contact) -> ContactLaw:
+    """The contact law of ``system`` with the side totals of ``contact`` (empty when disabled)."""
+    m = system.contact.W.shape[0] if system.contact is not None else 0
+    if system.contact is None or not contact.enabled:
+        return contact_law(None, m=m)
+    return contact_law(system.contact, kn=contact.kn, kt=contact.kt, mu=contact.mu, N0=contact.N0)
+
+
 def run(system: StructuralSystem, params: Parameters, method: str = "auto",
         energy_periods: int = signals.STEADY_PERIODS) -> Trajectory:
     """Integrate ``system`` as ``params.time`` and ``params.contact`` say (no output files)."""
     spp, periods = params.time.steps_per_period, params.time.periods
-    law = contact_law(system.contact, params.contact, m=system.contact.W.shape[0] if system.contact else 0)
+    law = contact_law_for(system, params.contact)
     return integrate(system, law, NewmarkScheme(dt=params.time_step), spp * periods,
                      implicit=params.time.contact == "implicit", method=method,
                      energy_window=min(energy_periods, periods) * spp, bound=params.blade.length,

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from shroud.errors import InputError
+from shroud.base.errors import InputError
 from shroud.params import SECTIONS, Parameters, unknown_key
 
 _TOP_KEYS = {"study", "title", "description", "options", "quick"}

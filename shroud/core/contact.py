@@ -45,8 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from shroud.params import Contact
-from shroud.system import ContactElements
+from shroud.core.system import ContactElements
 
 SEPARATE, STICK, SLIP = 0, 1, 2
 STATE_NAMES = ("separate", "stick", "slip")
@@ -85,22 +84,23 @@ class ContactLaw:
         return int(self.side.size)
 
 
-def contact_law(elements: ContactElements | None, contact: Contact, m: int | None = None) -> ContactLaw:
-    """Element data from a model's contact points and the side totals of ``contact``.
+def contact_law(elements: ContactElements | None, kn: float = 0.0, kt: float = 0.0, mu: float = 0.0,
+                N0: float = 0.0, m: int | None = None) -> ContactLaw:
+    """Element data from a model's contact points and the side totals (paper Eqs. 3-6).
 
-    ``elements=None`` or ``contact.enabled = False`` gives the empty law (free blade).
+    ``kn``, ``kt`` (N/m) and ``N0`` (N) are each side's totals, shared over
+    its elements by their weights; ``mu`` is the Coulomb coefficient.
+    ``elements=None`` gives the empty law (free blade) on ``m`` coordinates.
     """
-    if elements is None or not contact.enabled:
+    if elements is None:
         return ContactLaw(rows=np.zeros((0, 2), np.int64), props=np.zeros((0, 5)),
                           side=np.zeros(0, np.int64), weight=np.zeros(0), m=int(m or 0))
     side = np.asarray(elements.side, dtype=np.int64)
     weight = np.asarray(elements.weight, dtype=float)
     props = np.empty((side.size, 5))
-    props[:, SIGN] = np.where(side == 1, -1.0, 1.0)
-    props[:, KN] = weight * contact.kn
-    props[:, KT] = weight * contact.kt
-    props[:, MU] = contact.mu
-    props[:, N0] = weight * contact.N0
+    # columns SIGN, KN, KT, MU, N0 (the module constants)
+    props[:] = np.column_stack([np.where(side == 1, -1.0, 1.0), weight * kn, weight * kt,
+                                np.full(side.size, mu), weight * N0])
     rows = np.column_stack([np.asarray(elements.normal_row, np.int64),
                             np.asarray(elements.tangent_row, np.int64)])
     return ContactLaw(rows=rows, props=props, side=side, weight=weight, m=int(elements.W.shape[0]))

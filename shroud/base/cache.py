@@ -13,7 +13,7 @@ import os
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-from shroud.log import info
+from shroud.base.log import info
 
 # Bump when a builder's output format or meaning changes: old entries are then unused.
 CACHE_VERSION = 1

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from shroud.errors import InputError, RunDiverged
+from shroud.base.errors import InputError, RunDiverged
 
 EXIT_BAD_INPUT = 2
 
@@ -31,26 +31,26 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from shroud.api import MODAL_MODELS, SWEEP_MODELS, TRANSIENT_MODELS
+    from shroud.app.models import registry
     parser = _Parser(prog="shroud", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     p = sub.add_parser("modal", help="natural frequencies and mode labels at one speed")
     _common(p)
-    p.add_argument("--model", choices=MODAL_MODELS, default="reduced")
+    p.add_argument("--model", choices=registry.names("modal"), default="reduced")
     p.add_argument("--rpm", type=float)
     p.add_argument("--modes", type=int, default=6)
     p.add_argument("--coriolis", action=argparse.BooleanOptionalAction, default=True)
 
     p = sub.add_parser("transient", help="time response with impact and friction")
     _common(p)
-    p.add_argument("--model", choices=TRANSIENT_MODELS, default="reduced")
+    p.add_argument("--model", choices=registry.names("transient"), default="reduced")
     p.add_argument("--rpm", type=float)
     p.add_argument("--out", default="out/transient", help="folder for the time-series CSV")
 
     p = sub.add_parser("sweep", help="steady-state amplitude over a speed range")
     _common(p)
-    p.add_argument("--model", choices=SWEEP_MODELS, default="reduced")
+    p.add_argument("--model", choices=registry.names("sweep"), default="reduced")
     p.add_argument("--rpm-from", type=float, required=True)
     p.add_argument("--rpm-to", type=float, required=True)
     p.add_argument("--rpm-count", type=int, required=True)
@@ -65,7 +65,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _params(args):
-    from shroud.scene import load_scene
+    from shroud.app.scene import load_scene
     overrides = list(args.set)
     if getattr(args, "rpm", None) is not None:
         overrides.append(f"speed.rpm={args.rpm}")
@@ -73,7 +73,7 @@ def _params(args):
 
 
 def _emit(args, payload: dict, text: str) -> None:
-    from shroud.parallel import mpi_rank
+    from shroud.base.parallel import mpi_rank
     if mpi_rank() != 0:          # under mpirun every rank holds the result; one prints it
         return
     if args.json:
@@ -83,7 +83,7 @@ def _emit(args, payload: dict, text: str) -> None:
 
 
 def cmd_modal(args) -> None:
-    from shroud.api import modal
+    from shroud.analysis.api import modal
     if args.modes < 1:
         raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
     params = _params(args)
@@ -95,13 +95,13 @@ def cmd_modal(args) -> None:
 
 
 def cmd_transient(args) -> None:
-    from shroud.api import transient
+    from shroud.analysis.api import transient
     params = _params(args)
     if params.speed.rpm <= 0:
         raise InputError("speed.rpm", f"{params.speed.rpm!r} is out of range; allowed: a speed > 0 r/min for a transient")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    from shroud.parallel import mpi_rank
+    from shroud.base.parallel import mpi_rank
     csv_path = out / f"transient_{args.model}.csv" if mpi_rank() == 0 else None   # one rank writes
     result = transient(params, args.model, csv_path=csv_path)
     payload = result.to_json()
@@ -109,7 +109,7 @@ def cmd_transient(args) -> None:
 
 
 def cmd_sweep(args) -> None:
-    from shroud.api import sweep
+    from shroud.analysis.api import sweep
     params = _params(args)
     if args.rpm_count < 1:
         raise InputError("--rpm-count", f"{args.rpm_count} is out of range; allowed: an integer >= 1")
@@ -121,8 +121,8 @@ def cmd_sweep(args) -> None:
 
 
 def cmd_run(args) -> None:
-    from shroud.campaign import is_campaign, run_campaign
-    from shroud.runner import run_scene
+    from shroud.app.campaign import is_campaign, run_campaign
+    from shroud.app.runner import run_scene
     run = run_campaign if is_campaign(args.scene) else run_scene
     summary = run(args.scene, out=args.out, overrides=args.set, quick=args.quick)
     _emit(args, summary, f"{summary['status']}: {summary['out']}/report.md ({summary['elapsed_s']:.1f} s)")

@@ -1,0 +1,57 @@
+"""The models the workbench knows, registered by their builders.
+
+The core never imports a model builder: ``reduced_model`` and
+``reference_fe`` each call :func:`register` when their package is imported,
+with functions that load their heavy stack (DOLFINx, gmsh) only when called.
+Analyses look models up by name, so a new model is a new registration, not
+an edit of the core.
+
+A model offers a builder of its linear structure plus contact elements at a
+constant speed (``build_system(params) -> StructuralSystem``) and, where it
+has one, a modal analysis (``modal(params, rpm, n_modes, coriolis) ->
+ModalResult``). ``params`` is the validated parameter set; the core only
+passes it through.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from shroud.core.system import StructuralSystem
+
+
+@dataclass(frozen=True)
+class ModelEntry:
+    """One registered model."""
+
+    name: str                                         # "reduced", "full", "fe", "fe-reduced"
+    build_system: Callable[[Any], StructuralSystem]   # params -> StructuralSystem at params.speed.rpm
+    modal: Callable[..., Any] | None = None           # (params, rpm, n_modes, coriolis) -> ModalResult
+    sweepable: bool = True                            # cheap enough to rebuild at every speed of a sweep
+    description: str = ""
+
+
+_MODELS: dict[str, ModelEntry] = {}
+
+
+def register(entry: ModelEntry) -> None:
+    """Make ``entry`` known by its name (a second registration of a name replaces the first)."""
+    _MODELS[entry.name] = entry
+
+
+def model(name: str) -> ModelEntry:
+    """The entry registered as ``name``; KeyError naming the known models otherwise."""
+    try:
+        return _MODELS[name]
+    except KeyError:
+        raise KeyError(f"no model {name!r} is registered; known: {', '.join(_MODELS) or 'none'}") from None
+
+
+def names(capability: str = "transient") -> tuple[str, ...]:
+    """Registered model names that offer ``capability``: "transient", "modal" or "sweep"."""
+    if capability == "modal":
+        return tuple(n for n, e in _MODELS.items() if e.modal is not None)
+    if capability == "sweep":
+        return tuple(n for n, e in _MODELS.items() if e.sweepable)
+    return tuple(_MODELS)
