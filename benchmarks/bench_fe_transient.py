@@ -33,7 +33,8 @@ import time
 from comparisons._agreement import agreement, signals_of
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
-from shroud.core.newmark import NewmarkScheme, default_factorize, integrate
+from shroud.core.linear_solvers import default_factorization
+from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.base.parallel import mpi_rank, mpi_size
 from shroud.app.scene import load_scene
 
@@ -92,7 +93,7 @@ def main() -> None:
     params = load_scene("scenes/fig8.toml", args.set + [f"time.periods={args.periods}"]).params
     if not args.interface_modes:
         for model in args.models:
-            show(measure(params, model, default_factorize if args.superlu else None)[0])
+            show(measure(params, model, default_factorization if args.superlu else None)[0])
         return
     row, fe = measure(params, "fe")
     show(row)

@@ -17,7 +17,8 @@ import numpy as np
 
 from shroud.params import Parameters
 from shroud.core.plotting import figure, save
-from shroud.analysis.sweep import SweepResult, run_sweeps
+from shroud.analysis.sweep import run_sweeps
+from shroud.core.results import SweepResult
 
 FAMILY_OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],

@@ -35,7 +35,7 @@ from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
 from comparisons.paper import TABLE3_SECONDS
 from shroud.analysis import api
 from shroud.core import registry
-from shroud.core.contact import STATE_NAMES
+from shroud.core.states import STATE_NAMES
 from shroud.base.errors import InputError, RunDiverged
 from shroud.base.log import info, warn
 from shroud.core.plotting import MODEL_COLOURS, figure, save

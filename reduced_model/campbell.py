@@ -11,8 +11,6 @@ crosses an excitation line f = k_e * rpm / 60.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
-
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
@@ -20,30 +18,10 @@ from reduced_model.beam import for_parameters
 from reduced_model.modal import modes_at
 from shroud.base.log import Progress
 from shroud.core.modes import label_modes, mac
+from shroud.core.results import CampbellResult
 from shroud.params import Parameters
 
 EXTRA_CANDIDATES = 4   # modes computed beyond the tracked ones, so a track can swap order
-
-
-@dataclass(frozen=True)
-class CampbellResult:
-    rpm: np.ndarray            # (s,) r/min
-    f_hz: np.ndarray           # (s, k) tracked frequencies, Hz
-    labels: tuple[str, ...]    # (k,) label of each track at the first speed
-    coriolis: bool
-    elapsed_s: float
-
-    def crossings(self, order: int) -> list[tuple[str, float, float]]:
-        """(label, rpm, f_hz) where a track meets the line f = order * rpm / 60."""
-        out = []
-        line = order * self.rpm / 60.0
-        for j, label in enumerate(self.labels):
-            d = self.f_hz[:, j] - line
-            for i in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
-                t = d[i] / (d[i] - d[i + 1])
-                rpm = self.rpm[i] + t * (self.rpm[i + 1] - self.rpm[i])
-                out.append((label, float(rpm), float(order * rpm / 60.0)))
-        return out
 
 
 def campbell(params: Parameters, rpms: np.ndarray, n_modes: int, coriolis: bool) -> CampbellResult:

@@ -50,6 +50,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from shroud.core.linear_solvers import default_factorization
+
 
 @dataclass(frozen=True)
 class ReductionBasis:
@@ -70,22 +72,17 @@ class ReductionBasis:
         return np.sqrt(np.abs(self.omega2[: self.n_modes])) / (2.0 * np.pi)
 
 
-def factorize(K) -> spla.SuperLU:
-    """Sparse LU of the (positive definite) stiffness, reused by both steps below."""
-    return spla.splu(sp.csc_matrix(K))
-
-
 def normal_modes(K, M, count: int, lu=None) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``count`` eigenpairs of ``K phi = omega^2 M phi``, mass-normalized.
 
-    Shift-invert about zero with a factorization of ``K`` (any object with
-    ``solve``; SuperLU by default; K must be nonsingular: the clamped root
-    makes it so). Returns ``(omega2, Phi)`` sorted ascending.
+    Shift-invert about zero with a factorization of ``K`` (a
+    shroud.core.linear_solvers.Factorization; SuperLU by default; K must be
+    nonsingular: the clamped root makes it so). Returns ``(omega2, Phi)`` sorted ascending.
     """
     n = K.shape[0]
     if not 1 <= count < n - 1:
         raise ValueError(f"cannot compute {count} modes of a {n}-DOF structure")
-    lu = lu or factorize(K)
+    lu = lu or default_factorization(K)
     op = spla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
     omega2, Phi = spla.eigsh(K, k=count, M=M, sigma=0.0, which="LM", OPinv=op)
     order = np.argsort(omega2)
@@ -145,7 +142,7 @@ def free_interface_basis(K, M, n_modes: int, forces: np.ndarray, rtol: float = 1
     ``interface_modes`` principal face-force patterns
     (principal_interface_modes).
     """
-    lu = lu or factorize(K)
+    lu = lu or default_factorization(K)
     omega2, Phi = normal_modes(K, M, n_modes, lu)
     Psi = residual_attachment_modes(lu, Phi, omega2, np.atleast_2d(forces.T).T)
     if W is not None and W.shape[0]:

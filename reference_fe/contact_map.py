@@ -32,7 +32,7 @@ from dolfinx import mesh as dmesh
 
 from reference_fe.contact_faces import contact_faces, tip_frame
 from reference_fe.solid import solid_model
-from shroud.core.contact import STATE_NAMES
+from shroud.core.states import STATE_NAMES
 from shroud.params import Parameters
 
 

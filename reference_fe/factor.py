@@ -39,12 +39,16 @@ METIS_ORDERING = 5          # MUMPS ICNTL(7)
 
 
 class MumpsFactor:
-    """``solve(b)`` with ``A x = b`` for b of shape (n,) or (n, k).
+    """A MUMPS factorization: a shroud.core.linear_solvers.Factorization.
 
-    ``A``: scipy sparse (one process), or a reference_fe.distributed
-    DistributedMatrix under mpirun: then MUMPS works on the ranks' rows and
-    ``b`` and the solution are complete (replicated) on every rank.
-    ``symmetric``: A symmetric positive definite (L D L^T); otherwise LU.
+    ``solve(b)`` with ``A x = b`` for b of shape (n,) or (n, k). ``A``: scipy
+    sparse (one process), or a reference_fe.distributed DistributedMatrix
+    under mpirun: then MUMPS works on the ranks' rows and ``b`` and the
+    solution are complete (replicated) on every rank. ``symmetric``: A
+    symmetric positive definite (L D L^T); otherwise LU. ``close()`` (or a
+    ``with`` block) destroys the PETSc objects, the factor among them: on
+    the default solid that is 21 M entries, which would otherwise wait for
+    the garbage collector.
     """
 
     def __init__(self, A, symmetric: bool = True):
@@ -57,6 +61,7 @@ class MumpsFactor:
             self._A.assemble()
             self._layout = None
         self.n = self._A.getSize()[0]
+        self._owns_A = self._layout is None           # a distributed A belongs to the model
         self._A.setOption(PETSc.Mat.Option.SYMMETRIC, symmetric)
         self._ksp = PETSc.KSP().create(comm)
         self._ksp.setOperators(self._A)
@@ -82,8 +87,16 @@ class MumpsFactor:
     def _gather(self, x: np.ndarray) -> np.ndarray:
         return x.copy() if self._layout is None else self._layout.gather(x)
 
-    def __call__(self, b: np.ndarray) -> np.ndarray:
-        return self.solve(b)
+    def close(self) -> None:
+        """Destroy the solver, its factor and work vectors (and A when this object made it)."""
+        for obj in (self._ksp, self._x, self._b) + ((self._A,) if self._owns_A else ()):
+            obj.destroy()
+
+    def __enter__(self) -> "MumpsFactor":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         b = np.asarray(b, dtype=float)

@@ -100,7 +100,8 @@ def full_system(params: Parameters) -> StructuralSystem:
     from reference_fe.factor import MumpsFactor, mumps_lu
 
     solid = _solid(params, params.speed.rpm)
-    omega2, _ = normal_modes(solid.K, solid.M, 2, MumpsFactor(solid.K))
+    with MumpsFactor(solid.K) as lu:
+        omega2, _ = normal_modes(solid.K, solid.M, 2, lu)
     f1, f2 = np.sqrt(omega2) / (2 * math.pi)
     a, b = rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
     n = solid.M.shape[0]
@@ -137,8 +138,9 @@ def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
     solid = _solid(params, rpm)
     W = solid.contact.W if solid.contact is not None else sp.csr_matrix((0, solid.M.shape[0]))
     t0 = time.perf_counter()
-    basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, solid.f_aero[:, None],
-                                 lu=MumpsFactor(solid.K), W=W, interface_modes=params.fe.interface_modes)
+    with MumpsFactor(solid.K) as lu:
+        basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, solid.f_aero[:, None],
+                                     lu=lu, W=W, interface_modes=params.fe.interface_modes)
     info(f"FE reduction at {rpm:g} r/min: {solid.M.shape[0]} DOF -> {basis.n_modes} modes + "
          f"{basis.n_attachment} attachment modes ({params.fe.interface_modes or 'all'} of {W.shape[0]} "
          f"contact-face patterns) in {time.perf_counter() - t0:.1f} s")

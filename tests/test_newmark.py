@@ -9,7 +9,9 @@ import pytest
 import scipy.sparse
 
 from shroud.core import signals
-from shroud.core.contact import STATE_NAMES, contact_law
+from shroud.core.contact import contact_law
+from shroud.core.states import STATE_NAMES
+from shroud.core.linear_solvers import Factorization
 from shroud.core.newmark import NewmarkScheme, _factorize_step, explicit_lag_stability, integrate
 from shroud.core.system import ContactElements, StructuralSystem
 
@@ -182,26 +184,35 @@ def test_full_stick_map_is_all_stick_and_no_window_no_map():
     assert integrate(sys_, law, scheme, 64).element_share is None
 
 
-@pytest.mark.parametrize("solver", ["blocks", "vectors only", "default sparse"])
-def test_contact_condensation_block_or_column_solves(solver):
-    """Phi = K_eff^-1 W^T and Cc = W Phi, with a block solver, one that takes vectors only, SuperLU."""
+class _LapackSolve:
+    """A model's own factorization, as a model brings one (shroud.core.linear_solvers.Factorization)."""
+
+    def __init__(self, A):
+        self.A = np.asarray(A)
+
+    def solve(self, b):
+        return np.linalg.solve(self.A, b)
+
+    solve_rows = solve
+
+    def close(self):
+        self.A = None
+
+
+@pytest.mark.parametrize("solver", ["model's own", "default dense", "default sparse"])
+def test_contact_condensation_through_any_factorization(solver):
+    """Phi = K_eff^-1 W^T and Cc = W Phi, whichever Factorization the model brings."""
     sys_ = _contact_2dof()
     law = contact_law(sys_.contact, kn=1e6, kt=5e5, mu=0.3, N0=2.0)
     scheme = NewmarkScheme(dt=1e-4)
-
-    def factorize(A):
-        def solve(b):
-            if b.ndim != 1 and solver == "vectors only":
-                raise ValueError("vectors only")
-            return np.linalg.solve(A, b)
-        return solve
+    assert isinstance(_LapackSolve(np.eye(2)), Factorization)
 
     if solver == "default sparse":
         sparse = dataclasses.replace(sys_, M=scipy.sparse.csr_matrix(sys_.M),
                                      C=scipy.sparse.csr_matrix(sys_.C), K=scipy.sparse.csr_matrix(sys_.K))
         step = _factorize_step(sparse, law, scheme, None)
     else:
-        step = _factorize_step(sys_, law, scheme, factorize)
+        step = _factorize_step(sys_, law, scheme, _LapackSolve if solver == "model's own" else None)
     a0, a1 = scheme.coefficients()[:2]
     K_eff = sys_.K + a0 * sys_.M + a1 * sys_.C
     Phi = np.linalg.inv(K_eff) @ sys_.contact.W.T

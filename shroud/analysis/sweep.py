@@ -11,47 +11,18 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
-from shroud.analysis.transient import contact_law_for, run, steady_state
+from shroud.analysis.transient import contact_law_for, run
 from shroud.base.errors import RunDiverged
 from shroud.base.log import Progress
 from shroud.base.parallel import map_parallel
 from shroud.core import registry
+from shroud.core.results import SweepResult, steady_state
 from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
-
-
-@dataclass(frozen=True)
-class SweepResult:
-    model: str
-    rpm: np.ndarray
-    amplitude_v_L: np.ndarray         # m; NaN where the run diverged
-    amplitude_w_L: np.ndarray         # m
-    period: tuple[int | None, ...]    # detected period per speed (1 = P1)
-    slip_fraction: np.ndarray         # mean share of the last periods spent slipping (both sides)
-    dofs: int
-    elapsed_s: float                  # wall time of the sweep
-    cpu_s: float                      # summed time of the runs (build + integration)
-
-    @property
-    def resonance(self) -> dict[str, float]:
-        """Speed and amplitude of the largest v_L amplitude."""
-        if not np.any(np.isfinite(self.amplitude_v_L)):
-            return {"rpm": math.nan, "amplitude": math.nan}
-        i = int(np.nanargmax(self.amplitude_v_L))
-        return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i])}
-
-    def to_json(self) -> dict[str, Any]:
-        nan_to_none = lambda a: [None if not np.isfinite(x) else float(x) for x in a]  # noqa: E731
-        return {"model": self.model, "rpm": [float(r) for r in self.rpm],
-                "amplitude_v_L": nan_to_none(self.amplitude_v_L),
-                "amplitude_w_L": nan_to_none(self.amplitude_w_L), "period": list(self.period),
-                "resonance": self.resonance, "dofs": self.dofs,
-                "elapsed_s": round(self.elapsed_s, 6), "cpu_s": round(self.cpu_s, 6)}
 
 
 def _model_builder(model: str) -> Callable[[Parameters], StructuralSystem]:

@@ -47,8 +47,7 @@ from numba import njit
 
 from shroud.core.system import ContactElements
 
-SEPARATE, STICK, SLIP = 0, 1, 2
-STATE_NAMES = ("separate", "stick", "slip")
+from shroud.core.states import SEPARATE, SLIP, STICK
 
 # Columns of ContactLaw.props.
 SIGN, KN, KT, MU, N0 = range(5)

@@ -22,7 +22,7 @@ Two code paths, one per backend, doing the same arithmetic:
   above, with ``@`` products and a factorization's ``solve``. It is the
   reference the tests hold the kernel to, and the backend for sparse or
   PETSc-backed FE systems (``M, C, K`` support ``@``, ``+`` and scalar ``*``;
-  ``factorize(K_eff) -> solve`` may be a MUMPS factorization). Under mpirun
+  ``factorize(K_eff) -> Factorization`` may be a MUMPS factorization). Under mpirun
   (a system with a layout) each rank forms, back-substitutes and corrects
   its own rows of q_pred, and the end state is gathered once per step.
 * :func:`_dense_kernel`: the same step compiled with numba for dense systems
@@ -39,16 +39,16 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 import scipy.sparse
-import scipy.sparse.linalg
 from numba import njit
 
 from shroud.core.contact import (SLIP, STICK, ContactLaw, contact_energy, copy_into, evaluate,
                             friction_dissipation, leaf, solve_contact, workspace)
 from shroud.base.log import Progress, warn
+from shroud.core.linear_solvers import AllRows, Factorization, RowShare, default_factorization
 from shroud.core.system import StructuralSystem
 
 OK, NOT_FINITE, UNBOUNDED = 0, 1, 2
@@ -281,52 +281,6 @@ def _is_dense(system: StructuralSystem) -> bool:
     return all(isinstance(A, np.ndarray) for A in (system.M, system.C, system.K))
 
 
-def default_factorize(A) -> Callable[[np.ndarray], np.ndarray]:
-    """``solve(b)`` with ``A x = b``: SuperLU for scipy.sparse, the inverse for ndarray.
-
-    Dense step operators are small (n <= a few hundred) and the kernel needs
-    the inverse anyway to fold S into its products; a multi-column LU solve
-    through scipy instead wakes the BLAS threads and costs milliseconds per
-    speed of a sweep on a busy machine.
-
-    SuperLU is handed one column at a time: its multi-column solve goes
-    through the threaded BLAS and measured slower on the 36888-DOF "fe"
-    step operator with 482 contact columns (2 cores: 32-52 s as one block,
-    21-23 s by columns; only with one BLAS thread, which the library does
-    not control, the block wins: 23 s against 29-45 s).
-    """
-    if scipy.sparse.issparse(A):
-        lu = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(A))
-        return lambda b: (lu.solve(b) if b.ndim == 1 else
-                          np.column_stack([lu.solve(b[:, i]) for i in range(b.shape[1])]))
-    S = np.linalg.inv(np.asarray(A, dtype=float))
-    return lambda b: S @ b
-
-
-class _AllRows:
-    """One process holds every row: the trivial case of reference_fe.distributed.Layout.
-
-    A row share has ``start``/``stop`` (this process's rows), ``own(x)`` (its
-    rows of a replicated array), ``gather(rows)`` (the replicated array) and
-    ``sum(part)`` (the sum of every process's part).
-    """
-
-    def __init__(self, n: int):
-        self.start, self.stop = 0, n
-
-    @staticmethod
-    def own(x: np.ndarray) -> np.ndarray:
-        return x
-
-    @staticmethod
-    def gather(rows: np.ndarray) -> np.ndarray:
-        return rows
-
-    @staticmethod
-    def sum(part: np.ndarray) -> np.ndarray:
-        return part
-
-
 @dataclass(frozen=True)
 class _Step:
     """The factorized step operator and its contact projections.
@@ -336,13 +290,12 @@ class _Step:
     and gathers the step's end state once. On one process that is every row.
     """
 
-    solve: Callable[[np.ndarray], np.ndarray]
-    solve_rows: Callable[[np.ndarray], np.ndarray]   # this process's rows of b -> of x
+    factor: Factorization      # of K_eff
     W: Any                     # (m, n)
     W_rows: Any                # (m, rows): W's columns of this process's rows
     Phi: np.ndarray            # (n, m) = S W^T; sparse systems: column-major, this process's rows
     Cc: np.ndarray             # (m, m) = W S W^T
-    share: Any                 # the row share (StructuralSystem.layout, or _AllRows)
+    share: RowShare            # the row share (StructuralSystem.layout, or AllRows)
     low_rank: bool = False     # n < m / 2 (dense): solve the contact in the n-space, Cc = W Phi
 
     def contact_workspace(self, law: ContactLaw):
@@ -379,42 +332,23 @@ def _row_block(A):
 
 
 def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme,
-                    factorize: Callable | None) -> _Step:
+                    factorize: Callable[[Any], Factorization] | None) -> _Step:
     a0, a1 = scheme.coefficients()[:2]
     K_eff = system.K + a0 * system.M + a1 * system.C
-    solve = (factorize or system.factorize or default_factorize)(K_eff)
+    factor = (factorize or system.factorize or default_factorization)(K_eff)
     n = system.dofs
-    if system.layout is None:
-        share, solve_rows = _AllRows(n), solve
-    else:                                # the factorization solves on the ranks' rows (StructuralSystem.factorize)
-        share, solve_rows = system.layout, solve.solve_rows
+    share = system.layout or AllRows(n)
     if law.count:
         W = system.contact.W
-        Phi = _solve_block(solve, _dense(W.T))
+        Phi = np.asarray(factor.solve(_dense(W.T))).reshape(n, -1)   # one block solve
         Cc = np.asarray(W @ Phi)
         if not _is_dense(system):        # column-major for respond(); the dense kernel reads rows
             Phi = np.asfortranarray(share.own(Phi))
     else:
         W, Phi, Cc = np.zeros((0, n)), np.zeros((n, 0), order="F"), np.zeros((0, 0))
-    return _Step(solve=solve, solve_rows=solve_rows, W=W, W_rows=W if system.layout is None else W[:, share.start:share.stop], Phi=Phi,
-                 Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc, share=share,
+    return _Step(factor=factor, W=W, W_rows=W if system.layout is None else W[:, share.start:share.stop],
+                 Phi=Phi, Cc=0.5 * (Cc + Cc.T) if _symmetric(system) else Cc, share=share,
                  low_rank=_is_dense(system) and 2 * n <= law.m)
-
-
-def _solve_block(solve: Callable[[np.ndarray], np.ndarray], B: np.ndarray) -> np.ndarray:
-    """X with K_eff X = B (n, m): one multi-right-hand-side solve, by columns if ``solve`` is 1-D only.
-
-    One block back-substitution (SuperLU, LAPACK, MUMPS) passes over the
-    factors once instead of m times; a solver that rejects or mis-shapes
-    2-D input is called column by column.
-    """
-    try:
-        X = np.asarray(solve(B))
-    except (ValueError, TypeError, IndexError):
-        X = None
-    if X is None or X.shape != B.shape:
-        X = np.column_stack([solve(B[:, i]) for i in range(B.shape[1])])
-    return X.reshape(B.shape)
 
 
 def _symmetric(system: StructuralSystem) -> bool:
@@ -427,6 +361,17 @@ def _symmetric(system: StructuralSystem) -> bool:
 
 
 # --- the two loops ------------------------------------------------------------------
+
+class LoopEnd(NamedTuple):
+    """How a time loop ended: steps done, status (OK, NOT_FINITE, UNBOUNDED), end state, contact solves."""
+
+    done: int
+    status: int
+    q: np.ndarray
+    v: np.ndarray
+    iterations: int             # active-set iterations over the run
+    unconverged: int            # steps whose contact solve did not settle
+
 
 @dataclass
 class _Record:
@@ -454,7 +399,7 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
     """Newmark step by step, as written in the module docstring (Python; any backend)."""
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
     dt, gamma, w_e = scheme.dt, scheme.gamma, system.omega_e
-    M, C, K, W, Cc = system.M, system.C, system.K, step.W, step.Cc
+    M, C, W, Cc = system.M, system.C, step.W, step.Cc
     share = step.share
     mine = slice(share.start, share.stop)             # this process's rows of the predictor
     M_rows, C_rows = _row_block(M), _row_block(C)
@@ -474,7 +419,7 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
         s0, s1 = math.sin(w_e * i * dt), math.sin(w_e * (i + 1) * dt)
         rhs = (f_const_rows + s1 * f_aero_rows + M_rows @ (a0 * q + a2 * v + a3 * a)
                + C_rows @ (a1 * q + a4 * v + a5 * a))
-        q_pred = step.solve_rows(rhs)                   # this process's rows
+        q_pred = step.factor.solve_rows(rhs)                   # this process's rows
         z_old, F_old, N_old, y_old = z.copy(), F.copy(), N.copy(), y.copy()
         if k and implicit:                              # the law holds at t + dt
             y_pred = share.sum(np.asarray(step.W_rows @ q_pred))
@@ -503,12 +448,12 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
         if i >= window:
             element_tally(N, state, rec.element_counts, rec.element_peak)
         if not np.all(np.isfinite(tip_now)):
-            return i + 1, NOT_FINITE, q, v, iterations, unconverged
+            return LoopEnd(i + 1, NOT_FINITE, q, v, iterations, unconverged)
         if np.max(np.abs(tip_now)) > bound:
-            return i + 1, UNBOUNDED, q, v, iterations, unconverged
+            return LoopEnd(i + 1, UNBOUNDED, q, v, iterations, unconverged)
         progress.update(i + 1)
     rec.energy[5] = contact_energy(N, F, law.props)
-    return steps, OK, q, v, iterations, unconverged
+    return LoopEnd(steps, OK, q, v, iterations, unconverged)
 
 
 def _record_row(rec, i, tip_now, y, N, F, state, law):
@@ -644,7 +589,7 @@ def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v,
     n = system.dofs
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
     M, C = _dense(system.M), _dense(system.C)
-    S = step.solve(np.eye(n))                                  # K_eff^-1 (n <= a few hundred)
+    S = step.factor.solve(np.eye(n))                                  # K_eff^-1 (n <= a few hundred)
     A = np.ascontiguousarray(S @ np.hstack([a0 * M + a1 * C, a2 * M + a4 * C, a3 * M + a5 * C]))
     W = _dense(step.W) if law.count else np.zeros((0, n))
     Sfc, Sfa = S @ system.f_const, S @ system.f_aero
@@ -656,7 +601,7 @@ def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v,
         law.side, law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
         rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, rec.element_counts,
         rec.element_peak, step.contact_workspace(law))
-    return done, status, q, v, iterations, unconverged
+    return LoopEnd(done, status, q, v, iterations, unconverged)
 
 
 def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, steps: int,
@@ -700,14 +645,17 @@ def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, 
     v = np.zeros(n) if v0 is None else np.array(v0, dtype=float)
     window = steps - energy_window if energy_window else steps + 1
     rec = _Record.empty(steps, n, law.count)
-    if method == "kernel":
-        done, status, q, v, iterations, unconverged = _run_kernel(
-            system, law, scheme, steps, implicit, bound, window, step, q, v, rec)
-    else:
-        progress = Progress(label, steps)
-        done, status, q, v, iterations, unconverged = _reference_loop(
-            system, law, scheme, steps, implicit, bound, window, step, q, v, rec, progress)
-        progress.done()
+    try:
+        if method == "kernel":
+            end = _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v, rec)
+        else:
+            progress = Progress(label, steps)
+            end = _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q, v, rec,
+                                  progress)
+            progress.done()
+    finally:
+        step.factor.close()
+    done, status, q, v, iterations, unconverged = end
     energy = None
     if status == OK and energy_window:
         energy = _energy_balance(system, rec, q, v, window, steps)

@@ -45,7 +45,8 @@ def model(name: str) -> ModelEntry:
     try:
         return _MODELS[name]
     except KeyError:
-        raise KeyError(f"no model {name!r} is registered; known: {', '.join(_MODELS) or 'none'}") from None
+        raise KeyError(f"no model {name!r} is registered (known: {', '.join(_MODELS) or 'none'}); "
+                       "a builder package registers its models when it is imported") from None
 
 
 def names(capability: str = "transient") -> tuple[str, ...]:

@@ -1,12 +1,57 @@
-"""Immutable results of the analyses, in the JSON shapes of shared/spec/interface.md."""
+"""Immutable results of the analyses, in one place, as ROSS keeps them.
+
+Each result serializes itself (``to_json`` in the JSON shapes of the
+interface contract, ``to_csv``) and draws itself (``plot(ax=None)`` returns
+the matplotlib axes it drew on, creating a figure when none is given), so a
+study is compute -> plot -> report.
+
+* :class:`ModalResult`: natural frequencies at one speed, labelled by tip
+  kinematics (flap, chord, torsion, axial);
+* :class:`TransientResult`: one Newmark run and its steady-state measures;
+* :class:`SweepResult`: steady-state tip amplitude over speed;
+* :class:`CampbellResult`: frequencies tracked over speed.
+
+Units: SI (m, N, s, Hz); speeds in r/min.
+"""
 
 from __future__ import annotations
 
+import csv
+import math
 from dataclasses import dataclass, field
-from typing import Any
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from shroud.core import signals
+from shroud.core.plotting import MODEL_COLOURS, figure
+
+if TYPE_CHECKING:       # the integrator (numba) loads only with a transient result
+    from shroud.core.newmark import EnergyBalance, Trajectory
+
+
+def _axes(ax, width: float = 6.4, height: float = 3.2):
+    """``ax`` itself, or the axes of a new one-panel figure."""
+    return ax if ax is not None else figure(width=width, height=height)[1][0, 0]
+
+
+def _finite_or_none(values) -> list[float | None]:
+    return [None if not np.isfinite(x) else float(x) for x in values]
+
+
+def _write_rows(path: Path, header: list[str], rows, comment: str | None = None) -> Path:
+    path = Path(path)
+    with path.open("w", newline="") as fh:
+        if comment:
+            fh.write(f"# {comment}\n")
+        writer = csv.writer(fh)
+        writer.writerow(header)
+        writer.writerows(rows)
+    return path
+
+
+# ----------------------------------------------------------------------------- modal
 
 @dataclass(frozen=True)
 class Mode:
@@ -18,6 +63,8 @@ class Mode:
 
 @dataclass(frozen=True)
 class ModalResult:
+    """Natural frequencies of one model at one speed."""
+
     model: str
     rpm: float
     dofs: int
@@ -27,6 +74,11 @@ class ModalResult:
     shapes: Any = None                      # (n, k) mode shapes, when kept
 
     def frequencies(self) -> np.ndarray:
+        """Frequencies in the order of the modes, Hz.
+
+        >>> ModalResult("m", 0.0, 2, 0.0, False, (Mode(10.0, "flap1"), Mode(30.0, "chord1"))).frequencies()
+        array([10., 30.])
+        """
         return np.array([m.f_hz for m in self.modes])
 
     def by_label(self) -> dict[str, float]:
@@ -37,6 +89,216 @@ class ModalResult:
             "model": self.model, "rpm": self.rpm, "dofs": self.dofs,
             "elapsed_s": round(self.elapsed_s, 6), "coriolis": self.coriolis,
             "modes": [{"f_hz": m.f_hz, "label": m.label,
-                       **({"participation": m.participation} if m.participation else {})}
+                       **({"participation": m.participation} if m.participation else {}),
+                       **({"damping_ratio": m.damping_ratio} if m.damping_ratio is not None else {})}
                       for m in self.modes],
         }
+
+    def to_csv(self, path: Path) -> Path:
+        """One row per mode: label, frequency (Hz), damping ratio (-, empty if unknown)."""
+        rows = [(m.label, f"{m.f_hz:.6f}", "" if m.damping_ratio is None else f"{m.damping_ratio:.6g}")
+                for m in self.modes]
+        return _write_rows(path, ["label", "f_hz", "damping_ratio"], rows,
+                           f"{self.model} at {self.rpm:g} r/min, {self.dofs} DOF")
+
+    def plot(self, ax=None, offset: float = 0.0, width: float = 0.8, **bar):
+        """Frequencies as bars over the mode labels (log scale), coloured by model."""
+        ax = _axes(ax)
+        x = np.arange(len(self.modes)) + offset
+        ax.bar(x, self.frequencies(), width=width, label=f"{self.model} ({self.dofs} DOF)",
+               color=bar.pop("color", MODEL_COLOURS.get(self.model)), **bar)
+        ax.set_xticks(np.arange(len(self.modes)), [m.label for m in self.modes])
+        ax.set_yscale("log")
+        ax.set_ylabel("frequency (Hz)")
+        ax.set_title(f"{self.model}: modes at {self.rpm:g} r/min")
+        return ax
+
+
+# ----------------------------------------------------------------------------- transient
+
+CSV_COLUMNS = ("t", "v_L", "w_L", "w_s1", "w_s2", "N1", "N2", "Ff1", "Ff2", "state1", "state2")
+CSV_UNITS = "s, m, m, m, m, N, N, N, N, 0 separate / 1 stick / 2 slip"
+
+
+def steady_state(trajectory: Trajectory, steps_per_period: int) -> dict[str, Any]:
+    """Amplitudes, peaks, state fractions and period of a finished trajectory."""
+    tr, spp = trajectory, steps_per_period
+    return {
+        "amplitude": {"v_L": signals.amplitude(tr.tip[:, 0], spp),
+                      "w_L": signals.amplitude(tr.tip[:, 1], spp)},
+        "peak": {"N1": signals.peak(tr.normal[:, 0], spp), "N2": signals.peak(tr.normal[:, 1], spp),
+                 "Ff1": signals.peak(tr.friction[:, 0], spp), "Ff2": signals.peak(tr.friction[:, 1], spp)},
+        "state_fraction": {f"side{s + 1}": signals.state_fractions(tr.state[:, s], spp) for s in range(2)},
+        "period": signals.detect_period(tr.tip[:, 0], spp),
+    }
+
+
+def write_trajectory_csv(path: Path, tr: Trajectory, status: str) -> Path:
+    """The time series, one row per step; the header's first line gives the run's status."""
+    data = np.column_stack([tr.t, tr.tip, tr.tangential, tr.normal, tr.friction, tr.state])
+    fmt = ["%.9e"] * 9 + ["%d", "%d"]
+    header = f"status: {status}\nunits: {CSV_UNITS}\n" + ",".join(CSV_COLUMNS)
+    np.savetxt(path, data, delimiter=",", fmt=fmt, header=header)
+    return Path(path)
+
+
+@dataclass(frozen=True)
+class TransientResult:
+    """One transient run (paper Sect. 2.1) and what the paper reads off it."""
+
+    model: str
+    rpm: float
+    dofs: int
+    steps: int
+    steps_per_period: int
+    elapsed_s: float
+    amplitude: dict[str, float]          # v_L, w_L: (max - min)/2 over the last 10 periods, m
+    peak: dict[str, float]               # N1, N2, Ff1, Ff2: largest |.| over the last 10 periods, N
+    state_fraction: dict[str, dict[str, float]]
+    period: int | None                   # in excitation periods (1 = P1), None if none up to P10
+    energy: EnergyBalance | None
+    contact_treatment: str
+    timeseries: str | None
+    trajectory: Trajectory
+
+    @classmethod
+    def from_trajectory(cls, trajectory: Trajectory, *, model: str, rpm: float, dofs: int,
+                        steps_per_period: int, contact_treatment: str,
+                        timeseries: str | None = None) -> "TransientResult":
+        """The result of a finished run, its steady-state measures taken over the last periods."""
+        return cls(model=model, rpm=rpm, dofs=dofs, steps=trajectory.steps,
+                   steps_per_period=steps_per_period, elapsed_s=trajectory.elapsed_s,
+                   energy=trajectory.energy, contact_treatment=contact_treatment,
+                   timeseries=timeseries, trajectory=trajectory,
+                   **steady_state(trajectory, steps_per_period))
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "model": self.model, "rpm": self.rpm, "dofs": self.dofs, "steps": self.steps,
+            "elapsed_s": round(self.elapsed_s, 6), "amplitude": self.amplitude, "peak": self.peak,
+            "state_fraction": self.state_fraction, "period": self.period,
+            "timeseries": self.timeseries, "contact_treatment": self.contact_treatment,
+            "energy_balance": self.energy.to_json() if self.energy else None,
+        }
+
+    def to_csv(self, path: Path, status: str = "complete") -> Path:
+        """The time series (columns CSV_COLUMNS, units CSV_UNITS)."""
+        return write_trajectory_csv(path, self.trajectory, status)
+
+    def plot(self, ax=None, signal: str = "v_L", periods: int = signals.STEADY_PERIODS, **line):
+        """One recorded signal (v_L, w_L in um; N1, N2, Ff1, Ff2 in N) over the last ``periods``."""
+        columns = {"v_L": (self.trajectory.tip, 0, 1e6, "um"), "w_L": (self.trajectory.tip, 1, 1e6, "um"),
+                   "N1": (self.trajectory.normal, 0, 1.0, "N"), "N2": (self.trajectory.normal, 1, 1.0, "N"),
+                   "Ff1": (self.trajectory.friction, 0, 1.0, "N"), "Ff2": (self.trajectory.friction, 1, 1.0, "N")}
+        data, col, scale, unit = columns[signal]
+        ax = _axes(ax)
+        t = signals.last_periods(self.trajectory.t, self.steps_per_period, periods)
+        x = signals.last_periods(data[:, col], self.steps_per_period, periods)
+        period_s = self.steps_per_period * self.trajectory.dt
+        ax.plot(t / period_s, scale * x, label=line.pop("label", f"{self.model} ({self.dofs} DOF)"),
+                color=line.pop("color", MODEL_COLOURS.get(self.model)), **line)
+        ax.set_xlabel("time (excitation periods)")
+        ax.set_ylabel(f"{signal} ({unit})")
+        return ax
+
+
+# ----------------------------------------------------------------------------- sweep
+
+@dataclass(frozen=True)
+class SweepResult:
+    """Steady-state tip amplitude over speed (paper Figs. 4, 7, 11-17)."""
+
+    model: str
+    rpm: np.ndarray
+    amplitude_v_L: np.ndarray         # m; NaN where the run diverged
+    amplitude_w_L: np.ndarray         # m
+    period: tuple[int | None, ...]    # detected period per speed (1 = P1)
+    slip_fraction: np.ndarray         # mean share of the last periods spent slipping (both sides)
+    dofs: int
+    elapsed_s: float                  # wall time of the sweep
+    cpu_s: float                      # summed time of the runs (build + integration)
+
+    @property
+    def resonance(self) -> dict[str, float]:
+        """Speed and amplitude of the largest v_L amplitude."""
+        if not np.any(np.isfinite(self.amplitude_v_L)):
+            return {"rpm": math.nan, "amplitude": math.nan}
+        i = int(np.nanargmax(self.amplitude_v_L))
+        return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i])}
+
+    def to_json(self) -> dict[str, Any]:
+        return {"model": self.model, "rpm": [float(r) for r in self.rpm],
+                "amplitude_v_L": _finite_or_none(self.amplitude_v_L),
+                "amplitude_w_L": _finite_or_none(self.amplitude_w_L), "period": list(self.period),
+                "resonance": self.resonance, "dofs": self.dofs,
+                "elapsed_s": round(self.elapsed_s, 6), "cpu_s": round(self.cpu_s, 6)}
+
+    def to_csv(self, path: Path) -> Path:
+        """One row per speed: rpm, v_L and w_L amplitudes (m), period, slip share."""
+        rows = [(f"{r:g}", f"{a:.9e}", f"{b:.9e}", "" if p is None else p, f"{s:.4f}")
+                for r, a, b, p, s in zip(self.rpm, self.amplitude_v_L, self.amplitude_w_L,
+                                         self.period, self.slip_fraction)]
+        return _write_rows(path, ["rpm", "amplitude_v_L", "amplitude_w_L", "period", "slip_fraction"],
+                           rows, f"{self.model}, {self.dofs} DOF; amplitudes (max - min)/2, m")
+
+    def plot(self, ax=None, **line):
+        """v_L amplitude (um) over speed (r/min)."""
+        ax = _axes(ax)
+        ax.plot(self.rpm, 1e6 * self.amplitude_v_L,
+                label=line.pop("label", self.model), color=line.pop("color", MODEL_COLOURS.get(self.model)),
+                **line)
+        ax.set_xlabel("speed (r/min)")
+        ax.set_ylabel("v_L amplitude (um)")
+        return ax
+
+
+# ----------------------------------------------------------------------------- Campbell
+
+@dataclass(frozen=True)
+class CampbellResult:
+    """Frequencies tracked over speed by mode shape (MAC), each track labelled at the first speed."""
+
+    rpm: np.ndarray            # (s,) r/min
+    f_hz: np.ndarray           # (s, k) tracked frequencies, Hz
+    labels: tuple[str, ...]    # (k,) label of each track at the first speed
+    coriolis: bool
+    elapsed_s: float
+
+    def crossings(self, order: int) -> list[tuple[str, float, float]]:
+        """(label, rpm, f_hz) where a track meets the engine-order line f = order * rpm / 60.
+
+        >>> r = CampbellResult(np.array([0.0, 6000.0]), np.array([[100.0], [100.0]]), ("flap1",), False, 0.0)
+        >>> r.crossings(2)
+        [('flap1', 3000.0, 100.0)]
+        """
+        out = []
+        line = order * self.rpm / 60.0
+        for j, label in enumerate(self.labels):
+            d = self.f_hz[:, j] - line
+            for i in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
+                t = d[i] / (d[i] - d[i + 1])
+                rpm = self.rpm[i] + t * (self.rpm[i + 1] - self.rpm[i])
+                out.append((label, float(rpm), float(order * rpm / 60.0)))
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return {"rpm": [float(r) for r in self.rpm],
+                "tracks": {label: [float(f) for f in self.f_hz[:, j]] for j, label in enumerate(self.labels)},
+                "coriolis": self.coriolis, "elapsed_s": round(self.elapsed_s, 6)}
+
+    def to_csv(self, path: Path) -> Path:
+        """One row per speed: rpm, then each track's frequency (Hz)."""
+        rows = [[f"{r:g}", *(f"{f:.6f}" for f in fs)] for r, fs in zip(self.rpm, self.f_hz)]
+        return _write_rows(path, ["rpm", *self.labels], rows,
+                           f"Campbell diagram, Coriolis {'on' if self.coriolis else 'off'}; Hz")
+
+    def plot(self, ax=None, orders=(), **line):
+        """Tracks (Hz) over speed (r/min), with engine-order lines f = k rpm / 60 for k in ``orders``."""
+        ax = _axes(ax)
+        for j, label in enumerate(self.labels):
+            ax.plot(self.rpm, self.f_hz[:, j], label=label, **line)
+        for k in orders:
+            ax.plot(self.rpm, k * self.rpm / 60.0, color="grey", lw=0.8, ls="--")
+        ax.set_xlabel("speed (r/min)")
+        ax.set_ylabel("frequency (Hz)")
+        return ax

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from shroud.core.contact import STATE_NAMES
+from shroud.core.states import STATE_NAMES
 
 STEADY_PERIODS = 10        # amplitudes, peaks and state fractions: the last 10 periods
 

@@ -24,6 +24,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from shroud.core.linear_solvers import Factorization, RowShare
+
 
 @dataclass(frozen=True)
 class ContactElements:
@@ -55,17 +57,13 @@ class StructuralSystem:
     contact: ContactElements | None
     build_s: float = 0.0      # wall time spent building it, s
     # The model's own direct solver for the Newmark step operator,
-    # ``factorize(A) -> solve(b)`` with b a vector or an (n, k) block;
-    # None: shroud.core.newmark.default_factorize (LAPACK / SuperLU). With a
-    # layout, ``solve`` also has ``solve_rows(b_rows) -> x_rows`` on this
-    # rank's rows alone.
-    factorize: Callable[[Any], Callable] | None = None
+    # ``factorize(A) -> Factorization`` (shroud.core.linear_solvers); None:
+    # the core's default (dense inverse / SuperLU).
+    factorize: Callable[[Any], Factorization] | None = None
     # How the rows of the model's vectors are spread over MPI ranks when M, C,
-    # K are row-distributed (reference_fe.distributed.Layout: ``start, stop``,
-    # ``own(x)`` this rank's rows of a replicated vector, ``gather(rows)`` the
-    # replicated vector back, ``sum(part)`` over the ranks; the matrices'
-    # ``row_block`` holds this rank's rows); None: one process holds every row.
-    layout: Any = None
+    # K are row-distributed (a RowShare; the matrices' ``row_block`` holds
+    # this rank's rows); None: one process holds every row.
+    layout: RowShare | None = None
 
     @property
     def dofs(self) -> int:
