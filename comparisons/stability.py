@@ -9,27 +9,71 @@ under a huge preload (must equal the linear blade with the contact springs
 added), zero gap, a gap no vibration reaches (must equal the free blade),
 and 30000 r/min. Linear references are steady-state frequency-domain
 solutions of the same M, C, K (an independent method).
+
+The study is compute (:func:`compute` -> :class:`StabilityResult`) ->
+plot (:func:`plot`) -> report (:func:`report`).
 """
 
 from __future__ import annotations
 
 import csv
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from shroud.core import signals
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
+from shroud.analysis.transient import run as run_transient
+from shroud.base.errors import InputError
+from shroud.base.markdown import markdown_table, seconds
+from shroud.core import signals
 from shroud.core.newmark import LAG_CHECK_MAX_DOFS, NewmarkScheme, explicit_lag_stability, stuck_stiffness
 from shroud.core.plotting import figure, save
-from shroud.base.markdown import markdown_table, seconds
-from shroud.analysis.transient import run as run_transient
 
 OPTIONS = {"kn_values": [1e6, 1e7, 1e8, 1e9, 1e10], "steps_per_period": [256, 64, 32, 16],
            "treatments": ["implicit", "explicit"], "refine": 8, "huge_preload_N": 1e5,
            "unreached_gap_m": 0.01, "high_rpm": 30000.0,
            "model": "reduced"}       # any transient model; "fe-reduced": scenes/stability_fe.toml
+
+TREATMENTS = ("implicit", "explicit")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One family of runs: a label for the report, the parameter changes, the exact reference if any."""
+
+    label: str
+    changes: dict
+    kn: float | None = None            # the kn sweep's stiffness, N/m (None: an extreme case)
+    linear_reference: str | None = None   # "stuck": linear blade + contact springs; "free": without contact
+
+
+@dataclass
+class StabilityResult:
+    rows: list[dict]                   # one per (case, steps per period, treatment)
+    linear_limits: dict[str, dict]     # case label -> transient vs linear amplitude
+    explicit_lag: list[dict]           # the lag analysis, one row per (kn, steps per period)
+    left_out: list[str] = field(default_factory=list)   # what was not computed, and why
+
+    def to_json(self) -> dict:
+        return {"rows": self.rows, "linear_limits": self.linear_limits, "explicit_lag": self.explicit_lag,
+                "left_out": self.left_out}
+
+
+def check(scene) -> None:
+    """The study varies the contact: it needs one, and treatments it knows."""
+    p, o = scene.params, scene.options
+    if not p.contact.enabled or p.shroud.thickness == 0:
+        raise InputError("contact.enabled", "the stability study varies the contact stiffness and treatment; "
+                         "it needs contact (contact.enabled = true and shroud.thickness > 0)")
+    unknown = [t for t in o["treatments"] if t not in TREATMENTS]
+    if unknown or not o["treatments"]:
+        raise InputError("options.treatments", f"{o['treatments']!r}; allowed: a non-empty list from "
+                         f"{', '.join(TREATMENTS)}")
+    if int(o["refine"]) < 2:
+        raise InputError("options.refine", f"{o['refine']!r}; allowed: an integer >= 2 (the reference run's "
+                         "step is this many times finer)")
 
 
 def linear_amplitude(system, law=None) -> float:
@@ -67,16 +111,21 @@ def lag_estimate(system, law, dt: float) -> dict:
             "share": float(share[i]), "zeta_lag": float(lag[i]), "zeta_net": float(zeta[i] - lag[i])}
 
 
-def lag_analysis(params, kn_values, spp_values, model: str) -> list[dict]:
-    """The explicit treatment's lag against the structural damping, stuck contacts, per kn and step."""
+def lag_analysis(params, kn_values, spp_values, model: str) -> tuple[list[dict], str | None]:
+    """The explicit treatment's lag against the structural damping, stuck contacts, per kn and step.
+
+    Returns the rows and, when the analysis had to be left out, why.
+    """
     rows = []
     for kn in kn_values:
         for spp in spp_values:
             p = params.updated({"contact.kn": kn, "contact.kt": kn * params.contact.kt / params.contact.kn,
                                 "time.steps_per_period": spp})
             system = build_system(p, model)
-            if system.dofs > LAG_CHECK_MAX_DOFS or not isinstance(system.K, np.ndarray):
-                return []                # dense eigen-analysis of the step too costly: left out
+            if not isinstance(system.K, np.ndarray) or system.dofs > LAG_CHECK_MAX_DOFS:
+                return [], (f"the lag eigen-analysis needs a dense model of at most {LAG_CHECK_MAX_DOFS} DOF "
+                            f"(its 3n x 3n eigen-solves); the {model} model has {system.dofs} "
+                            f"{'dense' if isinstance(system.K, np.ndarray) else 'sparse'} DOF")
             law = contact_law_for(system, p.contact)
             lag = explicit_lag_stability(system, law, NewmarkScheme(p.time_step))
             est = lag_estimate(system, law, p.time_step)
@@ -88,7 +137,7 @@ def lag_analysis(params, kn_values, spp_values, model: str) -> list[dict]:
                          "steps_per_mode_period": 1.0 / (est["frequency_hz"] * p.time_step),
                          "dt_stable_s": lag.dt_stable,
                          "steps_per_period_needed": int(np.ceil(spp * p.time_step / lag.dt_stable))})
-    return rows
+    return rows, None
 
 
 def _one(params, spp: int, treatment: str, model: str = "reduced"):
@@ -104,82 +153,110 @@ def _error_vs_fine(tr, fine, spp, refine) -> float:
     return float(np.abs(coarse - ref).max() / np.abs(ref).max())
 
 
-def _row(label, spp, treatment, tr, fine, refine):
+def _row(case: Case, spp, treatment, tr, fine, refine):
     bounded = tr.diverged is None
-    return {"case": label, "steps_per_period": spp, "treatment": treatment, "bounded": bounded,
-            "cause": tr.diverged or "",
+    return {"case": case.label, "kn": case.kn, "steps_per_period": spp, "treatment": treatment,
+            "bounded": bounded, "cause": tr.diverged or "",
             "energy_error": tr.energy.relative_error if bounded and tr.energy else float("nan"),
             "error_vs_fine": _error_vs_fine(tr, fine, spp, refine) if bounded else float("nan"),
             "amplitude_v_L_m": signals.amplitude(tr.tip[:, 0], spp) if bounded else float("nan"),
             "time_s": tr.elapsed_s}
 
 
-def run(scene, out: Path) -> dict:
+def cases(params, opts) -> list[tuple[Case, list[int]]]:
+    """Every case with the steps per period it runs at: the kn sweep, then the extremes."""
+    ratio = params.contact.kt / params.contact.kn
+    sweep = [(Case(f"kn {kn:.0e}", {"contact.kn": kn, "contact.kt": kn * ratio}, kn=kn),
+              list(opts["steps_per_period"])) for kn in opts["kn_values"]]
+    spp0 = [params.time.steps_per_period]
+    extremes = [Case("mu = 0", {"contact.mu": 0.0}),
+                Case("full stick (huge preload)", {"contact.N0": opts["huge_preload_N"]}, linear_reference="stuck"),
+                Case("zero gap", {"contact.N0": 0.0}),
+                Case("gap never reached", {"contact.gap": opts["unreached_gap_m"]}, linear_reference="free"),
+                Case(f"{opts['high_rpm']:g} r/min", {"speed.rpm": opts["high_rpm"]})]
+    return sweep + [(c, spp0) for c in extremes]
+
+
+def compute(scene) -> StabilityResult:
     params, opts = scene.params, scene.options
-    refine = int(opts["refine"])
-    rows = []
-    for kn in opts["kn_values"]:
-        base = params.updated({"contact.kn": kn, "contact.kt": kn * params.contact.kt / params.contact.kn})
-        for spp in opts["steps_per_period"]:
-            _, _, fine = _one(base, spp * refine, "implicit", opts["model"])
+    refine, model = int(opts["refine"]), opts["model"]
+    rows, linear, left_out = [], {}, []
+    for case, spps in cases(params, opts):
+        base = params.updated(case.changes)
+        for spp in spps:
+            _, _, fine = _one(base, spp * refine, "implicit", model)
             for treatment in opts["treatments"]:
-                _, _, tr = _one(base, spp, treatment, opts["model"])
-                rows.append(_row(f"kn {kn:.0e}", spp, treatment, tr, fine, refine))
-    spp0 = params.time.steps_per_period
-    extremes = {"mu = 0": {"contact.mu": 0.0}, "full stick (huge preload)": {"contact.N0": opts["huge_preload_N"]},
-                "zero gap": {"contact.N0": 0.0}, "gap never reached": {"contact.gap": opts["unreached_gap_m"]},
-                f"{opts['high_rpm']:g} r/min": {"speed.rpm": opts["high_rpm"]}}
-    linear = {}
-    for label, change in extremes.items():
-        base = params.updated(change)
-        _, _, fine = _one(base, spp0 * refine, "implicit", opts["model"])
-        for treatment in opts["treatments"]:
-            p, system, tr = _one(base, spp0, treatment, opts["model"])
-            rows.append(_row(label, spp0, treatment, tr, fine, refine))
-            if treatment == "implicit" and label in ("full stick (huge preload)", "gap never reached"):
-                law = contact_law_for(system, p.contact) if "stick" in label else None
-                exact = linear_amplitude(system, law)
-                linear[label] = {"transient_m": rows[-1]["amplitude_v_L_m"], "linear_m": exact,
-                                 "relative_difference": abs(rows[-1]["amplitude_v_L_m"] - exact) / exact}
-    lag = lag_analysis(params, opts["kn_values"], opts["steps_per_period"], opts["model"]) \
-        if "explicit" in opts["treatments"] else []
-    for r in lag:
-        run_row = next((x for x in rows if x["case"] == f"kn {r['kn']:.0e}" and x["treatment"] == "explicit"
-                        and x["steps_per_period"] == r["steps_per_period"]), None)
-        r["explicit_run_bounded"] = run_row["bounded"] if run_row else None
-    with open(out / "stability.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    fig, axes = figure(1, 2, width=9.0)
+                p, system, tr = _one(base, spp, treatment, model)
+                rows.append(_row(case, spp, treatment, tr, fine, refine))
+                if case.linear_reference and treatment == "implicit":
+                    law = contact_law_for(system, p.contact) if case.linear_reference == "stuck" else None
+                    exact = linear_amplitude(system, law)
+                    linear[case.label] = {"reference": case.linear_reference,
+                                          "transient_m": rows[-1]["amplitude_v_L_m"], "linear_m": exact,
+                                          "relative_difference": abs(rows[-1]["amplitude_v_L_m"] - exact) / exact}
+    if "implicit" not in opts["treatments"]:
+        left_out.append("linear limits: they are checked on the implicit runs, and none was asked for")
+    lag = []
+    if "explicit" in opts["treatments"]:
+        lag, why = lag_analysis(params, opts["kn_values"], opts["steps_per_period"], model)
+        if why:
+            left_out.append(f"explicit lag analysis: {why}")
+        for r in lag:
+            run_row = next((x for x in rows if x["kn"] == r["kn"] and x["treatment"] == "explicit"
+                            and x["steps_per_period"] == r["steps_per_period"]), None)
+            r["explicit_run_bounded"] = run_row["bounded"] if run_row else None
+    return StabilityResult(rows=rows, linear_limits=linear, explicit_lag=lag, left_out=left_out)
+
+
+def plot(result: StabilityResult, opts, out: Path) -> Path:
+    """Error against the 8x finer run over kn, one panel per treatment, one line per step."""
+    fig, axes = figure(1, len(opts["treatments"]), width=4.5 * len(opts["treatments"]))
     for treatment, ax in zip(opts["treatments"], axes[0]):
         for spp in opts["steps_per_period"]:
-            sel = [r for r in rows if r["treatment"] == treatment and r["steps_per_period"] == spp
-                   and r["case"].startswith("kn")]
-            ax.loglog([float(r["case"][3:]) for r in sel], [r["error_vs_fine"] for r in sel], "o-",
+            sel = [r for r in result.rows if r["treatment"] == treatment and r["steps_per_period"] == spp
+                   and r["kn"] is not None]
+            ax.loglog([r["kn"] for r in sel], [r["error_vs_fine"] for r in sel], "o-",
                       label=f"{spp} steps/period")
         ax.set_xlabel("kn (N/m)")
-        ax.set_ylabel("error of v_L vs 8x finer step")
+        ax.set_ylabel(f"error of v_L vs {opts['refine']}x finer step")
         ax.set_title(f"{treatment} contact (missing points: unbounded)")
         ax.legend()
-    save(fig, out / "stability.png")
+    return save(fig, out / "stability.png")
+
+
+def report(result: StabilityResult, scene) -> str:
+    params, refine = scene.params, scene.options["refine"]
+    rows, linear = result.rows, result.linear_limits
     lines = [f"# {scene.title}\n",
              f"{params.time.periods} periods per run at {params.speed.rpm:g} r/min, N0 = {params.contact.N0:g} N "
              f"unless the case says otherwise; energy balance over the last 10 periods; error = max |v_L - "
-             f"v_L(8x finer, implicit)| over the last 10 periods / max |v_L(fine)|.\n",
+             f"v_L({refine}x finer, implicit)| over the last 10 periods / max |v_L(fine)|.\n",
              markdown_table(["case", "steps/period", "treatment", "bounded", "energy balance error",
-                             "error vs 8x finer", "amplitude v_L (mm)", "time"],
+                             f"error vs {refine}x finer", "amplitude v_L (mm)", "time"],
                             [(r["case"], r["steps_per_period"], r["treatment"], "yes" if r["bounded"] else
                               f"no ({r['cause']})", r["energy_error"], r["error_vs_fine"],
-                              r["amplitude_v_L_m"] * 1e3, seconds(r["time_s"])) for r in rows]),
-             "\nLinear limits (frequency-domain steady state of the same matrices):\n",
-             markdown_table(["case", "transient amplitude (mm)", "linear amplitude (mm)", "relative difference"],
-                            [(k, v["transient_m"] * 1e3, v["linear_m"] * 1e3, v["relative_difference"])
-                             for k, v in linear.items()]),
-             "![stability.png](stability.png)",
-             *_lag_section(lag)]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"rows": rows, "linear_limits": linear, "explicit_lag": lag}
+                              r["amplitude_v_L_m"] * 1e3, seconds(r["time_s"])) for r in rows])]
+    if linear:
+        lines += ["\nLinear limits (frequency-domain steady state of the same matrices):\n",
+                  markdown_table(["case", "transient amplitude (mm)", "linear amplitude (mm)", "relative difference"],
+                                 [(k, v["transient_m"] * 1e3, v["linear_m"] * 1e3, v["relative_difference"])
+                                  for k, v in linear.items()])]
+    lines.append("![stability.png](stability.png)")
+    if result.left_out:
+        lines += ["\n**Left out of this run:**\n", *[f"- {why}" for why in result.left_out], ""]
+    lines += _lag_section(result.explicit_lag)
+    return "\n".join(lines) + "\n"
+
+
+def run(scene, out: Path) -> dict:
+    result = compute(scene)
+    with open(out / "stability.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(result.rows[0]))
+        w.writeheader()
+        w.writerows(result.rows)
+    plot(result, scene.options, out)
+    (out / "report.md").write_text(report(result, scene))
+    return result.to_json()
 
 
 def _lag_section(lag: list[dict]) -> list[str]:
