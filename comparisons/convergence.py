@@ -123,10 +123,12 @@ def run(scene, out: Path) -> dict:
 
 
 def _pictures(modes, out: Path) -> None:
-    from meshes.picture import mesh_picture
-    from reference_fe.export import mode_picture, write_modes_vtk
-    mesh_picture(modes.operators.model.spec, out / "mesh.png")
-    mode_picture(modes, out / "modes.png")
+    from comparisons._pictures import mesh_picture, mode_picture
+    from meshes.blade import mesh_file
+    from reference_fe.export import mode_grid, write_modes_vtk
+    spec = modes.operators.model.spec
+    mesh_picture(mesh_file(spec), spec.size, out / "mesh.png")
+    mode_picture(mode_grid(modes), out / "modes.png")
     write_modes_vtk(modes, out / "modes" / "modes.pvd")
 
 

@@ -21,7 +21,7 @@ apart: a fresh process pays it once, whichever model runs first).
 
 For the solid models, the contact-state map (issue 6): per contact-face node,
 the share of the final window spent separate / stick / slip, drawn on the
-two shroud faces (reference_fe.contact_map).
+two shroud faces (reference_fe.contact_map, drawn by comparisons._pictures).
 """
 
 from __future__ import annotations
@@ -193,14 +193,15 @@ def _contact_maps(ok: dict, params, out: Path) -> dict[str, dict]:
              if m in ("fe-reduced", "fe") and r["result"].trajectory.element_share is not None}
     if not solid:
         return {}
-    from reference_fe.contact_map import draw, face_geometry, split_by_side, summarize
+    from comparisons._pictures import contact_map_picture
+    from reference_fe.contact_map import face_geometry, split_by_side, summarize
     faces = face_geometry(params)
     window = min(STEADY_PERIODS, params.time.periods)
     maps = {}
     for model, tr in solid.items():
         t0 = time.perf_counter()
-        png = draw(out / f"contact_map_{model}.png", params, faces, tr.element_share,
-                   f"{LABELS[model]}, last {window} periods")
+        png = contact_map_picture(out / f"contact_map_{model}.png", faces, split_by_side(faces, tr.element_share),
+                                  f"{LABELS[model]}, last {window} periods")
         rows = []
         for face, share, peak in zip(faces, split_by_side(faces, tr.element_share),
                                      split_by_side(faces, tr.element_peak_normal)):

@@ -13,18 +13,13 @@ numbers on the faces:
 * :func:`summarize`: per side, the area-weighted share of each state (the
   share of the face's penalty in that state on average) and its spread over
   the nodes;
-* :func:`draw`: a pyvista off-screen picture, one row per side and one
-  column per state, nodes coloured by their share of the window.
-
-Faces are drawn in their own plane: horizontal the friction direction e_ws
-(paper Eq. 7), vertical the radial coordinate X, both in mm. Units: SI in
-the data, mm in the picture.
+The picture of the map is drawn by the studies (comparisons._pictures).
+Units: SI.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import dolfinx_solver  # noqa: F401  (must precede dolfinx)
 import numpy as np
@@ -44,6 +39,7 @@ class FaceGeometry:
     nodes: np.ndarray          # (k, 3) positions of the face's contact elements, m
     weight: np.ndarray         # (k,) area share of each node, sums to 1
     triangles: np.ndarray      # (t, 3, 3) corner positions of the face's facets, m
+    e_ws: np.ndarray           # (3,) the friction direction (paper Eq. 7) in the face plane
 
 
 def face_geometry(params: Parameters) -> tuple[FaceGeometry, FaceGeometry]:
@@ -65,7 +61,8 @@ def face_geometry(params: Parameters) -> tuple[FaceGeometry, FaceGeometry]:
     for face in faces:
         # the tag whose facets hold this face's nodes: nearest facet-centroid cloud
         tag = min(by_tag, key=lambda t: np.linalg.norm(by_tag[t].mean(axis=(0, 1)) - face.centroid))
-        out.append(FaceGeometry(side=face.side, nodes=face.coords, weight=face.weight, triangles=by_tag[tag]))
+        out.append(FaceGeometry(side=face.side, nodes=face.coords, weight=face.weight, triangles=by_tag[tag],
+                                e_ws=tip_frame(params).e_ws))
     return tuple(out)
 
 
@@ -89,45 +86,3 @@ def summarize(faces: tuple[FaceGeometry, ...], share: np.ndarray, peak_normal: n
             "peak_normal_max_N": float(n.max()),
         }
     return out
-
-
-def _in_plane(points: np.ndarray, params: Parameters) -> np.ndarray:
-    """(..., 3) positions -> (..., 3) picture coordinates (e_ws, X, 0) in mm."""
-    e_ws = tip_frame(params).e_ws
-    flat = np.stack([points @ e_ws, points[..., 0], np.zeros(points.shape[:-1])], axis=-1)
-    return 1e3 * flat
-
-
-def draw(path: Path, params: Parameters, faces: tuple[FaceGeometry, ...], share: np.ndarray,
-         title: str) -> Path:
-    """PNG of both faces, one row per side and one column per state, nodes coloured by share."""
-    import pyvista as pv
-    pv.OFF_SCREEN = True
-    shares = split_by_side(faces, share)
-    plotter = pv.Plotter(shape=(len(faces), len(STATE_NAMES)), off_screen=True,
-                         window_size=(1500, 330 * len(faces)), border=False)
-    for row, (face, s) in enumerate(zip(faces, shares)):
-        tri = _in_plane(face.triangles, params)
-        cells = np.hstack([np.full((len(tri), 1), 3), np.arange(3 * len(tri)).reshape(-1, 3)]).ravel()
-        surface = pv.PolyData(tri.reshape(-1, 3), faces=cells)
-        for col, name in enumerate(STATE_NAMES):
-            plotter.subplot(row, col)
-            plotter.add_mesh(surface, color="lightgrey", show_edges=True, edge_color="grey", line_width=0.5)
-            points = pv.PolyData(_in_plane(face.nodes, params) + [0.0, 0.0, 0.01])
-            points[name] = s[:, col]
-            plotter.add_mesh(points, scalars=name, cmap="viridis", clim=(0.0, 1.0), point_size=9,
-                             render_points_as_spheres=True,
-                             scalar_bar_args={"title": f"side {face.side}: share of window {name} (-)",
-                                              "n_labels": 6, "fmt": "%.1f", "vertical": False,
-                                              "position_x": 0.15, "position_y": 0.04, "width": 0.7,
-                                              "height": 0.08, "title_font_size": 14, "label_font_size": 12})
-            plotter.add_text(f"side {face.side}: {name}" + (f"   ({title})" if row == col == 0 else ""),
-                             font_size=9, position="upper_left")
-            plotter.add_text("horizontal: e_ws, vertical: radius X (face plane)", font_size=7,
-                             position="upper_right")
-            plotter.view_xy()
-            plotter.enable_parallel_projection()
-            plotter.camera.zoom(1.3)
-    plotter.screenshot(str(path))
-    plotter.close()
-    return path

@@ -1,13 +1,14 @@
-"""Mode shapes of the solid to VTK (ParaView) and to a PNG.
+"""Mode shapes of the solid to VTK (ParaView), and as arrays for a picture.
 
 ``write_modes_vtk`` writes one .pvd series (one .vtu per mode, "time" = mode
-number), quadratic cells kept, in parallel too. The PNGs are off-screen
-pyvista renders of a serial run: each mode warped so that its largest
-displacement is 10 % of the blade length, coloured by displacement magnitude.
+number), quadratic cells kept, in parallel too. ``mode_grid`` hands the
+studies the cells and the nodal shapes of a serial run to draw
+(comparisons._pictures).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import dolfinx_solver  # noqa: F401  (must precede dolfinx)
@@ -34,31 +35,27 @@ def write_modes_vtk(modes: SolidModes, path: Path) -> Path:
     return path.with_suffix(".pvd")
 
 
-def _pyvista():
-    import pyvista
-    pyvista.OFF_SCREEN = True
-    return pyvista
+@dataclass(frozen=True)
+class ModeGrid:
+    """Mode shapes at the nodes of the solid's (quadratic) cells, ready to draw."""
+
+    topology: np.ndarray        # VTK cell connectivity
+    cell_types: np.ndarray      # VTK cell types
+    points: np.ndarray          # (p, 3) node positions, m
+    shapes: np.ndarray          # (k, p, 3) mass-normalized mode shapes at the nodes
+    labels: tuple[str, ...]
+    f_hz: tuple[float, ...]     # undamped natural frequencies
+    length: float               # blade length, m (the warp scale's reference)
 
 
-def mode_picture(modes: SolidModes, path: Path, count: int = 4) -> Path:
-    """PNG of the first ``count`` mode shapes (serial runs)."""
+def mode_grid(modes: SolidModes, count: int = 4) -> ModeGrid:
+    """The first ``count`` mode shapes on the cells' nodes (serial runs)."""
     model = modes.operators.model
     if model.comm.size > 1:
         raise RuntimeError("mode pictures are drawn from a serial run")
-    pv = _pyvista()
     count = min(count, len(modes.vectors))
     topology, cell_types, x = plot.vtk_mesh(model.V)
-    plotter = pv.Plotter(shape=(1, count), off_screen=True, window_size=(320 * count, 520))
-    for i in range(count):
-        grid = pv.UnstructuredGrid(topology, cell_types, x)
-        shape = _mode_function(modes, i).x.array.reshape(-1, 3)
-        scale = 0.1 * model.spec.length / np.abs(shape).max()
-        grid.point_data["|u|"] = np.linalg.norm(shape, axis=1) / np.linalg.norm(shape, axis=1).max()
-        grid.point_data["u"] = shape * scale
-        plotter.subplot(0, i)
-        plotter.add_mesh(grid.warp_by_vector("u"), scalars="|u|", cmap="viridis", show_scalar_bar=False)
-        plotter.add_text(f"{modes.labels[i]} {modes.f_undamped[i]:.1f} Hz", font_size=9)
-        plotter.view_vector((1.0, -1.0, 0.6), viewup=(1.0, 0.0, 0.0))
-    plotter.screenshot(str(path))
-    plotter.close()
-    return path
+    shapes = np.stack([_mode_function(modes, i).x.array.reshape(-1, 3) for i in range(count)])
+    return ModeGrid(topology=topology, cell_types=cell_types, points=x, shapes=shapes,
+                    labels=tuple(modes.labels[:count]), f_hz=tuple(float(f) for f in modes.f_undamped[:count]),
+                    length=model.spec.length)
