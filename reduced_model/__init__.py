@@ -7,22 +7,10 @@ the package registers its two models with the core:
 * ``reduced``: its free-interface reduction to ``reduced.nr`` modes.
 """
 
-from shroud.core.registry import ModelEntry, register
+from shroud.core.registry import ModelEntry, lazy, register
 
-
-def _modal(params, rpm, n_modes, coriolis):
-    from reduced_model.modal import modal_analysis
-    return modal_analysis(params, rpm=rpm, n_modes=n_modes, coriolis=coriolis)
-
-
-def _builder(reduced: bool):
-    def build(params):
-        from reduced_model.system import build_system
-        return build_system(params, reduced=reduced)
-    return build
-
-
-register(ModelEntry("reduced", build_system=_builder(True), modal=_modal,
+register(ModelEntry("reduced", build_system=lazy("reduced_model.system", "build_system", reduced=True),
+                    modal=lazy("reduced_model.modal", "modal_analysis"),
                     description="beam reduced to reduced.nr free-interface modes"))
-register(ModelEntry("full", build_system=_builder(False),
+register(ModelEntry("full", build_system=lazy("reduced_model.system", "build_system", reduced=False),
                     description="Galerkin beam, 5N DOF"))

@@ -7,22 +7,10 @@ DOLFINx (that happens when one is built):
 * ``fe-reduced``: its free-interface component-mode-synthesis reduction.
 """
 
-from shroud.core.registry import ModelEntry, register
+from shroud.core.registry import ModelEntry, lazy, register
 
-
-def _modal(params, rpm, n_modes, coriolis):
-    from reference_fe.modal import modal_analysis
-    return modal_analysis(params, rpm=rpm, n_modes=n_modes, coriolis=coriolis)
-
-
-def _builder(reduced: bool):
-    def build(params):
-        from reference_fe.system import build_system
-        return build_system(params, reduced=reduced)
-    return build
-
-
-register(ModelEntry("fe", build_system=_builder(False), modal=_modal, sweepable=False,
-                    description="full solid, P2 cells"))
-register(ModelEntry("fe-reduced", build_system=_builder(True),
+register(ModelEntry("fe", build_system=lazy("reference_fe.system", "build_system", reduced=False),
+                    modal=lazy("reference_fe.modal", "modal_analysis"), sweepable=False,
+                    description="full solid, quadratic cells"))
+register(ModelEntry("fe-reduced", build_system=lazy("reference_fe.system", "build_system", reduced=True),
                     description="solid reduced by free-interface CMS"))

@@ -15,6 +15,7 @@ passes it through.
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -33,6 +34,18 @@ class ModelEntry:
 
 
 _MODELS: dict[str, ModelEntry] = {}
+
+
+def lazy(module: str, function: str, **fixed) -> Callable:
+    """``module.function(*args, **fixed, **kwargs)``, importing ``module`` only when called.
+
+    Lets a builder package register its models without loading its stack
+    (DOLFINx, gmsh) until a model is built.
+    """
+    def call(*args, **kwargs):
+        return getattr(importlib.import_module(module), function)(*args, **fixed, **kwargs)
+    call.__qualname__ = f"lazy({module}.{function})"
+    return call
 
 
 def register(entry: ModelEntry) -> None:
