@@ -119,6 +119,9 @@ def from_option(text: str) -> Gate:
         raise InputError("--gate", f"{text!r} is not PATH<=VALUE or PATH>=VALUE; allowed: e.g. "
                          "--gate 'results.fig8.versus_reference.reduced.nrmse.v_L<=0.08'")
     path = dotted_path(match["path"], "--gate")
+    if "<" in path or ">" in path:
+        raise InputError("--gate", f"{text!r} has more than one bound; allowed: one per --gate "
+                         "(give --gate twice for both)")
     try:
         value = float(match["value"])
     except ValueError:
