@@ -37,15 +37,34 @@ def scene(folder: Path, gates: str = "", name: str = "beam.toml") -> Path:
     return path
 
 
+# The elements and attributes of junit-10.xsd (Jenkins xUnit plugin; pytest's --junitxml
+# follows it too): (required, allowed) attributes and allowed children of each element.
+JUNIT_10 = {
+    "testsuites": (set(), {"name", "time", "tests", "failures", "errors"}, {"testsuite"}),
+    "testsuite": ({"name", "tests", "failures", "errors"},
+                  {"group", "time", "skipped", "timestamp", "hostname", "id", "package", "file", "log", "url"},
+                  {"testsuite", "properties", "testcase", "system-out", "system-err"}),
+    "testcase": ({"name"}, {"time", "classname", "group"},
+                 {"skipped", "error", "failure", "system-out", "system-err"}),
+    "failure": (set(), {"type", "message"}, set()),
+    "system-out": (set(), set(), set()),
+}
+
+
 def junit_cases(path: Path) -> list[ET.Element]:
+    """The test cases of a JUnit file, after checking it against junit-10.xsd and its own counts."""
     root = ET.parse(path).getroot()
     assert root.tag == "testsuites"
+    for element in root.iter():
+        required, optional, children = JUNIT_10[element.tag]
+        assert required <= set(element.attrib) <= required | optional, (element.tag, element.attrib)
+        assert {child.tag for child in element} <= children, element.tag
     cases = root.findall("testsuite/testcase")
     assert int(root.get("tests")) == len(cases)
     assert int(root.get("failures")) == sum(c.find("failure") is not None for c in cases)
     for suite in root.findall("testsuite"):
-        assert suite.get("name") and int(suite.get("tests")) == len(suite.findall("testcase"))
-    assert all(c.get("name") and c.get("classname") for c in cases)
+        assert int(suite.get("tests")) == len(suite.findall("testcase"))
+        assert int(suite.get("failures")) == len(suite.findall("testcase/failure"))
     return cases
 
 
@@ -184,17 +203,18 @@ def test_a_campaign_with_one_failing_gate_exits_3(tmp_path):
     camp.write_text('title = "gated"\ncampaign = ["held", "broken"]\n'
                     f'[gates.broken]\n"{FLAP1}" = {{ max = 200.0 }}\n')
     out = tmp_path / "out"
-    proc = shroud("run", camp, "--out", out)
+    proc = shroud("run", camp, "--out", out, "--gate", "results.modal.rpm>=8500")   # reaches every scene
     assert proc.returncode == 3, proc.stderr
+    assert len(junit_cases(out / "junit.xml")) == 4
     root = ET.parse(out / "junit.xml").getroot()
     suites = {s.get("name"): s for s in root.findall("testsuite")}
     assert set(suites) == {"held", "broken"}
     assert suites["held"].get("failures") == "0" and suites["broken"].get("failures") == "1"
     record = json.loads((out / "results.json").read_text())
     assert {s["name"]: s["gates"] for s in record["scenes"]} == {
-        "held": {"held": 1, "failed": 0}, "broken": {"held": 0, "failed": 1}}
+        "held": {"held": 2, "failed": 0}, "broken": {"held": 1, "failed": 1}}
     summary = (out / "report.md").read_text().split("## held")[0]
-    assert "**Gates: 1 failed**" in summary and "| broken | 0 of 1 |" in summary
+    assert "**Gates: 1 failed**" in summary and "| broken | 1 of 2 |" in summary
     # the campaign folders compare scene by scene
     copy = tmp_path / "copy"
     shutil.copytree(out, copy)

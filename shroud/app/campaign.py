@@ -67,7 +67,8 @@ def is_campaign(path: str | Path) -> bool:
     return "campaign" in read_toml(Path(path))
 
 
-def load_campaign(path: str | Path, overrides=(), quick: bool = False, gates: tuple[Gate, ...] = ()) -> Campaign:
+def load_campaign(path: str | Path, overrides=(), quick: bool = False,
+                  gates: tuple[Gate, ...] = ()) -> Campaign:
     """Read a campaign and validate every scene in it, as it will run (with its gates)."""
     path = Path(path)
     data = read_toml(path)
@@ -196,7 +197,8 @@ def _outcome(entry: Entry, folder: Path) -> SceneOutcome:
 
 def _write_campaign(out: Path, campaign: Campaign, outcomes: list[SceneOutcome], status: str,
                     elapsed: float, spread: str) -> None:
-    preamble = campaign_gate_summary(outcomes) + (f"{campaign.description}\n\n" if campaign.description else "") + (
+    preamble = campaign_gate_summary(outcomes) + (
+        f"{campaign.description}\n\n" if campaign.description else "") + (
         f"Campaign `{campaign.path}`{' (quick versions)' if campaign.quick else ''}: "
         f"{len(outcomes)} scenes over {spread}, {status}, wall time {seconds(elapsed)}.\n\n")
     stitch(out, campaign.title, outcomes, preamble)

@@ -153,7 +153,7 @@ def cmd_run(args) -> int:
     if records:
         lines.append(f"gates: {len(records) - len(failed)} of {len(records)} held; "
                      f"junit.xml in {summary['out']}")
-        lines += [f"FAILED {r.get('scene', '') + ': ' if 'scene' in r else ''}{r['path']}: {r['message']}"
+        lines += [f"FAILED {r['scene'] + ': ' if 'scene' in r else ''}{r['path']}: {r['message']}"
                   for r in failed]
     _emit(args, summary, "\n".join(lines))
     return EXIT_GATE_FAILED if failed else 0

@@ -57,9 +57,6 @@ def gate_cases(records: Sequence[dict]) -> list[Case]:
 
 
 def _gate_detail(record: dict) -> str:
-    lines = [f"path: {record['path']}"]
-    if "relative_to" in record:
-        lines.append(f"relative to: {record['relative_to']}")
-    lines += [f"value: {record['value']}", f"max: {record['max']}", f"min: {record['min']}",
-              f"margin: {record['margin']}", record["message"]]
-    return "\n".join(lines)
+    fields = ("path", "relative_to", "value", "min", "max", "margin")
+    lines = [f"{f.replace('_', ' ')}: {record[f]}" for f in fields if record.get(f) is not None]
+    return "\n".join(lines + [record["message"]])

@@ -102,7 +102,7 @@ def write_results(out: Path, scene: Scene, status: str, elapsed: float, results:
     """``out/results.json``: the study's numbers and everything that produced them.
 
     Each of ``gates`` is held against that payload; their records (returned)
-    are stored in it as ``gates``.
+    are stored in it as ``gates``, in ``out/junit.xml`` and atop ``out/report.md``.
     """
     path = out / "results.json"
     payload = jsonable({
@@ -121,10 +121,11 @@ def write_results(out: Path, scene: Scene, status: str, elapsed: float, results:
     tmp = path.with_suffix(".json.tmp")
     tmp.write_text(json.dumps(payload, indent=1))
     os.replace(tmp, path)            # never a half-written results.json
+    _report_gates(out, scene.path.stem if scene.path else scene.study, records)
     return records
 
 
-def report_gates(out: Path, name: str, records: list[dict]) -> None:
+def _report_gates(out: Path, name: str, records: list[dict]) -> None:
     """``out/junit.xml`` (one test case per gate) and the gate table atop ``out/report.md``.
 
     A folder run again without gates loses the junit.xml of its earlier run.
@@ -194,9 +195,8 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
     except KeyboardInterrupt:
         elapsed = time.perf_counter() - t0
         marked = mark_incomplete(target, started, f"run interrupted after {elapsed:.1f} s")
-        records = write_results(target, scene, "partial (interrupted)", elapsed, {}, overrides,
-                                {"incomplete_files": [str(p.relative_to(target)) for p in marked]}, gates)
-        report_gates(target, Path(path).stem, records)
+        write_results(target, scene, "partial (interrupted)", elapsed, {}, overrides,
+                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]}, gates)
         warn(f"interrupted: partial result in {out} (results.json says partial; "
              f"{len(marked)} file(s) marked incomplete)")
         raise
@@ -207,19 +207,14 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
     except Exception as exc:
         elapsed = time.perf_counter() - t0
         marked = mark_incomplete(target, started, f"run failed: {type(exc).__name__}")
-        records = write_results(target, scene, f"failed ({type(exc).__name__}: {exc})", elapsed, {},
-                                overrides, {"incomplete_files": [str(p.relative_to(target)) for p in marked]},
-                                gates)
-        report_gates(target, Path(path).stem, records)
+        write_results(target, scene, f"failed ({type(exc).__name__}: {exc})", elapsed, {}, overrides,
+                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]}, gates)
         raise
     finally:
         if not writer:
             shutil.rmtree(target, ignore_errors=True)
     elapsed = time.perf_counter() - t0
-    records = []
-    if writer:
-        records = write_results(target, scene, status, elapsed, results, overrides, gates=gates)
-        report_gates(target, Path(path).stem, records)
+    records = write_results(target, scene, status, elapsed, results, overrides, gates=gates) if writer else []
     info(f"scene {scene.study} done in {elapsed:.1f} s")
     return {"study": scene.study, "title": scene.title, "out": str(out),
             "elapsed_s": round(elapsed, 3), "status": status, "gates": records}
