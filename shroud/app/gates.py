@@ -114,7 +114,7 @@ def _leaves(table: dict, prefix: str) -> Iterator[tuple[str, Any]]:
 
 def from_option(text: str) -> Gate:
     """The gate of one ``--gate 'PATH<=VALUE'`` or ``'PATH>=VALUE'``."""
-    match = _OPTION.match(text) if isinstance(text, str) else None
+    match = _OPTION.match(text.strip()) if isinstance(text, str) else None
     if not match or not match["path"] or not match["value"].strip():
         raise InputError("--gate", f"{text!r} is not PATH<=VALUE or PATH>=VALUE; allowed: e.g. "
                          "--gate 'results.fig8.versus_reference.reduced.nrmse.v_L<=0.08'")
