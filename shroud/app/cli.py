@@ -13,9 +13,13 @@ from pathlib import Path
 
 import numpy as np
 
+from shroud.app.compare import DEFAULT_ATOL, DEFAULT_IGNORE, DEFAULT_RTOL
 from shroud.base.errors import InputError, RunDiverged
 
+EXIT_RUN_FAILED = 1
 EXIT_BAD_INPUT = 2
+EXIT_GATE_FAILED = 3        # a gate of `shroud run` or a number of `shroud compare` did not hold
+EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):
@@ -60,6 +64,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="output folder (default out/<file name>)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     p.add_argument("--quick", action="store_true", help="a coarse, minute-scale version")
+    p.add_argument("--gate", action="append", default=[], metavar="'PATH<=VALUE'",
+                   help="bound a number of results.json (repeatable; PATH<=VALUE or PATH>=VALUE); "
+                        "exit 3 if it does not hold")
+    p.add_argument("--json", action="store_true")
+
+    p = sub.add_parser("compare", help="hold every number of NEW/results.json against BASE/results.json")
+    p.add_argument("base", metavar="BASE", help="output folder of an earlier run (scene or campaign)")
+    p.add_argument("new", metavar="NEW", help="output folder of the run to check")
+    p.add_argument("--rtol", type=float, default=DEFAULT_RTOL,
+                   help=f"relative tolerance (default {DEFAULT_RTOL:g})")
+    p.add_argument("--atol", type=float, default=DEFAULT_ATOL,
+                   help=f"absolute tolerance (default {DEFAULT_ATOL:g})")
+    p.add_argument("--ignore", action="append", default=[], metavar="PATTERN",
+                   help="also ignore numbers whose dotted path matches this glob (repeatable); "
+                        "ignored always: " + " ".join(DEFAULT_IGNORE))
+    p.add_argument("--junit", metavar="FILE", help="write the comparison as JUnit XML")
     p.add_argument("--json", action="store_true")
     return parser
 
@@ -120,29 +140,49 @@ def cmd_sweep(args) -> None:
     _emit(args, payload, json.dumps(payload, indent=1))
 
 
-def cmd_run(args) -> None:
+def cmd_run(args) -> int:
     from shroud.app.campaign import is_campaign, run_campaign
+    from shroud.app.gates import from_option, merged
     from shroud.app.runner import run_scene
+    gates = merged(tuple(from_option(text) for text in args.gate))
     run = run_campaign if is_campaign(args.scene) else run_scene
-    summary = run(args.scene, out=args.out, overrides=args.set, quick=args.quick)
-    _emit(args, summary, f"{summary['status']}: {summary['out']}/report.md ({summary['elapsed_s']:.1f} s)")
+    summary = run(args.scene, out=args.out, overrides=args.set, quick=args.quick, gates=gates)
+    records = summary["gates"]
+    failed = [r for r in records if not r["passed"]]
+    lines = [f"{summary['status']}: {summary['out']}/report.md ({summary['elapsed_s']:.1f} s)"]
+    if records:
+        lines.append(f"gates: {len(records) - len(failed)} of {len(records)} held; "
+                     f"junit.xml in {summary['out']}")
+        lines += [f"FAILED {r['scene'] + ': ' if 'scene' in r else ''}{r['path']}: {r['message']}"
+                  for r in failed]
+    _emit(args, summary, "\n".join(lines))
+    return EXIT_GATE_FAILED if failed else 0
+
+
+def cmd_compare(args) -> int:
+    from shroud.app.compare import compare, markdown
+    if not (args.rtol >= 0 and args.atol >= 0):
+        raise InputError("--rtol" if not args.rtol >= 0 else "--atol", "allowed: a tolerance >= 0")
+    comparison = compare(args.base, args.new, rtol=args.rtol, atol=args.atol,
+                         ignore=tuple(args.ignore), junit_path=args.junit)
+    _emit(args, comparison.to_json(), markdown(comparison))
+    return EXIT_GATE_FAILED if comparison.drifts else 0
 
 
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        {"modal": cmd_modal, "transient": cmd_transient, "sweep": cmd_sweep,
-         "run": cmd_run}[args.command](args)
+        return {"modal": cmd_modal, "transient": cmd_transient, "sweep": cmd_sweep,
+                "run": cmd_run, "compare": cmd_compare}[args.command](args) or 0
     except InputError as exc:
         print(exc.line(), file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("error: interrupted (any output folder holds a result marked partial)", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     except RunDiverged as exc:
         print(f"error: run diverged: {exc}", file=sys.stderr)
-        return 1
-    return 0
+        return EXIT_RUN_FAILED
 
 
 if __name__ == "__main__":

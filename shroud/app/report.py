@@ -20,6 +20,7 @@ class SceneOutcome:
     status: str
     elapsed_s: float | None
     folder: Path
+    gates: tuple[dict, ...] = ()          # gate records (shroud.app.gates.hold)
 
 
 def stitch(out: Path, title: str, outcomes: Sequence[SceneOutcome], preamble: str = "") -> Path:
@@ -41,6 +42,40 @@ def stitch(out: Path, title: str, outcomes: Sequence[SceneOutcome], preamble: st
     path = out / "report.md"
     path.write_text("".join(parts))
     return path
+
+
+def gate_table(records: Sequence[dict]) -> str:
+    """A Markdown table of gate records: what held, what broke and by how much."""
+    rows = [("held" if r["passed"] else "**FAILED**", f"`{r['path']}`", r["value"], r["min"], r["max"],
+             r["margin"], r["message"]) for r in records]
+    return markdown_table(("gate", "path", "value", "min", "max", "margin", "detail"), rows)
+
+
+def open_with_gates(report: Path, records: Sequence[dict]) -> None:
+    """Put the gate table at the top of ``report`` (under its title), or start a report with it."""
+    failed = sum(not r["passed"] for r in records)
+    section = (f"## Gates: {len(records) - failed} of {len(records)} held"
+               + (f", {failed} failed" if failed else "") + "\n\n" + gate_table(records) + "\n")
+    text = report.read_text() if report.exists() else ""
+    title = re.match(r"\A# [^\n]*\n+", text)
+    head, body = (title.group(0), text[title.end():]) if title else ("# Gates\n\n", text)
+    report.write_text(head + section + body)
+
+
+def campaign_gate_summary(outcomes: Sequence[SceneOutcome]) -> str:
+    """Per gated scene: how many gates held, and each failed one."""
+    gated = [o for o in outcomes if o.gates]
+    if not gated:
+        return ""
+    rows = []
+    for o in gated:
+        broken = [r for r in o.gates if not r["passed"]]
+        rows.append((o.name, f"{len(o.gates) - len(broken)} of {len(o.gates)}",
+                     "; ".join(f"`{r['path']}`: {r['message']}" for r in broken) or "-"))
+    failed = sum(not r["passed"] for o in gated for r in o.gates)
+    return (f"**Gates: {'all held' if not failed else f'{failed} failed'}** "
+            f"(details in [junit.xml](junit.xml) and each scene's report)\n\n"
+            + markdown_table(("scene", "gates held", "failed gates"), rows) + "\n")
 
 
 def _anchor(name: str) -> str:

@@ -6,6 +6,11 @@ figures show; it writes its figures, CSVs and ``report.md`` into ``out``.
 The runner adds ``results.json``: those numbers plus the parameters, options,
 versions, cost and status (``complete``, ``partial`` or ``failed``).
 
+Gates (the scene's ``[gates]`` table merged with those of the command line
+or campaign; shroud.app.gates) are held against that results.json once it is
+assembled: it gains a ``gates`` list, ``report.md`` opens with the gate
+table and ``junit.xml`` holds one test case per gate.
+
 Nothing is written before the whole input is checked. An interrupted run
 (Ctrl-C, or SIGTERM from a batch system at its time limit) leaves a marked
 partial result: ``results.json`` says ``partial``, every CSV the run wrote
@@ -36,6 +41,9 @@ import numpy as np
 from shroud.base.errors import InputError
 from shroud.base.log import info, warn
 from shroud.base.parallel import mpi_rank, mpi_size
+from shroud.app import junit
+from shroud.app.gates import Gate, hold, merged
+from shroud.app.report import open_with_gates
 from shroud.app.scene import Scene, load_scene, study_module
 
 INCOMPLETE_MARK = "# status: incomplete"
@@ -90,10 +98,14 @@ def jsonable(value: Any) -> Any:
 
 
 def write_results(out: Path, scene: Scene, status: str, elapsed: float, results: dict,
-                  overrides=(), extra: dict | None = None) -> Path:
-    """``out/results.json``: the study's numbers and everything that produced them."""
+                  overrides=(), extra: dict | None = None, gates: tuple[Gate, ...] = ()) -> list[dict]:
+    """``out/results.json``: the study's numbers and everything that produced them.
+
+    Each of ``gates`` is held against that payload; their records (returned)
+    are stored in it as ``gates``, in ``out/junit.xml`` and atop ``out/report.md``.
+    """
     path = out / "results.json"
-    payload = {
+    payload = jsonable({
         "study": scene.study, "title": scene.title, "status": status, "quick": scene.quick,
         "elapsed_s": round(elapsed, 3),
         "finished": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
@@ -102,11 +114,27 @@ def write_results(out: Path, scene: Scene, status: str, elapsed: float, results:
         "host": {"cores": len(os.sched_getaffinity(0)), "mpi_ranks": mpi_size(), "mpi_rank": mpi_rank()},
         "parameters": scene.params.as_tables(), "options": scene.options,
         "versions": versions(), **(extra or {}), "results": results,
-    }
+    })
+    records = hold(gates, payload)
+    if gates:
+        payload["gates"] = records
     tmp = path.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(jsonable(payload), indent=1))
+    tmp.write_text(json.dumps(payload, indent=1))
     os.replace(tmp, path)            # never a half-written results.json
-    return path
+    _report_gates(out, scene.path.stem if scene.path else scene.study, records)
+    return records
+
+
+def _report_gates(out: Path, name: str, records: list[dict]) -> None:
+    """``out/junit.xml`` (one test case per gate) and the gate table atop ``out/report.md``.
+
+    A folder run again without gates loses the junit.xml of its earlier run.
+    """
+    if not records:
+        (out / "junit.xml").unlink(missing_ok=True)
+        return
+    junit.write(out / "junit.xml", f"shroud gates: {name}", [(name, junit.gate_cases(records))])
+    open_with_gates(out / "report.md", records)
 
 
 def output_folder(scene_path: str | Path, out: str | Path | None) -> Path:
@@ -135,15 +163,17 @@ def sigterm_as_interrupt():
 
 
 def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), quick: bool = False,
-              writer: bool | None = None) -> dict:
+              writer: bool | None = None, gates: tuple[Gate, ...] = ()) -> dict:
     """Validate scene ``path`` with ``overrides``, run its study into ``out``.
 
     A study may define ``check(scene)`` for cross-checks of its options; it
     runs before anything is written. ``writer`` (default: rank 0) says
     whether this process writes files; the other ranks of an MPI job run the same study into a scratch folder that
-    is removed afterwards. Returns a summary: study, out, status, elapsed_s.
+    is removed afterwards. ``gates`` replace the scene's own bound by bound.
+    Returns a summary: study, out, status, elapsed_s, gates (their records).
     """
     scene = load_scene(path, list(overrides), quick=quick)
+    gates = merged(scene.gates, tuple(gates))
     if not scene.study:
         raise InputError("study", f"scene {path} names no study; allowed: study = \"<name>\"")
     module = study_module(scene.study)
@@ -166,7 +196,7 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
         elapsed = time.perf_counter() - t0
         marked = mark_incomplete(target, started, f"run interrupted after {elapsed:.1f} s")
         write_results(target, scene, "partial (interrupted)", elapsed, {}, overrides,
-                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]})
+                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]}, gates)
         warn(f"interrupted: partial result in {out} (results.json says partial; "
              f"{len(marked)} file(s) marked incomplete)")
         raise
@@ -178,17 +208,16 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
         elapsed = time.perf_counter() - t0
         marked = mark_incomplete(target, started, f"run failed: {type(exc).__name__}")
         write_results(target, scene, f"failed ({type(exc).__name__}: {exc})", elapsed, {}, overrides,
-                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]})
+                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]}, gates)
         raise
     finally:
         if not writer:
             shutil.rmtree(target, ignore_errors=True)
     elapsed = time.perf_counter() - t0
-    if writer:
-        write_results(target, scene, status, elapsed, results, overrides)
+    records = write_results(target, scene, status, elapsed, results, overrides, gates=gates) if writer else []
     info(f"scene {scene.study} done in {elapsed:.1f} s")
     return {"study": scene.study, "title": scene.title, "out": str(out),
-            "elapsed_s": round(elapsed, 3), "status": status}
+            "elapsed_s": round(elapsed, 3), "status": status, "gates": records}
 
 
 def mark_incomplete(folder: Path, since: float, why: str) -> list[Path]:

@@ -12,6 +12,8 @@ Layout of a scene file::
     N_values = [4, 6]
     [quick.time]
     periods = 20
+    [gates]                       # bounds on numbers of the run's results.json (shroud.app.gates)
+    "results.fig8.versus_reference.reduced.nrmse.v_L" = { max = 0.08 }
 
 ``--set key=value`` overrides either a parameter (``speed.rpm=9000``) or an
 option (``options.N_values=[4,6]``; values are read as TOML).
@@ -27,10 +29,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
+from shroud.app.gates import Gate, from_table
 from shroud.base.errors import InputError
 from shroud.params import SECTIONS, Parameters, unknown_key
 
-_TOP_KEYS = {"study", "title", "description", "options", "quick"}
+_TOP_KEYS = {"study", "title", "description", "options", "quick", "gates"}
 
 
 @dataclass(frozen=True)
@@ -42,6 +45,7 @@ class Scene:
     quick: bool = False
     path: Path | None = None
     description: str = ""
+    gates: tuple[Gate, ...] = ()
 
 
 def read_toml(path: Path) -> dict[str, Any]:
@@ -122,6 +126,7 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
     if name is not None and not isinstance(name, str):
         raise InputError("study", f"{name!r} is not a study name; allowed: study = \"<name>\"")
     params = Parameters.from_mapping({k: v for k, v in data.items() if k in SECTIONS})
+    gates = from_table(data.get("gates", {}))
     options_given = _table(data, "options")
     quick_table = _table(data, "quick")
     for key in quick_table:
@@ -156,7 +161,7 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
         raise InputError("options", "options need a study (scene key 'study')")
     return Scene(study=name or "", title=str(data.get("title", name or "")), params=params,
                  options=options, quick=quick, path=Path(path) if path else None,
-                 description=str(data.get("description", "")))
+                 description=str(data.get("description", "")), gates=gates)
 
 
 def _table(data: Mapping[str, Any], key: str, name: str | None = None) -> dict[str, Any]:

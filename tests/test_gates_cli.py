@@ -1,0 +1,301 @@
+"""Gates and baseline comparison as CI runs them: through the command.
+
+``shroud run`` with a ``[gates]`` table or ``--gate``, ``shroud compare``, and
+a campaign with gates, on the beam's natural frequencies (a fraction of a
+second per run). The bounds are set from independent values: the paper's
+Table 1 gives the first flap mode at 8500 r/min as 284.2 Hz (its beam, N = 6)
+and 282.4 Hz (ANSYS); a gate of [281, 286] Hz holds, one of 200 Hz does not.
+The paper's beam (reduced.torsion = false) has no torsion field, so it has no
+torsion1 mode: a gate on it names a path that is not in the results.
+"""
+
+import json
+import re
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from shroud.app.cli import main
+
+FLAP1 = "results.modal.rows.flap1.reduced"
+BEAM = 'study = "default"\ntitle = "beam frequencies"\n' \
+       '[options]\nmodal_models = ["reduced"]\ntransient_models = []\n'
+
+
+def shroud(*argv) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "shroud.app.cli", *map(str, argv)],
+                          capture_output=True, text=True, timeout=300)
+
+
+def scene(folder: Path, gates: str = "", name: str = "beam.toml") -> Path:
+    path = folder / name
+    path.write_text(BEAM + (f"[gates]\n{gates}" if gates else ""))
+    return path
+
+
+# The elements and attributes of junit-10.xsd (Jenkins xUnit plugin; pytest's --junitxml
+# follows it too): (required, allowed) attributes and allowed children of each element.
+JUNIT_10 = {
+    "testsuites": (set(), {"name", "time", "tests", "failures", "errors"}, {"testsuite"}),
+    "testsuite": ({"name", "tests", "failures", "errors"},
+                  {"group", "time", "skipped", "timestamp", "hostname", "id", "package", "file", "log", "url"},
+                  {"testsuite", "properties", "testcase", "system-out", "system-err"}),
+    "testcase": ({"name"}, {"time", "classname", "group"},
+                 {"skipped", "error", "failure", "system-out", "system-err"}),
+    "failure": (set(), {"type", "message"}, set()),
+    "system-out": (set(), set(), set()),
+}
+
+
+def junit_cases(path: Path) -> list[ET.Element]:
+    """The test cases of a JUnit file, after checking it against junit-10.xsd and its own counts."""
+    root = ET.parse(path).getroot()
+    assert root.tag == "testsuites"
+    for element in root.iter():
+        required, optional, children = JUNIT_10[element.tag]
+        assert required <= set(element.attrib) <= required | optional, (element.tag, element.attrib)
+        assert {child.tag for child in element} <= children, element.tag
+    cases = root.findall("testsuite/testcase")
+    assert int(root.get("tests")) == len(cases)
+    assert int(root.get("failures")) == sum(c.find("failure") is not None for c in cases)
+    for suite in root.findall("testsuite"):
+        assert int(suite.get("tests")) == len(suite.findall("testcase"))
+        assert int(suite.get("failures")) == len(suite.findall("testcase/failure"))
+    return cases
+
+
+# --- gates of one scene --------------------------------------------------------
+
+def test_a_held_gate_exits_0_with_one_passing_testcase(tmp_path):
+    out = tmp_path / "out"
+    proc = shroud("run", scene(tmp_path, f'"{FLAP1}" = {{ min = 281.0, max = 286.0 }}\n'), "--out", out)
+    assert proc.returncode == 0, proc.stderr
+    [case] = junit_cases(out / "junit.xml")
+    assert case.get("name") == FLAP1 and case.find("failure") is None
+    [record] = json.loads((out / "results.json").read_text())["gates"]
+    assert record["passed"] and 281 <= record["value"] <= 286
+    assert record["margin"] == pytest.approx(min(286 - record["value"], record["value"] - 281))
+    report = (out / "report.md").read_text()
+    assert report.startswith("# beam frequencies\n\n## Gates: 1 of 1 held")
+
+
+def test_a_broken_gate_exits_3_and_names_value_and_bound(tmp_path):
+    out = tmp_path / "out"
+    proc = shroud("run", scene(tmp_path, f'"{FLAP1}" = {{ max = 200.0 }}\n'), "--out", out)
+    assert proc.returncode == 3, proc.stderr
+    [case] = junit_cases(out / "junit.xml")
+    [record] = json.loads((out / "results.json").read_text())["gates"]
+    assert not record["passed"] and record["margin"] == pytest.approx(200 - record["value"])
+    assert record["margin"] < 0
+    message = case.find("failure").get("message")
+    shown = float(re.match(r"\s*([0-9.eE+-]+)", message).group(1))
+    assert shown == pytest.approx(record["value"], rel=1e-5) and "max 200" in message
+    assert "FAILED" in proc.stdout and FLAP1 in proc.stdout
+    assert "**FAILED**" in (out / "report.md").read_text().split("## Natural")[0]
+
+
+def test_a_path_not_in_the_results_is_a_failed_gate_that_says_so(tmp_path):
+    out = tmp_path / "out"
+    proc = shroud("run", scene(tmp_path, '"results.modal.rows.torsion1.reduced" = { max = 1e4 }\n'),
+                  "--out", out)
+    assert proc.returncode == 3
+    [case] = junit_cases(out / "junit.xml")
+    message = case.find("failure").get("message")
+    assert message.startswith("missing:") and "torsion1" in message and "flap1" in message
+
+
+def test_command_line_gates_add_to_and_replace_the_scenes_bounds(tmp_path):
+    """--gate replaces the scene's max and keeps its min; another --gate adds a path."""
+    out = tmp_path / "out"
+    path = scene(tmp_path, f'"{FLAP1}" = {{ min = 281.0, max = 286.0 }}\n')
+    proc = shroud("run", path, "--out", out, "--gate", f"{FLAP1}<=282",
+                  "--gate", "results.modal.rows.chord1.reduced >= 1000", "--json")
+    assert proc.returncode == 3
+    summary = json.loads(proc.stdout)
+    flap1, chord1 = summary["gates"]
+    assert (flap1["min"], flap1["max"], flap1["passed"]) == (281.0, 282.0, False)    # 282.4 Hz
+    assert chord1["path"] == "results.modal.rows.chord1.reduced" and chord1["passed"]
+    assert len(junit_cases(out / "junit.xml")) == 2
+
+
+def test_a_relative_gate_holds_the_difference_to_another_number(tmp_path):
+    """|f_flap1 / f_paper - 1| with the paper's beam value (284.2 Hz) beside ours in results.json."""
+    out = tmp_path / "out"
+    paper = "results.modal.rows.flap1.paper beam N=6"
+    proc = shroud("run", scene(tmp_path, f'"{FLAP1}" = {{ max = 0.02, relative_to = "{paper}" }}\n'
+                                         f'"results.modal.rows.flap2.reduced" = {{ max = 1e-4, '
+                                         f'relative_to = "results.modal.rows.flap2.paper beam N=6" }}\n'),
+                  "--out", out)
+    assert proc.returncode == 3
+    record = json.loads((out / "results.json").read_text())
+    held, broken = record["gates"]
+    flap1 = record["results"]["modal"]["rows"][0]
+    assert flap1["label"] == "flap1"
+    assert held["passed"] and held["value"] == pytest.approx(abs(flap1["reduced"] / 284.2 - 1))
+    assert not broken["passed"] and broken["value"] > 1e-4
+
+
+# --- baseline comparison -------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def two_runs(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("runs")
+    path = scene(folder)
+    for name in ("base", "new"):
+        assert shroud("run", path, "--out", folder / name).returncode == 0
+    return folder
+
+
+def test_compare_of_two_identical_runs_is_0(two_runs):
+    proc = shroud("compare", two_runs / "base", two_runs / "new", "--junit", two_runs / "cmp.xml")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "All within tolerance" in proc.stdout
+    cases = junit_cases(two_runs / "cmp.xml")
+    assert cases and all(c.find("failure") is None for c in cases)
+    assert not any(c.get("name").endswith("elapsed_s") for c in cases)     # timings are not held
+
+
+def _drifted_copy(two_runs: Path, name: str, edit) -> Path:
+    copy = two_runs / name
+    shutil.copytree(two_runs / "new", copy)
+    record = json.loads((copy / "results.json").read_text())
+    edit(record["results"]["modal"]["rows"])
+    (copy / "results.json").write_text(json.dumps(record))
+    return copy
+
+
+def test_a_number_drifted_by_one_percent_is_listed_first_and_exits_3(two_runs):
+    def edit(rows):
+        rows[2]["reduced"] *= 1.01           # flap2 by 1 %
+        rows[0]["reduced"] *= 1.001          # flap1 by 0.1 %
+    copy = _drifted_copy(two_runs, "drifted", edit)
+    proc = shroud("compare", two_runs / "base", copy, "--json")
+    assert proc.returncode == 3
+    drifted = json.loads(proc.stdout)["drifted"]
+    assert [d["path"] for d in drifted] == ["results.modal.rows.flap2.reduced", "results.modal.rows.flap1.reduced"]
+    assert drifted[0]["relative_change"] == pytest.approx(0.01, rel=1e-9)
+    table = shroud("compare", two_runs / "base", copy).stdout
+    first_row = next(line for line in table.splitlines() if line.startswith("| `"))
+    assert "flap2.reduced" in first_row
+    # a tolerance above the drift, or ignoring the mode rows, accepts it
+    assert shroud("compare", two_runs / "base", copy, "--rtol", "0.02").returncode == 0
+    assert shroud("compare", two_runs / "base", copy, "--ignore", "results.modal.rows.*").returncode == 0
+
+
+def test_a_number_missing_from_one_run_is_a_drift(two_runs):
+    copy = _drifted_copy(two_runs, "missing", lambda rows: rows[1].pop("reduced"))
+    proc = shroud("compare", two_runs / "base", copy, "--json")
+    assert proc.returncode == 3
+    [drift] = json.loads(proc.stdout)["drifted"]
+    assert drift["path"] == "results.modal.rows.chord1.reduced" and drift["note"] == "missing in NEW"
+
+
+# --- campaigns -----------------------------------------------------------------
+
+def test_a_campaign_with_one_failing_gate_exits_3(tmp_path):
+    scene(tmp_path, f'"{FLAP1}" = {{ min = 281.0, max = 286.0 }}\n', "held.toml")
+    scene(tmp_path, "", "broken.toml")
+    camp = tmp_path / "camp.toml"
+    camp.write_text('title = "gated"\ncampaign = ["held", "broken"]\n'
+                    f'[gates.broken]\n"{FLAP1}" = {{ max = 200.0 }}\n')
+    out = tmp_path / "out"
+    proc = shroud("run", camp, "--out", out, "--gate", "results.modal.rpm>=8500")   # reaches every scene
+    assert proc.returncode == 3, proc.stderr
+    assert len(junit_cases(out / "junit.xml")) == 4
+    root = ET.parse(out / "junit.xml").getroot()
+    suites = {s.get("name"): s for s in root.findall("testsuite")}
+    assert set(suites) == {"held", "broken"}
+    assert suites["held"].get("failures") == "0" and suites["broken"].get("failures") == "1"
+    record = json.loads((out / "results.json").read_text())
+    assert {s["name"]: s["gates"] for s in record["scenes"]} == {
+        "held": {"held": 2, "failed": 0}, "broken": {"held": 1, "failed": 1}}
+    summary = (out / "report.md").read_text().split("## held")[0]
+    assert "**Gates: 1 failed**" in summary and "| broken | 1 of 2 |" in summary
+    # the campaign folders compare scene by scene
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    assert shroud("compare", out, copy).returncode == 0
+    held = json.loads((copy / "held" / "results.json").read_text())
+    held["results"]["modal"]["rpm"] = 8600.0
+    (copy / "held" / "results.json").write_text(json.dumps(held))
+    proc = shroud("compare", out, copy, "--json")
+    assert proc.returncode == 3
+    assert [d["path"] for d in json.loads(proc.stdout)["drifted"]] == ["held/results.modal.rpm"]
+
+
+# --- bad input: one line, exit 2, nothing written ------------------------------
+
+def _refused(capsys, argv: list, key: str, out: Path) -> str:
+    code = main([str(a) for a in argv])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2, err
+    assert len(err) == 1 and err[0].startswith(f"error: {key}:"), err
+    assert not out.exists(), f"{out} was written for bad input"
+    return err[0]
+
+
+@pytest.mark.parametrize("gates, key", [
+    (f'"{FLAP1}" = {{ max = "small" }}\n', f"gates.{FLAP1}.max"),
+    (f'"{FLAP1}" = {{ max = true }}\n', f"gates.{FLAP1}.max"),
+    (f'"{FLAP1}" = {{ maximum = 300.0 }}\n', f"gates.{FLAP1}.maximum"),
+    (f'"{FLAP1}" = {{ min = 300.0, max = 200.0 }}\n', f"gates.{FLAP1}"),
+    (f'"{FLAP1}" = {{ relative_to = "results.modal.rpm" }}\n', f"gates.{FLAP1}"),
+    (f'"{FLAP1}" = {{ max = 1.0, relative_to = 3 }}\n', f"gates.{FLAP1}.relative_to"),
+    (f'"{FLAP1}" = 300.0\n', f"gates.{FLAP1}"),
+    ('"results..modal" = { max = 1.0 }\n', "gates"),
+    ('" results.modal" = { max = 1.0 }\n', "gates"),
+])
+def test_bad_gate_in_a_scene(tmp_path, capsys, gates, key):
+    out = tmp_path / "out"
+    _refused(capsys, ["run", scene(tmp_path, gates), "--out", out], key, out)
+
+
+def test_gates_that_are_not_a_table(tmp_path, capsys):
+    path = tmp_path / "beam.toml"
+    path.write_text('gates = "strict"\n' + BEAM)
+    _refused(capsys, ["run", path, "--out", tmp_path / "out"], "gates", tmp_path / "out")
+
+
+@pytest.mark.parametrize("option", [
+    f"{FLAP1}=300", f"{FLAP1}<300", f"{FLAP1}<=", "<=300", f"{FLAP1}<=abc", f"{FLAP1}<=nan",
+    f"{FLAP1}>=inf", "results..modal<=1", f"{FLAP1}<=1<=2",
+])
+def test_malformed_gate_option(tmp_path, capsys, option):
+    out = tmp_path / "out"
+    _refused(capsys, ["run", scene(tmp_path), "--out", out, "--gate", option], "--gate", out)
+
+
+def test_gate_option_contradicting_the_scene(tmp_path, capsys):
+    out = tmp_path / "out"
+    path = scene(tmp_path, f'"{FLAP1}" = {{ min = 281.0, max = 286.0 }}\n')
+    line = _refused(capsys, ["run", path, "--out", out, "--gate", f"{FLAP1}<=200"], f"gates.{FLAP1}", out)
+    assert "min 281 is above max 200" in line
+
+
+def test_bad_campaign_gates_run_nothing(tmp_path, capsys):
+    scene(tmp_path, "", "a.toml")
+    camp = tmp_path / "camp.toml"
+    out = tmp_path / "out"
+    camp.write_text('campaign = ["a"]\n[gates.b]\n"results.modal.rpm" = { max = 1.0 }\n')
+    _refused(capsys, ["run", camp, "--out", out], "gates.b", out)
+    camp.write_text('campaign = ["a"]\n[gates.a]\n"results.modal.rpm" = { most = 1.0 }\n')
+    _refused(capsys, ["run", camp, "--out", out], "a: gates.a.results.modal.rpm.most", out)
+
+
+def test_bad_compare_arguments(tmp_path, capsys):
+    empty, run = tmp_path / "empty", tmp_path / "run"
+    empty.mkdir()
+    run.mkdir()
+    (run / "results.json").write_text(json.dumps({"results": {"x": 1.0}}))
+    report = tmp_path / "cmp.xml"
+    line = _refused(capsys, ["compare", empty, run, "--junit", report], "BASE", report)
+    assert "no results.json" in line
+    _refused(capsys, ["compare", run, tmp_path / "nowhere", "--junit", report], "NEW", report)
+    _refused(capsys, ["compare", run, run, "--rtol", "-1", "--junit", report], "--rtol", report)
+    _refused(capsys, ["compare", run, run, "--junit", empty], "--junit", report)
+    (empty / "results.json").write_text("{not json")
+    _refused(capsys, ["compare", empty, run, "--junit", report], "BASE", report)
