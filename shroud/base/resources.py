@@ -18,12 +18,12 @@ def physical_memory() -> int:
 def in_words(n_bytes: float) -> str:
     """A byte count for people: ``in_words(3 * 2**30) == '3.0 GiB'``.
 
-    >>> in_words(1536), in_words(381 * 2**30), in_words(2**50)
-    ('1.5 KiB', '381.0 GiB', '1024.0 TiB')
+    >>> in_words(1536), in_words(381 * 2**30), in_words(2**50), in_words(1e30)
+    ('1.5 KiB', '381.0 GiB', '1.0 PiB', '8.7e+11 EiB')
     """
     value = float(n_bytes)
-    for unit in ("B", "KiB", "MiB", "GiB"):
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
         if abs(value) < 1024.0:
             return f"{value:.1f} {unit}" if unit != "B" else f"{value:.0f} B"
         value /= 1024.0
-    return f"{value:.1f} TiB"
+    return f"{value:.2g} EiB" if value >= 1024.0 else f"{value:.1f} EiB"
