@@ -14,12 +14,11 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from reduced_model.beam import for_parameters
 from reduced_model.modal import modes_at
 from shroud.base.log import Progress
-from shroud.core.modes import label_modes, mac
+from shroud.core.modes import label_modes, mac, pair_by_mac
 from shroud.params import Parameters
 
 EXTRA_CANDIDATES = 4   # modes computed beyond the tracked ones, so a track can swap order
@@ -61,7 +60,7 @@ def campbell(params: Parameters, rpms: np.ndarray, n_modes: int, coriolis: bool)
             pick = np.arange(n_modes)
             labels, _ = label_modes(beam.tip_kinematics(modes.shapes[:, :n_modes]))
         else:
-            _, pick = linear_sum_assignment(-mac(previous, modes.shapes))
+            pick = pair_by_mac(mac(previous, modes.shapes))
         f[i] = modes.f_hz[pick]
         previous = modes.shapes[:, pick]
         progress.update(i + 1)
