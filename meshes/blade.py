@@ -2,7 +2,7 @@
 
 The blade is the rectangle b (chord, along e_w) x h (thickness, along e_v)
 swept from X = R_d to X = R_d + L while turning about +X by
-beta(x) = beta_1 + beta_t x / L (shared/spec/geometry.md; paper Fig. 5 and
+beta(x) = beta_1 + beta_t x / L (docs/geometry.md; paper Fig. 5 and
 Eq. 13 for the section corners). The shroud is a box l_s (along e_ws) x b_s
 (along e_vs) x t_s (along X) on the tip, turned by beta_L + alpha about X
 (paper Eq. 7 frame). Blade and shroud are two volumes sharing their

@@ -4,7 +4,7 @@ One schema serves scene files, ``--set key=value`` and the Python API. Every
 value is checked here, once; model builders downstream trust what they get.
 Units are SI (m, kg, s, N, Pa) unless the key says otherwise (``*_deg``,
 ``rpm``). Defaults are the paper's Table 2 and Sect. 2.2
-(shared/spec/geometry.md).
+(docs/geometry.md).
 
 Example
 -------

@@ -4,7 +4,7 @@ Both models (beam and solid) name a mode by how its tip moves: ``flap``
 (along e_v(L), the thickness direction), ``chord`` (along e_w(L)),
 ``torsion`` (rotation about X times a length scale), ``axial`` (along X).
 Labels are numbered in frequency order within each kind: flap1, chord1,
-flap2, ... (shared/spec/interface.md).
+flap2, ... (docs/interface.md).
 """
 
 from __future__ import annotations
