@@ -10,8 +10,9 @@ from meshes.blade import MeshSpec, mesh_file
 def mesh_picture(spec: MeshSpec, path: Path) -> Path:
     """Surface of the quadratic tetrahedral mesh with its edges, seen from the suction side and above."""
     import meshio
-    import pyvista as pv
-    pv.OFF_SCREEN = True
+
+    from shroud.base.offscreen import pyvista
+    pv = pyvista()
     mesh = meshio.read(mesh_file(spec))
     grid = pv.from_meshio(mesh)
     plotter = pv.Plotter(off_screen=True, window_size=(900, 700))

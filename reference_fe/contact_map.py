@@ -101,8 +101,8 @@ def _in_plane(points: np.ndarray, params: Parameters) -> np.ndarray:
 def draw(path: Path, params: Parameters, faces: tuple[FaceGeometry, ...], share: np.ndarray,
          title: str) -> Path:
     """PNG of both faces, one row per side and one column per state, nodes coloured by share."""
-    import pyvista as pv
-    pv.OFF_SCREEN = True
+    from shroud.base.offscreen import pyvista
+    pv = pyvista()
     shares = split_by_side(faces, share)
     plotter = pv.Plotter(shape=(len(faces), len(STATE_NAMES)), off_screen=True,
                          window_size=(1500, 330 * len(faces)), border=False)

@@ -34,18 +34,13 @@ def write_modes_vtk(modes: SolidModes, path: Path) -> Path:
     return path.with_suffix(".pvd")
 
 
-def _pyvista():
-    import pyvista
-    pyvista.OFF_SCREEN = True
-    return pyvista
-
-
 def mode_picture(modes: SolidModes, path: Path, count: int = 4) -> Path:
     """PNG of the first ``count`` mode shapes (serial runs)."""
     model = modes.operators.model
     if model.comm.size > 1:
         raise RuntimeError("mode pictures are drawn from a serial run")
-    pv = _pyvista()
+    from shroud.base.offscreen import pyvista
+    pv = pyvista()
     count = min(count, len(modes.vectors))
     topology, cell_types, x = plot.vtk_mesh(model.V)
     plotter = pv.Plotter(shape=(1, count), off_screen=True, window_size=(320 * count, 520))
