@@ -62,20 +62,25 @@ def check_records(params: Parameters) -> None:
 
 
 def structural_stiffness(system: StructuralSystem, rows) -> dict[int, float]:
-    """w K w^T (N/m) of each row w of the contact projection W named in ``rows``."""
+    """w K w^T (N/m) of each row w of the contact projection W named in ``rows``.
+
+    One product of K with the rows' block (K dense, scipy.sparse or row-distributed).
+    """
     W = system.contact.W
-    out = {}
-    for i in sorted({int(r) for r in rows}):
-        w = W.getrow(i).toarray().ravel() if scipy.sparse.issparse(W) else np.asarray(W[i], dtype=float)
-        out[i] = float(w @ (system.K @ w))
-    return out
+    index = sorted({int(r) for r in rows})
+    block = W[index]
+    dense = block.toarray() if scipy.sparse.issparse(block) else np.asarray(block, dtype=float)
+    KWt = np.asarray(system.K @ dense.T)
+    return dict(zip(index, np.einsum("ij,ji->i", dense, KWt).tolist()))
 
 
-def contact_stiffness_bound(system: StructuralSystem, rows, weight) -> float:
-    """Largest side total (N/m) whose per-element share k_c weight_j stays within k_row / eps."""
-    k = structural_stiffness(system, rows)
+def contact_stiffness_bounds(system: StructuralSystem) -> dict[str, float]:
+    """Largest side totals (N/m) of kn and kt whose share per element, k_c weight_j, stays within k / eps."""
+    elements = system.contact
+    k = structural_stiffness(system, np.concatenate([elements.normal_row, elements.tangent_row]))
     eps = np.finfo(float).eps
-    return min(k[int(r)] / (eps * w) for r, w in zip(rows, weight) if w > 0)
+    return {key: min(k[int(r)] / (eps * w) for r, w in zip(rows, elements.weight) if w > 0)
+            for key, rows in (("contact.kn", elements.normal_row), ("contact.kt", elements.tangent_row))}
 
 
 def check_contact_stiffness(system: StructuralSystem, contact: Contact) -> None:
@@ -83,13 +88,13 @@ def check_contact_stiffness(system: StructuralSystem, contact: Contact) -> None:
     elements = system.contact
     if elements is None or not contact.enabled or elements.count == 0:
         return
-    for key, value, rows in (("contact.kn", contact.kn, elements.normal_row),
-                             ("contact.kt", contact.kt, elements.tangent_row)):
-        bound = contact_stiffness_bound(system, rows, elements.weight)
-        if value > bound:
+    bounds = contact_stiffness_bounds(system)
+    for key, value in (("contact.kn", contact.kn), ("contact.kt", contact.kt)):
+        name = key.split(".")[1]
+        if value > bounds[key]:
             raise InputError(key, f"{value:g} N/m is beyond what double precision resolves against the "
-                             f"{system.model} model's own stiffness k at its contact points ({key[8:]} + k rounds to "
-                             f"{key[8:]} once {key[8:]} > k / 2.2e-16 per point); allowed: at most {bound:.3g} N/m here")
+                             f"{system.model} model's own stiffness k at its contact points ({name} + k rounds to "
+                             f"{name} once {name} > k / 2.2e-16 per point); allowed: at most {bounds[key]:.3g} N/m here")
 
 
 def check_run(system: StructuralSystem, params: Parameters) -> None:
