@@ -49,7 +49,8 @@ def record_bytes(params: Parameters) -> int:
 
 
 def check_records(params: Parameters) -> None:
-    """Refuse a run whose records this machine cannot hold (InputError on time.periods)."""
+    """Refuse a run at rest (speed.rpm, by Parameters.time_step) or whose records this machine cannot hold."""
+    params.time_step
     need, limit = record_bytes(params), MEMORY_SHARE * physical_memory()
     if need <= limit:
         return
