@@ -4,7 +4,12 @@ Both are compared over the reference's last ``periods`` excitation periods,
 after interpolating the candidate onto the reference's time grid (runs at
 other time steps then compare fairly). For each signal:
 
-* NRMSE: RMS of the difference divided by the reference's peak-to-peak range;
+* NRMSE: RMS of the difference divided by the reference's peak-to-peak range,
+  or by ``FLAT_SHARE`` of the largest range among the signals of the same
+  quantity (forces; tip displacements) in either run where that is larger.
+  A reference that hardly moves (a face that never touches: N = 0 all
+  window) is then measured against the size of its kind of signal: a small
+  difference gives a small NRMSE instead of a jump to 1;
 * peak error: relative error of the largest absolute value.
 
 The contact-state shares are the time (and, for a face of many nodes, area)
@@ -18,6 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 SIGNALS = ("N1", "N2", "Ff1", "Ff2", "v_L", "w_L")
+QUANTITIES = (("N1", "N2", "Ff1", "Ff2"), ("v_L", "w_L"))   # signals of one unit share a scale
+FLAT_SHARE = 0.01      # a reference range below 1 % of its quantity's largest range counts as flat
 
 
 @dataclass(frozen=True)
@@ -45,9 +52,22 @@ def window(t: np.ndarray, period: float, periods: int) -> np.ndarray:
     return t >= t[-1] - periods * period * (1 - 1e-9)
 
 
-def nrmse(x: np.ndarray, ref: np.ndarray) -> float:
-    span = float(np.ptp(ref))
-    return float(np.sqrt(np.mean((x - ref) ** 2)) / span) if span > 0 else float(np.max(np.abs(x - ref)) > 0)
+def nrmse(x: np.ndarray, ref: np.ndarray, scale: float = 0.0) -> float:
+    """RMS of ``x - ref`` over the larger of ref's range and ``scale``.
+
+    Two constant signals (no range, no scale) compare by their relative difference.
+
+    >>> t = np.linspace(0.0, 2 * np.pi, 1001)
+    >>> round(nrmse(np.sin(t) + 0.01, np.sin(t)), 9)             # range 2: 0.01 / 2
+    0.005
+    >>> nrmse(np.full(5, 1e-9), np.zeros(5), scale=0.5)         # a flat reference, a tiny difference
+    2e-09
+    """
+    rms = float(np.sqrt(np.mean((x - ref) ** 2)))
+    span = max(float(np.ptp(ref)), scale)
+    if span == 0.0:
+        span = max(float(np.max(np.abs(ref))), float(np.max(np.abs(x))))
+    return rms / span if span > 0 else 0.0
 
 
 def peak_error(x: np.ndarray, ref: np.ndarray) -> float:
@@ -62,9 +82,12 @@ def agreement(t: np.ndarray, signals: dict[str, np.ndarray], t_ref: np.ndarray,
     tw = t_ref[mask]
     if tw[0] < t[0] or tw[-1] > t[-1] * (1 + 1e-9):
         raise ValueError("the candidate run does not cover the reference window")
+    xs = {name: np.interp(tw, t, signals[name]) for name in SIGNALS}
+    refs = {name: reference[name][mask] for name in SIGNALS}
     errs, peaks = {}, {}
-    for name in SIGNALS:
-        x = np.interp(tw, t, signals[name])
-        errs[name] = nrmse(x, reference[name][mask])
-        peaks[name] = peak_error(x, reference[name][mask])
+    for group in QUANTITIES:
+        scale = FLAT_SHARE * max(max(np.ptp(xs[n]), np.ptp(refs[n])) for n in group)
+        for name in group:
+            errs[name] = nrmse(xs[name], refs[name], scale)
+            peaks[name] = peak_error(xs[name], refs[name])
     return Agreement(nrmse=errs, peak_error=peaks)

@@ -14,6 +14,8 @@ studies.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from shroud.base.markdown import markdown_table
@@ -48,22 +50,42 @@ SAME = 0.01        # two steady amplitudes within 1 % are one state
 
 
 def matched_difference(xs: list[float], ys: list[float]) -> float:
-    """Largest relative distance from a state of the list with fewer states to the nearest state of the other."""
+    """Largest relative distance from a state of the list with fewer states to the nearest state of the other.
+
+    A model that reached no steady state (every run diverged or none
+    settled) shares nothing with the other: the difference is infinite, so
+    the states are never called the same or shared.
+
+    >>> matched_difference([30e-6, 62e-6], [30.1e-6, 62e-6]) < SAME
+    True
+    >>> matched_difference([], [30e-6]), matched_difference([], [])
+    (inf, inf)
+    """
+    if not xs or not ys:
+        return math.inf
     few, many = (xs, ys) if len(xs) <= len(ys) else (ys, xs)
-    if few and not many:
-        return float("inf")
-    return max((min(abs(x - y) / abs(y) for y in many) for x in few), default=0.0)
+    return max(min(abs(x - y) / abs(y) for y in many) for x in few)
 
 
 def summary(rows: list[dict]) -> str:
     """One phrase for a report's comparison table ("" when the curves nowhere differ)."""
     if not rows:
         return ""
-    same = sum(r["same_states"] for r in rows)
+    same = [r for r in rows if r["same_states"]]
     shared = sum(r["shared_states"] and not r["same_states"] for r in rows)
-    return (f"; at {same} of {len(rows)} differing speeds both models have the same coexisting steady states"
-            f" (largest difference {100 * max((r['largest_state_difference'] for r in rows if r['same_states']), default=0.0):.2f} %)"
-            + (f", at {shared} more every state of one model is also one of the other's" if shared else ""))
+    unsettled = sum(not all(r["states_m"].values()) for r in rows)
+    text = (f"; at {len(same)} of {len(rows)} differing speeds both models have the same coexisting steady states"
+            f" (largest difference {100 * max(r['largest_state_difference'] for r in same):.2f} %)" if same else
+            f"; at none of {len(rows)} differing speeds do both models have the same steady states")
+    return (text + (f", at {shared} more every state of one model is also one of the other's" if shared else "")
+            + (f", at {unsettled} a model reached no steady state from the common starts" if unsettled else ""))
+
+
+def _difference_text(row: dict, models: tuple[str, str], names: tuple[str, str]) -> str:
+    unsettled = [n for m, n in zip(models, names) if not row["states_m"][m]]
+    if unsettled:
+        return "no steady state reached by " + " and ".join(unsettled)
+    return f"{100 * row['largest_state_difference']:.2f} %"
 
 
 def section(rows: list[dict], opts, models: tuple[str, str], names: tuple[str, str]) -> list[str]:
@@ -82,11 +104,11 @@ def section(rows: list[dict], opts, models: tuple[str, str], names: tuple[str, s
                            [(r["case"], r["rpm"], 1e6 * r["from_rest_m"][first], 1e6 * r["from_rest_m"][second],
                              um(r["states_m"][first]), um(r["states_m"][second]),
                              "same" if r["same_states"] else "shared" if r["shared_states"] else "different",
-                             f"{100 * r['largest_state_difference']:.2f} %") for r in rows]),
+                             _difference_text(r, models, names)) for r in rows]),
             f"\nStates within {100 * SAME:g} % count as one. *Same*: both models have the same coexisting "
             "steady states, and the two runs from rest fall into different ones (their transients differ "
             "by the models' small differences, enough to cross a basin boundary): the difference of the "
             "curves is not a model error. *Shared*: every state of the model with fewer states is also a "
             "state of the other, which has one more from these starts (a branch whose basin the first "
             "model's starts missed, or that it lacks). *Different*: the models' steady states differ by "
-            "the amount shown.\n"]
+            "the amount shown, or one of them reached no steady state from these starts.\n"]

@@ -13,19 +13,14 @@ from pathlib import Path
 
 import numpy as np
 
+from shroud.base.offscreen import pyvista
 from shroud.core.states import STATE_NAMES
-
-
-def _pyvista():
-    import pyvista
-    pyvista.OFF_SCREEN = True
-    return pyvista
 
 
 def mesh_picture(mesh_path: Path, size_m: float, path: Path) -> Path:
     """Surface of the solid mesh with its edges, seen from the suction side and above."""
     import meshio
-    pv = _pyvista()
+    pv = pyvista()
     mesh = meshio.read(mesh_path)
     plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
     plotter.add_mesh(pv.from_meshio(mesh), show_edges=True, color="lightsteelblue")
@@ -38,7 +33,7 @@ def mesh_picture(mesh_path: Path, size_m: float, path: Path) -> Path:
 
 def mode_picture(grid, path: Path) -> Path:
     """The modes of a ModeGrid side by side, each warped so its largest displacement is 10 % of L."""
-    pv = _pyvista()
+    pv = pyvista()
     count = len(grid.labels)
     plotter = pv.Plotter(shape=(1, count), off_screen=True, window_size=(320 * count, 520))
     for i in range(count):
@@ -67,7 +62,7 @@ def contact_map_picture(path: Path, faces, shares: list[np.ndarray], title: str)
     ``faces``: reference_fe.contact_map.FaceGeometry per side; ``shares``: per face, (k, 3) share of
     the window each node spent separate / stick / slip.
     """
-    pv = _pyvista()
+    pv = pyvista()
     plotter = pv.Plotter(shape=(len(faces), len(STATE_NAMES)), off_screen=True,
                          window_size=(1500, 330 * len(faces)), border=False)
     for row, (face, s) in enumerate(zip(faces, shares)):

@@ -2,7 +2,7 @@
 
 The blade is the rectangle b (chord, along e_w) x h (thickness, along e_v)
 swept from X = R_d to X = R_d + L while turning about +X by
-beta(x) = beta_1 + beta_t x / L (shared/spec/geometry.md; paper Fig. 5 and
+beta(x) = beta_1 + beta_t x / L (docs/geometry.md; paper Fig. 5 and
 Eq. 13 for the section corners). The shroud is a box l_s (along e_ws) x b_s
 (along e_vs) x t_s (along X) on the tip, turned by beta_L + alpha about X
 (paper Eq. 7 frame). Blade and shroud are two volumes sharing their
@@ -19,7 +19,7 @@ Example
 >>> from shroud.params import Parameters
 >>> spec = MeshSpec.from_params(Parameters())
 >>> round(spec.elements_through_thickness, 2)
-1.17
+2.0
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ import numpy as np
 
 from shroud.base.cache import cached
 from shroud.base.errors import InputError
+from shroud.base.resources import in_words, physical_memory
 from shroud.params import Parameters
 
 # Physical group tags (facets dim 2, cells dim 3).
@@ -47,8 +48,6 @@ SHROUD = 2
 # "blade" has folded into a screw, which neither model describes.
 MAX_HELIX_DEG = 45.0
 MIN_ELEMENTS_THROUGH_THICKNESS = 2.0
-# Bump when the construction below changes what a given MeshSpec produces.
-BUILDER_VERSION = 1
 
 
 @dataclass(frozen=True)
@@ -113,7 +112,7 @@ def shroud_frame(spec: MeshSpec) -> tuple[np.ndarray, np.ndarray]:
 
 
 def check_geometry(spec: MeshSpec) -> None:
-    """Raise InputError for a solid that cannot be meshed as intended (before gmsh runs)."""
+    """Raise InputError for a solid that cannot be meshed as intended, or held (before gmsh runs)."""
     if spec.has_shroud and spec.shroud_width < spec.thickness:
         raise InputError("shroud.width", f"{spec.shroud_width!r} is narrower than blade.thickness "
                          f"{spec.thickness!r}; allowed: a shroud at least as wide as the blade is thick")
@@ -129,6 +128,64 @@ def check_geometry(spec: MeshSpec) -> None:
         raise InputError("fe.mesh_size", f"{spec.size!r} leaves fewer than two elements through "
                          f"shroud.thickness {spec.shroud_thickness!r}; allowed: a size <= "
                          f"{spec.shroud_thickness / MIN_ELEMENTS_THROUGH_THICKNESS:g} m")
+    check_mesh_size(spec)
+
+
+# What a mesh of size h costs, measured here on this blade (gmsh Frontal-Delaunay/Delaunay as in
+# write_mesh): 6807 / 25 518 / 71 413 tetrahedra at h = 3.5 / 2.2 / 1.5 mm, i.e. 6.1 / 5.7 / 5.1
+# per h^3 of volume; 1.83 / 1.67 / 1.57 nodes per tetrahedron at order 2, 0.30 / 0.25 at order 1.
+# The estimate takes the fine-mesh values, where refusing matters (it undercounts coarse meshes).
+TETRAHEDRA_PER_CUBE = 5.1
+NODES_PER_CELL = {1: 0.25, 2: 1.57}
+# The full solid's transient on one process (operators, MUMPS factor of the step operator, contact
+# columns) held 1.44 GB at 37 419 DOF; a 3D direct factor fills as DOF^(4/3).
+REFERENCE_DOFS, REFERENCE_BYTES = 37_419, 1.44e9
+
+
+@dataclass(frozen=True)
+class MeshEstimate:
+    """What meshing and solving a solid of ``volume`` (m^3) at element size ``size`` (m) needs."""
+
+    volume: float
+    size: float
+    cells: float
+    dofs: float        # 3 displacement components per node
+    bytes: float       # memory of the solid's transient run on one process
+
+    def size_for(self, memory: float) -> float:
+        """The smallest element size (m) whose estimate fits in ``memory`` bytes (bytes ~ size^-4)."""
+        return self.size * (self.bytes / memory) ** 0.25
+
+
+def estimate_mesh(volume: float, size: float, order: int,
+                  cells_per_cube: float = TETRAHEDRA_PER_CUBE) -> MeshEstimate:
+    """Cells, DOF and memory of a mesh before it is made (a hexahedral mesh passes its cells per h^3).
+
+    >>> e = estimate_mesh(4.76e-5, 0.0035, 2)        # the default blade and mesh (measured: 6807 cells, 37 419 DOF)
+    >>> round(e.cells), round(e.dofs), round(e.bytes / 1e9, 2)
+    (5662, 26668, 0.92)
+    """
+    cells = cells_per_cube * volume / size**3
+    dofs = 3.0 * NODES_PER_CELL[order] * cells
+    return MeshEstimate(volume=volume, size=size, cells=cells, dofs=dofs,
+                        bytes=REFERENCE_BYTES * (dofs / REFERENCE_DOFS) ** (4.0 / 3.0))
+
+
+def solid_volume(spec: MeshSpec) -> float:
+    """Volume of blade and shroud, m^3."""
+    return (spec.length * spec.width * spec.thickness
+            + spec.shroud_length * spec.shroud_width * spec.shroud_thickness * spec.has_shroud)
+
+
+def check_mesh_size(spec: MeshSpec, memory: float | None = None) -> MeshEstimate:
+    """Refuse (InputError on fe.mesh_size) a mesh whose solve this machine cannot hold; else its estimate."""
+    memory = physical_memory() if memory is None else memory
+    estimate = estimate_mesh(solid_volume(spec), spec.size, spec.order)
+    if estimate.bytes > memory:
+        raise InputError("fe.mesh_size", f"{spec.size!r} m would make about {estimate.cells:.2g} cells and "
+                         f"{estimate.dofs:.2g} DOF, needing about {in_words(estimate.bytes)} to solve; this "
+                         f"machine has {in_words(memory)}; allowed: a size >= {estimate.size_for(memory):.3g} m here")
+    return estimate
 
 
 def _section_wire(occ, spec: MeshSpec, x: float) -> int:
@@ -251,5 +308,14 @@ def mesh_file(spec: MeshSpec) -> Path:
     """
     check_geometry(spec)
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
-    inputs["builder"] = BUILDER_VERSION
-    return cached("mesh", inputs, ".msh", lambda tmp: write_mesh(spec, tmp), what="blade mesh")
+    return cached("mesh", inputs, ".msh", lambda tmp: write_mesh(spec, tmp), what="blade mesh",
+                  sources=(__name__,), check=check_msh_complete)
+
+
+def check_msh_complete(path: Path) -> None:
+    """Raise ValueError unless ``path`` ends as write_mesh ends a file (its $Elements section closed)."""
+    with open(path, "rb") as fh:
+        fh.seek(max(0, path.stat().st_size - 64))
+        tail = fh.read()
+    if not tail.rstrip().endswith(b"$EndElements"):
+        raise ValueError("the file stops before $EndElements: cut short")

@@ -12,12 +12,11 @@ from __future__ import annotations
 
 import time
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from reduced_model.beam import for_parameters
 from reduced_model.modal import modes_at
 from shroud.base.log import Progress
-from shroud.core.modes import label_modes, mac
+from shroud.core.modes import label_modes, mac, pair_by_mac
 from shroud.core.results import CampbellResult
 from shroud.params import Parameters
 
@@ -39,7 +38,7 @@ def campbell(params: Parameters, rpms: np.ndarray, n_modes: int, coriolis: bool)
             pick = np.arange(n_modes)
             labels, _ = label_modes(beam.tip_kinematics(modes.shapes[:, :n_modes]))
         else:
-            _, pick = linear_sum_assignment(-mac(previous, modes.shapes))
+            pick = pair_by_mac(mac(previous, modes.shapes))
         f[i] = modes.f_hz[pick]
         previous = modes.shapes[:, pick]
         progress.update(i + 1)

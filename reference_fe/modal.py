@@ -20,7 +20,8 @@ axial = along X, torsion = rotation about X times b/2 (the chord-edge
 displacement it causes). The tip-section centre (x = L on the blade axis) is
 where the beam model's v_L, w_L live; the shroud box above it (t_s/2
 further out) is part of the solid. Each gyroscopic mode inherits the label
-of the undamped mode it matches best (MAC), so the Coriolis shift of every
+of the undamped mode it is paired with (MAC, one-to-one: an optimal
+assignment, shroud.core.modes.pair_by_mac), so the Coriolis shift of every
 mode is reported by name.
 
 Everything is PETSc/SLEPc-native: the same code runs serially or under
@@ -39,7 +40,7 @@ from slepc4py import SLEPc
 from meshes.blade import section_frame
 from reference_fe.solid import RotatingOperators, SolidModel, rotating_operators
 from shroud.base.log import Progress, info
-from shroud.core.modes import label_modes
+from shroud.core.modes import label_modes, pair_by_mac
 from shroud.params import Parameters
 from shroud.core.results import ModalResult, Mode
 
@@ -52,6 +53,7 @@ class SolidModes:
     dofs: int
     f_undamped: np.ndarray          # (k,) Hz, G = 0
     f_coriolis: np.ndarray | None   # (k,) Hz of the gyroscopic mode matched to each, or None
+    damping_coriolis: np.ndarray | None  # (k,) its damping ratio -Re lambda / |lambda|
     mac_coriolis: np.ndarray | None  # (k,) MAC of that match
     labels: tuple[str, ...]
     participation: tuple[dict[str, float], ...]
@@ -106,17 +108,13 @@ def _undamped(ops: RotatingOperators, n_modes: int):
     eps.setFromOptions()
     eps.solve()
     nconv = eps.getConverged()
-    if nconv < n_modes:
-        raise RuntimeError(f"SLEPc EPS converged {nconv} of {n_modes} modes")
     pairs = []
     for i in range(nconv):
         x = ops.M.createVecRight()
-        lam = eps.getEigenpair(i, x).real
-        if np.isfinite(lam) and lam > 0:
-            pairs.append((lam, x))
-    pairs.sort(key=lambda p: p[0])
-    pairs = pairs[:n_modes]
+        pairs.append((eps.getEigenpair(i, x).real, x))
     eps.destroy()
+    keep = lowest_vibration_modes([lam for lam, _ in pairs], n_modes, "SLEPc EPS")
+    pairs = [pairs[i] for i in keep]
     vectors = []
     for _, x in pairs:       # mass-normalize: x^T M x = 1
         Mx = ops.M.createVecLeft()
@@ -124,6 +122,26 @@ def _undamped(ops: RotatingOperators, n_modes: int):
         x.scale(1.0 / np.sqrt(x.dot(Mx)))
         vectors.append(x)
     return np.sqrt([p[0] for p in pairs]) / (2 * np.pi), vectors
+
+
+def lowest_vibration_modes(omega2, n_modes: int, solver: str) -> list[int]:
+    """Indices of the ``n_modes`` lowest finite, positive omega^2 (rad^2/s^2) among a solver's pairs.
+
+    Counted after the filtering, so a solve that converged enough pairs but
+    too few vibration modes among them fails here instead of returning fewer.
+
+    >>> lowest_vibration_modes([4.0, -1e-9, 1.0, float("inf")], 2, "EPS")
+    [2, 0]
+    >>> lowest_vibration_modes([4.0, -1e-9, float("inf")], 2, "EPS")
+    Traceback (most recent call last):
+    ...
+    RuntimeError: EPS converged 3 eigenpairs but only 1 vibration modes (finite omega^2 > 0) of the 2 asked
+    """
+    good = [i for i, lam in enumerate(omega2) if np.isfinite(lam) and lam > 0]
+    if len(good) < n_modes:
+        raise RuntimeError(f"{solver} converged {len(omega2)} eigenpairs but only {len(good)} vibration modes "
+                           f"(finite omega^2 > 0) of the {n_modes} asked")
+    return sorted(good, key=lambda i: omega2[i])[:n_modes]
 
 
 def _shift_invert(st) -> None:
@@ -137,7 +155,11 @@ def _shift_invert(st) -> None:
 
 
 def _gyroscopic(ops: RotatingOperators, n_modes: int):
-    """(f Hz, xr, xi) of the first ``n_modes`` gyroscopic modes (Im lambda > 0)."""
+    """(f Hz, damping ratio, xr, xi) of the first ``n_modes`` gyroscopic modes (Im lambda > 0).
+
+    lambda = -zeta omega + i omega sqrt(1 - zeta^2): zeta = -Re lambda / |lambda|
+    (0 to round-off for this conservative gyroscopic problem, G^T = -G).
+    """
     comm = ops.model.comm
     pep = SLEPc.PEP().create(comm)
     pep.setOptionsPrefix("shroud_gyro_")
@@ -156,7 +178,7 @@ def _gyroscopic(ops: RotatingOperators, n_modes: int):
         xr, xi = ops.M.createVecRight(), ops.M.createVecRight()
         lam = pep.getEigenpair(i, xr, xi)
         if lam.imag > 0:
-            found.append((lam.imag / (2 * np.pi), xr, xi))
+            found.append((lam.imag / (2 * np.pi), -lam.real / abs(lam), xr, xi))
     pep.destroy()
     found.sort(key=lambda t: t[0])
     if len(found) < n_modes:
@@ -183,21 +205,23 @@ def solve_modes(params: Parameters, rpm: float | None = None, n_modes: int = 6,
     model = ops.model
     tip = np.array([tip_components(model, x) for x in vectors]).real
     labels, parts = label_modes(tip)
-    f_cor = mac_cor = None
+    f_cor = mac_cor = zeta_cor = None
     if coriolis and ops.omega > 0:
         gyro = _gyroscopic(ops, n_modes)
-        macs = np.array([[_mac(phi, xr, xi) for _, xr, xi in gyro] for phi in vectors])
-        best = np.argmax(macs, axis=1)
-        f_cor = np.array([gyro[j][0] for j in best])
-        mac_cor = macs[np.arange(len(vectors)), best]
+        macs = np.array([[_mac(phi, xr, xi) for _, _, xr, xi in gyro] for phi in vectors])
+        pick = pair_by_mac(macs)
+        f_cor = np.array([gyro[j][0] for j in pick])
+        zeta_cor = np.array([gyro[j][1] for j in pick])
+        mac_cor = macs[np.arange(len(vectors)), pick]
     elif coriolis:
         f_cor, mac_cor = f0.copy(), np.ones_like(f0)      # no rotation, no Coriolis
+        zeta_cor = np.zeros_like(f0)
     progress.update(3)
     elapsed = time.perf_counter() - t0
     progress.done()
     info(f"FE modes at {rpm:g} r/min: " + ", ".join(f"{l} {f:.1f} Hz" for l, f in zip(labels, f0)))
     return SolidModes(rpm=rpm, dofs=model.global_dofs, f_undamped=f0, f_coriolis=f_cor,
-                      mac_coriolis=mac_cor, labels=tuple(labels), participation=tuple(parts),
+                      damping_coriolis=zeta_cor, mac_coriolis=mac_cor, labels=tuple(labels), participation=tuple(parts),
                       tip=tip, vectors=tuple(vectors), operators=ops, solve_s=elapsed)
 
 
@@ -211,4 +235,5 @@ def modal_analysis(params: Parameters, rpm: float | None = None, n_modes: int = 
                        coriolis=coriolis,
                        modes=tuple(Mode(f_hz=float(f[i]), label=modes.labels[i],
                                         participation=modes.participation[i],
-                                        damping_ratio=0.0 if coriolis else None) for i in order))
+                                        damping_ratio=float(modes.damping_coriolis[i]) if coriolis else None)
+                                   for i in order))

@@ -127,7 +127,20 @@ def reduced_operators(params: Parameters, rpm: float | None = None) -> Path:
     # The basis is built serially (scipy): under mpirun rank 0 builds it into the cache for all.
     return on_rank_zero(lambda: cached("fe_reduction", reduction_inputs(params, rpm), ".npz",
                                        lambda path: _build_reduction(params, rpm, path),
-                                       what="FE reduction basis"))
+                                       what="FE reduction basis", sources=REDUCTION_SOURCES,
+                                       check=_check_npz))
+
+
+# The code that shapes the reduced operators: editing any of it builds them anew.
+REDUCTION_SOURCES = ("meshes.blade", "reference_fe.contact_faces", "reference_fe.solid", "reference_fe.cms",
+                     __name__)
+
+
+def _check_npz(path: Path) -> None:
+    """Read every array of the .npz (zip CRCs checked): raises if the file was cut short."""
+    with np.load(path) as data:
+        for name in data.files:
+            data[name]
 
 
 def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:

@@ -4,7 +4,7 @@ One schema serves scene files, ``--set key=value`` and the Python API. Every
 value is checked here, once; model builders downstream trust what they get.
 Units are SI (m, kg, s, N, Pa) unless the key says otherwise (``*_deg``,
 ``rpm``). Defaults are the paper's Table 2 and Sect. 2.2
-(shared/spec/geometry.md).
+(docs/geometry.md).
 
 Example
 -------
@@ -329,5 +329,20 @@ class Parameters:
 
     @property
     def time_step(self) -> float:
-        """dt = 60 / (steps_per_period * ke * rpm), s (256 per period as the paper)."""
+        """dt = 60 / (steps_per_period * ke * rpm), s (256 per period as the paper).
+
+        Every time integration takes its step from here, so this is the one
+        place that refuses a speed of 0 for one: at rest there is no
+        excitation period to step through (modal analyses at rest are fine).
+
+        >>> Parameters().time_step                      # 10000 r/min, ke = 2, 256 steps per period
+        1.171875e-05
+        >>> Parameters().updated({"speed.rpm": 0}).time_step
+        Traceback (most recent call last):
+        ...
+        shroud.base.errors.InputError: speed.rpm: 0.0 r/min has no excitation period to step through; allowed: a speed > 0 r/min for a time integration (0 only for modal analyses)
+        """
+        if not self.speed.rpm > 0:
+            raise InputError("speed.rpm", f"{self.speed.rpm!r} r/min has no excitation period to step through; "
+                             "allowed: a speed > 0 r/min for a time integration (0 only for modal analyses)")
         return 60.0 / (self.time.steps_per_period * self.load.ke * self.speed.rpm)

@@ -124,6 +124,8 @@ def test_coriolis_pep_matches_state_space_arnoldi():
     second = np.sort(lam.imag[lam.imag > 0]) / (2 * np.pi)
     assert np.allclose(np.sort(modes.f_coriolis), second[:4], rtol=1e-7)
     assert np.all(np.abs(lam.real) < 1e-6 * np.abs(lam))      # gyroscopic: no damping
+    assert np.all(np.abs(modes.damping_coriolis) < 1e-6)        # ... and so says the PEP's lambda
+    assert len(set(modes.f_coriolis)) == 4                      # one gyroscopic mode per undamped one
     # The in-plane bending mode is softened by Coriolis coupling to axial motion.
     assert np.any(np.abs(modes.coriolis_shift) > 1e-4)
 

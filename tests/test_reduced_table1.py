@@ -26,11 +26,13 @@ def test_converged_model_within_0_2_percent_of_the_papers_ansys_column():
 
 
 def test_convergence_from_N4_to_N7_decreases_as_the_papers():
+    """Our frequencies fall with N (Rayleigh-Ritz: never up) and, from N = 5 on, follow the paper's
+    column of the same N (N = 4: our four polynomials cannot carry flap3, +44 %; see the README)."""
     f = np.array([frequencies(N) for N in (4, 5, 6, 7)])
-    assert np.all(np.diff(f, axis=0) <= 1e-9 * f[1:])          # Rayleigh-Ritz: never up
+    assert np.all(np.diff(f, axis=0) <= 1e-9 * f[1:])
     assert np.all(f[0] > f[-1])
-    paper = np.array([PAPER_REDUCED[N] for N in (4, 5, 6, 7)])
-    assert np.all(paper[0] > paper[-1])
+    for row, N in zip(f[1:], (5, 6, 7)):
+        np.testing.assert_allclose(row, PAPER_REDUCED[N], rtol=0.012, err_msg=f"N = {N}")
 
 
 def test_table1_scene_writes_its_outputs(tmp_path):

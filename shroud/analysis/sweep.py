@@ -15,8 +15,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from shroud.analysis.checks import check_run
 from shroud.analysis.transient import contact_law_for, run
-from shroud.base.errors import RunDiverged
 from shroud.base.log import Progress
 from shroud.base.parallel import map_parallel
 from shroud.core import registry
@@ -52,9 +52,9 @@ def run_sweeps(cases: Sequence[Parameters], model: str, rpms: Sequence[float],
     when given; it must be a module-level function (it is pickled).
     """
     rpms = np.asarray(rpms, dtype=float)
-    for r in rpms:
-        if not r > 0:
-            raise RunDiverged(f"sweep speed {r} r/min: a transient needs a speed > 0")
+    for p in cases:             # every speed checked before any runs (the rule: Parameters.time_step)
+        for r in rpms:
+            p.updated({"speed.rpm": float(r)}).time_step
     tasks = [(p, model, float(r), build) for p in cases for r in rpms]
     progress = Progress(f"sweep {model} ({len(cases)} x {len(rpms)} speeds)", len(tasks))
     t0 = time.perf_counter()
@@ -95,6 +95,7 @@ def coexisting_states(params: Parameters, model: str, rpm: float, tip_deflection
     from shroud.core.signals import amplitude
     p = params.updated({"speed.rpm": rpm})
     system = _model_builder(model)(p)
+    check_run(system, p)
     law = contact_law_for(system, p.contact)
     shape = np.linalg.solve(system.K, system.f_aero)
     shape = shape / (np.asarray(system.tip)[0] @ shape)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-
+from shroud.analysis.checks import check_run
 from shroud.core import signals
 from shroud.core.contact import ContactLaw, contact_law
 from shroud.base.errors import RunDiverged
@@ -31,7 +31,12 @@ def contact_law_for(system: StructuralSystem, contact: Contact) -> ContactLaw:
 
 def run(system: StructuralSystem, params: Parameters, method: str = "auto",
         energy_periods: int = signals.STEADY_PERIODS) -> Trajectory:
-    """Integrate ``system`` as ``params.time`` and ``params.contact`` say (no output files)."""
+    """Integrate ``system`` as ``params.time`` and ``params.contact`` say (no output files).
+
+    Refused up front (InputError) when the records would not fit in memory or
+    the contact stiffness is beyond double precision (shroud.analysis.checks).
+    """
+    check_run(system, params)
     spp, periods = params.time.steps_per_period, params.time.periods
     law = contact_law_for(system, params.contact)
     return integrate(system, law, NewmarkScheme(dt=params.time_step), spp * periods,
@@ -47,6 +52,7 @@ def simulate(system: StructuralSystem, params: Parameters, csv_path: Path | None
     tr = run(system, params, method=method)
     if csv_path is not None:
         status = "complete" if tr.diverged is None else f"incomplete: {tr.diverged}"
+        Path(csv_path).parent.mkdir(parents=True, exist_ok=True)
         write_trajectory_csv(Path(csv_path), tr, status)
         info(f"wrote {csv_path} ({tr.steps + 1} rows)")
     if tr.diverged is not None:

@@ -117,10 +117,7 @@ def cmd_modal(args) -> None:
 def cmd_transient(args) -> None:
     from shroud.analysis.api import transient
     params = _params(args)
-    if params.speed.rpm <= 0:
-        raise InputError("speed.rpm", f"{params.speed.rpm!r} is out of range; allowed: a speed > 0 r/min for a transient")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = Path(args.out)             # made by simulate when there is a time series to write
     from shroud.base.parallel import mpi_rank
     csv_path = out / f"transient_{args.model}.csv" if mpi_rank() == 0 else None   # one rank writes
     result = transient(params, args.model, csv_path=csv_path)

@@ -142,7 +142,23 @@ def output_folder(scene_path: str | Path, out: str | Path | None) -> Path:
     folder = Path(out) if out else Path("out") / Path(scene_path).stem
     if folder.exists() and not folder.is_dir():
         raise InputError("--out", f"{str(folder)!r} is an existing file; allowed: a folder path")
+    _check_writable(folder)
     return folder
+
+
+def _check_writable(folder: Path) -> None:
+    """Refuse ``folder`` if it cannot be made or written into (probed in its nearest existing folder)."""
+    existing = folder.absolute()
+    while not existing.exists():
+        existing = existing.parent
+    allowed = "allowed: a folder that exists or can be made, in a place this user may write"
+    if not existing.is_dir():
+        raise InputError("--out", f"{str(folder)!r} cannot be made: {str(existing)!r} is a file; {allowed}")
+    try:
+        tempfile.TemporaryDirectory(dir=existing, prefix=".shroud-probe-").cleanup()
+    except OSError as exc:
+        raise InputError("--out", f"{str(folder)!r} cannot be written: {exc.strerror} in "
+                         f"{str(existing)!r}; {allowed}") from None
 
 
 @contextlib.contextmanager

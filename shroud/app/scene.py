@@ -49,11 +49,19 @@ class Scene:
 
 
 def read_toml(path: Path) -> dict[str, Any]:
+    """The tables of a scene or campaign file; InputError naming the file for anything else."""
+    allowed = "allowed: a TOML text file (UTF-8), e.g. scenes/fig8.toml"
     try:
         with open(path, "rb") as fh:
             return tomllib.load(fh)
     except FileNotFoundError:
-        raise InputError(str(path), "no such scene file") from None
+        raise InputError(str(path), f"no such scene file; {allowed}") from None
+    except IsADirectoryError:
+        raise InputError(str(path), f"is a folder, not a scene file; {allowed}") from None
+    except PermissionError:
+        raise InputError(str(path), f"cannot be read (permission denied); {allowed}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError(str(path), f"is not UTF-8 text (byte {exc.start}); {allowed}") from None
     except tomllib.TOMLDecodeError as exc:
         raise InputError(str(path), f"does not parse as TOML ({exc})") from None
 

@@ -1,58 +1,107 @@
 """On-disk cache of expensive artefacts (meshes, FE matrices, reduction bases).
 
-An artefact is keyed by a hash of exactly the inputs that shape it, so a
-scene that needs what an earlier run built reuses it, and a changed input
-builds anew. The log says which, and why.
+An artefact is keyed by a hash of exactly the inputs that shape it and of
+the source files of the code that builds it, so a scene that needs what an
+earlier run built reuses it, and a changed input or an edited builder builds
+anew. The log says which, and why.
+
+Entries are written to a temporary name and renamed into place, so a run
+killed while writing leaves no entry behind; an entry that cannot be read
+all the same (a full disk, a copy cut short) is rebuilt with a warning.
+
 """
 
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import json
 import os
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Iterable, Mapping
 
-from shroud.base.log import info
-
-# Bump when a builder's output format or meaning changes: old entries are then unused.
-CACHE_VERSION = 1
+from shroud.base.log import info, warn
 
 
 def cache_root() -> Path:
     """``$SHROUD_CACHE`` or the project's ``.cache/`` folder."""
     env = os.environ.get("SHROUD_CACHE")
-    root = Path(env) if env else Path(__file__).resolve().parents[1] / ".cache"
+    root = Path(env) if env else Path(__file__).resolve().parents[2] / ".cache"
     root.mkdir(parents=True, exist_ok=True)
     return root
 
 
-def key_of(kind: str, inputs: Mapping[str, Any]) -> str:
-    text = json.dumps({"kind": kind, "v": CACHE_VERSION, **inputs}, sort_keys=True, default=repr)
+def source_digest(modules: Iterable[str]) -> dict[str, str]:
+    """``{module: hash of its file's bytes}`` of the named modules (dotted names), this one included.
+
+    The cache's own layout is part of every entry; the named modules are the
+    code whose output the entry holds.
+    """
+    out = {}
+    for name in sorted({__name__, *modules}):
+        spec = importlib.util.find_spec(name)
+        if spec is None or not spec.origin:
+            raise ModuleNotFoundError(f"cache source {name!r} is not an importable module")
+        out[name] = hashlib.sha256(Path(spec.origin).read_bytes()).hexdigest()[:16]
+    return out
+
+
+def key_of(kind: str, inputs: Mapping[str, Any], sources: Iterable[str] = ()) -> str:
+    text = json.dumps({"kind": kind, "code": source_digest(sources), **inputs}, sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def cached(kind: str, inputs: Mapping[str, Any], suffix: str,
-           build: Callable[[Path], None], what: str = "") -> Path:
-    """Path of the artefact for ``inputs``; ``build(tmp_path)`` writes it if missing.
+def cached(kind: str, inputs: Mapping[str, Any], suffix: str, build: Callable[[Path], None],
+           what: str = "", sources: Iterable[str] = (),
+           check: Callable[[Path], None] | None = None) -> Path:
+    """Path of the artefact for ``inputs`` and ``sources``; ``build(tmp_path)`` writes it if missing.
 
-    Writes go to a temporary name first, so an interrupted build leaves no
-    half-written entry behind.
+    ``sources``: dotted names of the modules whose code shapes the artefact
+    (their file bytes join the key: editing one builds anew). ``check(path)``
+    raises if an existing entry cannot be read; such an entry is rebuilt.
     """
-    key = key_of(kind, inputs)
+    sources = tuple(sources)
+    key = key_of(kind, inputs, sources)
     folder = cache_root() / kind
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"{key}{suffix}"
     label = what or kind
     if path.exists():
-        info(f"reused {label} {path.name} (same inputs: {_short(inputs)})")
-        return path
-    info(f"building {label} {path.name} (no cached entry for {_short(inputs)})")
-    tmp = folder / f".{key}.{os.getpid()}.tmp{suffix}"
-    build(tmp)
-    os.replace(tmp, path)
-    (folder / f"{key}.json").write_text(json.dumps(dict(inputs), sort_keys=True, default=repr, indent=1))
+        problem = _unreadable(path, check)
+        if problem is None:
+            info(f"reused {label} {path.name} (same inputs: {_short(inputs)})")
+            return path
+        warn(f"cached {label} {path} cannot be read ({problem}): building it again")
+    else:
+        info(f"building {label} {path.name} (no cached entry for {_short(inputs)})")
+    _write_atomic(path, build)
+    record = {"inputs": dict(inputs), "code": source_digest(sources)}
+    _write_atomic(folder / f"{key}.json",
+                  lambda tmp: tmp.write_text(json.dumps(record, sort_keys=True, default=repr, indent=1)))
     return path
+
+
+def _unreadable(path: Path, check: Callable[[Path], None] | None) -> str | None:
+    """Why the entry at ``path`` cannot be used, or None."""
+    if path.stat().st_size == 0:
+        return "empty file"
+    if check is None:
+        return None
+    try:
+        check(path)
+    except Exception as exc:        # noqa: BLE001 - any failure to read means: rebuild
+        return f"{type(exc).__name__}: {exc}"
+    return None
+
+
+def _write_atomic(path: Path, write: Callable[[Path], None]) -> None:
+    """``write(tmp)`` to a temporary name beside ``path``, then rename it into place."""
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _short(inputs: Mapping[str, Any]) -> str:

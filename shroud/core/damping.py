@@ -15,7 +15,16 @@ import math
 
 
 def rayleigh(f1: float, f2: float, xi1: float, xi2: float) -> tuple[float, float]:
-    """(alpha in 1/s, beta in s) giving damping ratios xi1, xi2 at f1 != f2 (Hz)."""
+    """(alpha in 1/s, beta in s) giving damping ratios xi1, xi2 at f1 != f2 (Hz).
+
+    Examples
+    --------
+    The ratios come back at both frequencies, xi(f) = alpha / (4 pi f) + beta pi f:
+
+    >>> alpha, beta = rayleigh(280.0, 1120.0, 0.02, 0.04)
+    >>> [round(alpha / (4 * math.pi * f) + beta * math.pi * f, 12) for f in (280.0, 1120.0)]
+    [0.02, 0.04]
+    """
     if not (f1 > 0 and f2 > 0) or math.isclose(f1, f2):
         raise ValueError(f"Rayleigh damping needs two distinct positive frequencies, got {f1}, {f2} Hz")
     alpha = 4.0 * math.pi * f1 * f2 * (f1 * xi2 - f2 * xi1) / (f1**2 - f2**2)

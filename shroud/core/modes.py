@@ -4,12 +4,13 @@ Both models (beam and solid) name a mode by how its tip moves: ``flap``
 (along e_v(L), the thickness direction), ``chord`` (along e_w(L)),
 ``torsion`` (rotation about X times a length scale), ``axial`` (along X).
 Labels are numbered in frequency order within each kind: flap1, chord1,
-flap2, ... (shared/spec/interface.md).
+flap2, ... (docs/interface.md).
 """
 
 from __future__ import annotations
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 KINDS = ("flap", "chord", "torsion", "axial")
 
@@ -53,3 +54,17 @@ def mac(phi_a: np.ndarray, phi_b: np.ndarray) -> np.ndarray:
     cross = np.abs(a.conj().T @ b) ** 2
     norms = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
     return cross / norms
+
+
+def pair_by_mac(macs: np.ndarray) -> np.ndarray:
+    """One-to-one pairing of the rows of a MAC matrix with its columns, largest total MAC.
+
+    ``macs`` (ka, kb), ka <= kb: returns for each row the column paired with
+    it, no column twice (an optimal assignment; a per-row argmax can give
+    two modes the same partner).
+
+    >>> pair_by_mac(np.array([[0.9, 0.8], [0.7, 0.1]]))      # argmax would pair both rows with column 0
+    array([1, 0])
+    """
+    rows, cols = linear_sum_assignment(-np.asarray(macs))
+    return cols[np.argsort(rows)]

@@ -21,7 +21,17 @@ def last_periods(x: np.ndarray, steps_per_period: int, periods: int = STEADY_PER
 
 
 def amplitude(x: np.ndarray, steps_per_period: int, periods: int = STEADY_PERIODS) -> float:
-    """Steady-state amplitude (max - min) / 2 over the last ``periods`` periods (units of x)."""
+    """Steady-state amplitude (max - min) / 2 over the last ``periods`` periods (units of x).
+
+    Examples
+    --------
+    A decaying transient on a sine of amplitude 2: only the last periods count.
+
+    >>> t = np.arange(64 * 40 + 1) / 64                     # 40 periods, 64 samples each
+    >>> x = 2 * np.sin(2 * np.pi * t) + 5 * np.exp(-t)
+    >>> round(amplitude(x, 64), 6)
+    2.0
+    """
     w = last_periods(x, steps_per_period, periods)
     return 0.5 * float(w.max() - w.min())
 
@@ -41,6 +51,16 @@ def detect_period(x: np.ndarray, steps_per_period: int, max_period: int = 10,
     the window. At least two repetitions of the candidate period are required.
     None: no period up to ``max_period`` (quasi-periodic, chaotic, or still
     in its transient).
+
+    Examples
+    --------
+    A response with a subharmonic at a third of the excitation frequency is P3:
+
+    >>> t = np.arange(32 * 40 + 1) / 32
+    >>> detect_period(np.sin(2 * np.pi * t) + 0.3 * np.sin(2 * np.pi * t / 3), 32)
+    3
+    >>> detect_period(np.sin(2 * np.pi * t) + 0.3 * np.sin(2 * np.pi * t / np.sqrt(2)), 32) is None
+    True
     """
     tail = last_periods(x, steps_per_period, window)
     scale = float(tail.max() - tail.min())
