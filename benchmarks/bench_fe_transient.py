@@ -1,6 +1,6 @@
 """Speed and size of the solid FE transients ("fe" and "fe-reduced") on the Fig. 8 case.
 
-Goals (issue): "fe" 100 excitation periods on the default mesh in 10 min or
+Goals: "fe" 100 excitation periods on the default mesh in 10 min or
 less on 2 cores and under 4 GB (the paper's ANSYS beam model: 3260 s);
 "fe-reduced" 5 s or less (paper: 2329 s). Reported per model: DOFs, contact
 elements, build time (mesh, operators, reduction basis; cached on disk

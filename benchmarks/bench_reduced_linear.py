@@ -1,6 +1,6 @@
 """Speed of the linear beam model: assembly, one system, one modal solve, a Campbell.
 
-Goals (issue 2): assembling the N = 6 matrices < 50 ms; a 200-speed Campbell
+Goals: assembling the N = 6 matrices < 50 ms; a 200-speed Campbell
 < 2 s. Run: ``python benchmarks/bench_reduced_linear.py``; prints the
 median of several repeats (wall time on this machine).
 """

@@ -19,7 +19,7 @@ and for the two reduced/full pairs, whose targets are 1 % (beam) and 2 %
 short warm-up run that compiles the integrator kernel (its time is reported
 apart: a fresh process pays it once, whichever model runs first).
 
-For the solid models, the contact-state map (issue 6): per contact-face node,
+For the solid models, the contact-state map: per contact-face node,
 the share of the final window spent separate / stick / slip, drawn on the
 two shroud faces (reference_fe.contact_map, drawn by comparisons._pictures).
 """

@@ -1,4 +1,4 @@
-"""The contact-state map on the two shroud contact faces of the solid (issue 6).
+"""The contact-state map on the two shroud contact faces of the solid.
 
 In the solid FE models ("fe", "fe-reduced") every contact-face node with a
 share of the face's penalty is one contact element with its own separate /

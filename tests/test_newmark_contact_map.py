@@ -1,4 +1,4 @@
-"""The contact-state map of the solid's shroud faces (issue 6) in the Fig. 8 study.
+"""The contact-state map of the solid's shroud faces in the Fig. 8 study.
 
 Per-node state shares are counted apart from the per-side state record; the
 two must bound each other: a side is separate only when every node is, and

@@ -1,4 +1,4 @@
-"""The ``shroud`` command (shared/spec/interface.md).
+"""The ``shroud`` command (docs/interface.md).
 
 Bad input of any kind ends with one line on stderr naming the key and what is
 allowed, and exit status 2; nothing is written before the input is checked.

@@ -8,7 +8,7 @@ per contact-face node, weighted by its area share).
 Each element j acts on two projected coordinates of ``y = W q``: its normal
 displacement ``v = y[normal_row[j]]`` (along e_vs) and its tangential
 displacement ``w = y[tangent_row[j]]`` (along e_ws). With ``s = -1`` on side 1
-and ``s = +1`` on side 2 (shared/spec/geometry.md):
+and ``s = +1`` on side 2 (docs/geometry.md):
 
 * normal force, Eq. 3: ``N = max(0, N0 + s kn v)``; it pushes the blade along
   ``-s e_vs`` (side 1 pushes +e_vs), so Eq. 8's ``N1 - N2`` is the sum of

@@ -6,7 +6,7 @@
 (solid FE); the contact acts only on a few projected coordinates ``y = W q``
 (paper Eqs. 3-8). One integrator (shroud.core.newmark) serves all four models.
 
-Conventions (shared/spec/geometry.md)
+Conventions (docs/geometry.md)
 -------------------------------------
 * ``y[normal_row[j]]`` is v_s of contact element j (along e_vs, the shroud
   normal) and ``y[tangent_row[j]]`` its w_s (along e_ws, friction direction).
