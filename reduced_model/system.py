@@ -42,7 +42,7 @@ def contact_elements(params: Parameters, tip: np.ndarray) -> ContactElements | N
 
 
 def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
-    """The beam at ``params.speed.rpm``: full (5N DOF) or reduced to ``params.reduced.nr`` modes."""
+    """The beam at ``params.speed.rpm``: full (5N or 6N DOF) or reduced to ``params.reduced.nr`` modes."""
     t0 = time.perf_counter()
     beam = for_parameters(params)
     omega = params.speed.omega
