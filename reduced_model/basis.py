@@ -19,6 +19,7 @@ dimensionless, so generalized coordinates carry the field's unit (m or rad).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,6 +49,7 @@ def _integrated_legendre(N: int) -> list[np.ndarray]:
     return out
 
 
+@functools.lru_cache(maxsize=64)
 def sample(N: int, length: float, points: int | None = None) -> Quadrature:
     """Shape functions and slopes at Gauss points on [0, length].
 
@@ -65,8 +67,10 @@ def sample(N: int, length: float, points: int | None = None) -> Quadrature:
     slope = np.stack([legendre.legval(t, np.eye(N)[j]) for j in range(N)], axis=1) * scale / length
     curvature = np.stack([legendre.legval(t, legendre.legder(np.eye(N)[j])) for j in range(N)],
                          axis=1) * scale * 2.0 / length**2
-    tip = np.array([0.5 * legendre.legval(1.0, c) for c in coeffs]) * scale
+    tip = np.eye(N)[0]              # phi_1(L) = 1; int_{-1}^{1} P_(j-1) = 0 for j > 1, exactly
     root_slope = np.array([legendre.legval(-1.0, np.eye(N)[j]) for j in range(N)]) * scale / length
+    for a in (x, weight, value, slope, curvature, tip, root_slope):
+        a.flags.writeable = False          # shared through the cache
     return Quadrature(x=x, weight=weight, value=value, slope=slope, curvature=curvature, tip=tip,
                       root_slope=root_slope)
 

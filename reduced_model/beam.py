@@ -210,7 +210,8 @@ def _sandwich(A: np.ndarray, m: np.ndarray, S: np.ndarray, Q: np.ndarray) -> np.
     out[:, :3, :3] = m[:, None, None] * A
     out[:, :3, 3:] = -A @ Sx
     out[:, 3:, :3] = Sx @ A
-    out[:, 3:, 3:] = -np.einsum("gkl,kab,bc,lcd->gad", Q, _EK, A, _EK)
+    # -int [p x] A [p x] = -sum_kl Q_kl [e_k x] A [e_l x]
+    out[:, 3:, 3:] = -np.tensordot(Q, np.einsum("kab,bc,lcd->klad", _EK, A, _EK), axes=([1, 2], [0, 1]))
     return out
 
 
