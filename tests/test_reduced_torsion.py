@@ -270,3 +270,30 @@ def test_a_number_for_torsion_in_a_scene_is_refused(tmp_path):
                           capture_output=True, text=True)
     assert proc.returncode == 2 and proc.stderr.startswith("error: reduced.torsion:")
     assert proc.stderr.count("\n") == 1 and not out.exists()
+
+
+@pytest.mark.parametrize("stagger", [30.0, -60.0])
+def test_static_propeller_moment_turns_the_section_towards_the_plane_of_rotation(stagger):
+    """The centrifugal field's moment on a turned section, -Omega^2 rho I_YZ per unit length,
+    with its stiffness Omega^2 rho (I_YY - I_ZZ): E Gamma theta'''' - G J theta'' + s theta = m_t,
+    theta(0) = theta'(0) = 0, bimoment and torque zero at the tip, solved exactly (matrix
+    exponential of the state (theta, theta', B, T, 1)). The section turns towards the plane of
+    rotation (the chord towards Y, beta towards +-90 deg)."""
+    L, b, h = 0.15, 0.04, 0.007
+    beam = for_parameters(bar(L, b, h, N=14, stagger=stagger))
+    sec = rectangle(b, h)
+    omega = 2 * math.pi * 15000 / 60
+    beta = math.radians(stagger)
+    I_YZ = (sec.I_v - sec.I_w) * math.cos(beta) * math.sin(beta)
+    s = omega**2 * RHO * (sec.I_v - sec.I_w) * math.cos(2 * beta)
+    m_t = -omega**2 * RHO * I_YZ
+    A = np.zeros((5, 5))
+    A[0, 1], A[1, 2], A[2, 1], A[2, 3], A[3, 0], A[3, 4] = 1, 1 / (E * sec.warping), G * sec.J, -1, s, -m_t
+    T = scipy.linalg.expm(A * L)
+    # unknown B(0), T(0): B(L) = T(L) = 0
+    coef = np.linalg.solve(T[np.ix_([2, 3], [2, 3])], -T[[2, 3], 4])
+    exact = T[0, [2, 3]] @ coef + T[0, 4]
+    q = np.linalg.solve(beam.K_e + omega**2 * beam.K_s1, beam.centrifugal_load(omega))
+    twist = beam.tip_body[3] @ q
+    assert twist == pytest.approx(exact, rel=1e-8)
+    assert np.sign(twist) == np.sign(math.sin(2 * beta))     # |beta| grows towards 90 deg
