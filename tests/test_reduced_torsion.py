@@ -297,3 +297,36 @@ def test_static_propeller_moment_turns_the_section_towards_the_plane_of_rotation
     twist = beam.tip_body[3] @ q
     assert twist == pytest.approx(exact, rel=1e-8)
     assert np.sign(twist) == np.sign(math.sin(2 * beta))     # |beta| grows towards 90 deg
+
+
+def test_body_terms_match_point_sums_and_the_exact_centrifugal_potential_of_a_turned_box():
+    """The rigid-body formula in the moments (m, S, Q) against a second method: sums over the
+    27 Gauss points of the box (exact for these quadratic integrands), with the potential
+    V(s) = -1/2 Omega^2 sum m_i |Pi (R e_X + U + exp([r x]) p_i)|^2 of the exact rotation
+    differentiated numerically: its gradient is -f_c1 and its Hessian K_s1 (per Omega^2)."""
+    from reduced_model.beam import TipBody, body_terms, cross_matrix
+    m, (l, w, t), angle, R = 0.05, (0.04, 0.02, 0.007), 0.7, 0.3
+    box = TipBody.box(m, l, w, t, angle)
+    terms = body_terms(box.mass, box.S, box.Q, R)
+    g, gw = np.polynomial.legendre.leggauss(3)
+    c, s = math.cos(angle), math.sin(angle)
+    e_vs, e_ws = np.array([0, c, s]), np.array([0, -s, c])
+    pts = [(0.5 + 0.5 * a) * t * np.eye(3)[0] + 0.5 * b * w * e_vs + 0.5 * d * l * e_ws
+           for a in g for b in g for d in g]
+    wts = [m * wa * wb * wd / 8 for wa in gw for wb in gw for wd in gw]
+    B = [np.hstack([np.eye(3), -cross_matrix(p)]) for p in pts]
+    Ez = cross_matrix(np.array([0.0, 0.0, 1.0]))
+    np.testing.assert_allclose(terms.M[0], sum(wi * Bi.T @ Bi for wi, Bi in zip(wts, B)), atol=1e-15)
+    np.testing.assert_allclose(terms.G1[0], sum(wi * Bi.T @ (2 * Ez) @ Bi for wi, Bi in zip(wts, B)), atol=1e-15)
+    Pi = np.diag([1.0, 1.0, 0.0])
+
+    def V(sv):
+        rot = scipy.linalg.expm(cross_matrix(sv[3:]))
+        return -0.5 * sum(wi * np.sum((Pi @ (R * np.eye(3)[0] + sv[:3] + rot @ p)) ** 2) for wi, p in zip(wts, pts))
+    h = 1e-4
+    E6 = np.eye(6) * h
+    grad = np.array([(V(E6[i]) - V(-E6[i])) / (2 * h) for i in range(6)])
+    hess = np.array([[(V(E6[i] + E6[j]) - V(E6[i] - E6[j]) - V(-E6[i] + E6[j]) + V(-E6[i] - E6[j])) / (4 * h * h)
+                      for j in range(6)] for i in range(6)])
+    np.testing.assert_allclose(-grad, terms.f_c1[0], rtol=1e-7, atol=1e-12)
+    np.testing.assert_allclose(hess, terms.K_s1[0], rtol=1e-5, atol=1e-7 * np.abs(hess).max())
