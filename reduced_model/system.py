@@ -83,6 +83,23 @@ def contact_elements(params: Parameters, beam: BeamMatrices) -> ContactElements 
                            side=np.array([side for side, _ in points]), weight=np.full(n, 2.0 / n))
 
 
+def output_rows(params: Parameters, beam: BeamMatrices) -> np.ndarray:
+    """(2, n): the transient's v_L, w_L (along e_v(L), e_w(L)).
+
+    The point shroud sits at the tip centre, so they are the tip centre's.
+    The rigid shroud's are taken at its centre, t_s / 2 above the tip, where
+    the solid reports its transient (reference_fe.contact_faces: the mean of
+    the two faces' displacements), so that both are compared at one point;
+    the modes keep the tip centre's (BeamMatrices.tip_kinematics, as the
+    solid's modal labels).
+    """
+    if params.reduced.shroud == "point":
+        return beam.tip
+    b = params.blade.beta(params.blade.length)
+    frame = np.array([[0.0, math.cos(b), math.sin(b)], [0.0, -math.sin(b), math.cos(b)]])
+    return frame @ beam.point_rows(0.5 * params.shroud.thickness * E_X)
+
+
 def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
     """The beam at ``params.speed.rpm``: full (5N or 6N DOF) or reduced to ``params.reduced.nr`` modes."""
     t0 = time.perf_counter()
@@ -100,7 +117,7 @@ def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
     if omega_dot != 0.0:
         K = K + omega_dot * beam.K_acc1
         f_const = f_const + omega_dot * beam.f_acc1
-    M, f_aero, tip = beam.M, params.load.F0 * beam.f_aero1, beam.tip
+    M, f_aero, tip = beam.M, params.load.F0 * beam.f_aero1, output_rows(params, beam)
     contact = contact_elements(params, beam)
 
     nr = params.reduced.nr if reduced else 0
