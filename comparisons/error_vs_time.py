@@ -38,6 +38,7 @@ OPTIONS = {
     "cms_modes": [6, 12, 24, 48],         # reduced solid, kept normal modes
     "steps_per_period": [64, 128, 256],   # time step, for each of step_models at its scene fidelity
     "step_models": ["reduced", "fe-reduced"],
+    "extended_nr": [6, 10],               # the extended beam (torsion, rigid shroud), kept modes
     "window_periods": 10,
 }
 
@@ -55,6 +56,8 @@ def check(scene) -> None:
         raise InputError("options.fe_orders", f"{o['fe_orders']!r}; allowed: a non-empty list of 1 and 2")
     if any(nr > 5 * scene.params.reduced.N or nr < 1 for nr in o["reduced_nr"]):
         raise InputError("options.reduced_nr", f"{o['reduced_nr']!r}; allowed: 1 .. 5 reduced.N")
+    if any(nr > 6 * scene.params.reduced.N or nr < 1 for nr in o["extended_nr"]):
+        raise InputError("options.extended_nr", f"{o['extended_nr']!r}; allowed: 1 .. 6 reduced.N")
     if any(m not in registry.names("transient") for m in o["step_models"]):
         raise InputError("options.step_models", f"allowed: models from {', '.join(registry.names("transient"))}")
     if not 1 <= o["window_periods"] <= scene.params.time.periods:
@@ -78,6 +81,7 @@ def points(o) -> list[Point]:
     pts += [Point("fe-reduced", f"{k} modes", (f"fe.cms_modes={k}",)) for k in o["cms_modes"]]
     pts += [Point(m, f"{s} steps/period", (f"time.steps_per_period={s}",))
             for m in o["step_models"] for s in o["steps_per_period"]]
+    pts += [Point("extended", f"nr = {nr}", (f"reduced.nr={nr}",)) for nr in o["extended_nr"]]
     return pts
 
 

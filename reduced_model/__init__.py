@@ -1,16 +1,34 @@
 """Reduced Timoshenko-beam model of the twisted shrouded blade (paper Sect. 2.1).
 
 numpy/scipy/numba only: importing it never loads DOLFINx or gmsh. Importing
-the package registers its two models with the core:
+the package registers its models with the core:
 
-* ``full``: the Galerkin beam, 5 fields x N shape functions (5N DOF);
-* ``reduced``: its free-interface reduction to ``reduced.nr`` modes.
+* ``full``: the Galerkin beam, 5 fields x N shape functions (5N DOF), 6N with reduced.torsion;
+* ``reduced``: its free-interface reduction to ``reduced.nr`` modes;
+* ``extended``: the reduced beam with the twist field and the rigid shroud
+  (``reduced.torsion = true``, ``reduced.shroud = "rigid"`` whatever the
+  parameters say): the beam that matches the solid (reduced_model.beam).
 """
 
+import dataclasses
+
 from shroud.core.registry import ModelEntry, lazy, register
+
+EXTENDED = {"reduced.torsion": True, "reduced.shroud": "rigid"}   # what makes the "extended beam"
+
+
+def _extended(function):
+    """``function`` called on the extended beam's parameters, its result named "extended"."""
+    def call(params, *args):
+        return dataclasses.replace(function(params.updated(EXTENDED), *args), model="extended")
+    return call
+
 
 register(ModelEntry("reduced", build_system=lazy("reduced_model.system", "build_system", reduced=True),
                     modal=lazy("reduced_model.modal", "modal_analysis"),
                     description="beam reduced to reduced.nr free-interface modes"))
 register(ModelEntry("full", build_system=lazy("reduced_model.system", "build_system", reduced=False),
-                    description="Galerkin beam, 5N DOF"))
+                    description="Galerkin beam, 5N DOF (6N with reduced.torsion)"))
+register(ModelEntry("extended", build_system=_extended(lazy("reduced_model.system", "build_system", reduced=True)),
+                    modal=_extended(lazy("reduced_model.modal", "modal_analysis")),
+                    description="beam with torsion and a rigid shroud, reduced to reduced.nr modes"))

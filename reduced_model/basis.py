@@ -19,6 +19,7 @@ dimensionless, so generalized coordinates carry the field's unit (m or rad).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,7 +34,9 @@ class Quadrature:
     weight: np.ndarray   # (g,) weights, sum = L, m
     value: np.ndarray    # (g, N) phi_j(x_g), dimensionless
     slope: np.ndarray    # (g, N) phi_j'(x_g), 1/m
+    curvature: np.ndarray  # (g, N) phi_j''(x_g), 1/m^2
     tip: np.ndarray      # (N,) phi_j(L), dimensionless
+    root_slope: np.ndarray  # (N,) phi_j'(0), 1/m
 
 
 def _integrated_legendre(N: int) -> list[np.ndarray]:
@@ -46,6 +49,7 @@ def _integrated_legendre(N: int) -> list[np.ndarray]:
     return out
 
 
+@functools.lru_cache(maxsize=64)
 def sample(N: int, length: float, points: int | None = None) -> Quadrature:
     """Shape functions and slopes at Gauss points on [0, length].
 
@@ -61,5 +65,23 @@ def sample(N: int, length: float, points: int | None = None) -> Quadrature:
     # int_0^x ds / L = (1 / 2) int_{-1}^t dt and d/dx = (2 / L) d/dt
     value = np.stack([0.5 * legendre.legval(t, c) for c in coeffs], axis=1) * scale
     slope = np.stack([legendre.legval(t, np.eye(N)[j]) for j in range(N)], axis=1) * scale / length
-    tip = np.array([0.5 * legendre.legval(1.0, c) for c in coeffs]) * scale
-    return Quadrature(x=x, weight=weight, value=value, slope=slope, tip=tip)
+    curvature = np.stack([legendre.legval(t, legendre.legder(np.eye(N)[j])) for j in range(N)],
+                         axis=1) * scale * 2.0 / length**2
+    tip = np.eye(N)[0]              # phi_1(L) = 1; int_{-1}^{1} P_(j-1) = 0 for j > 1, exactly
+    root_slope = np.array([legendre.legval(-1.0, np.eye(N)[j]) for j in range(N)]) * scale / length
+    for a in (x, weight, value, slope, curvature, tip, root_slope):
+        a.flags.writeable = False          # shared through the cache
+    return Quadrature(x=x, weight=weight, value=value, slope=slope, curvature=curvature, tip=tip,
+                      root_slope=root_slope)
+
+
+def held_root_slope(q: Quadrature) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """N - 1 functions of ``q`` that also have zero slope at the root, phi_(j+1) - (phi_(j+1)'(0) / phi_1'(0)) phi_1.
+
+    For a field whose derivative is held at the clamped root (the twist rate
+    of a section whose warping the clamp holds). Returns value, slope,
+    curvature at the points and the tip values, as in Quadrature.
+    """
+    s = q.root_slope
+    Z = np.vstack([-s[1:] / s[0], np.eye(s.size - 1)])
+    return q.value @ Z, q.slope @ Z, q.curvature @ Z, q.tip @ Z

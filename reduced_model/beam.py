@@ -2,63 +2,122 @@
 
 Kinematics
 ----------
-Rotating disk frame O-XYZ (shared/spec/geometry.md): the disk spins about +Z
+Rotating disk frame O-XYZ (docs/geometry.md): the disk spins about +Z
 at Omega, X runs radially through the root-section centre at X = R_d, the
 blade axis is x = X - R_d in [0, L]. The section at x is the rectangle
 b (chord, along e_w) x h (thickness, along e_v), turned about X by
 beta(x) = beta_1 + beta_t x / L, so e_v = (0, c, s), e_w = (0, -s, c) with
 c, s = cos beta, sin beta.
 
-The five fields are written in the (non-twisting) disk frame:
+The fields are written in the (non-twisting) disk frame:
 
     u(x)        radial (X) displacement of the section centre, m
     v_Y, w_Z    displacement of the section centre along Y and Z, m
     psi_Y,psi_Z tilt of the section normal towards Y and Z, rad
                 (a section point at (Y, Z) moves -Y psi_Y - Z psi_Z along X)
+    theta       twist of the section about X, rad (``reduced.torsion = true``
+                only; the paper restrains it)
 
-Torsion is restrained, as in the paper. Working in the disk frame keeps the
-kinematics exact for any twist rate: the pretwist enters only through the
-section tensor I(x) = int (Y, Z) (x) (Y, Z) dA turned by beta(x),
+so the section turns by the small rotation vector r = (theta, -psi_Z, psi_Y)
+and a point p = (0, Y, Z) of it moves by U + r x p, U = (u, v_Y, w_Z).
+Working in the disk frame keeps the kinematics exact for any twist rate: the
+pretwist enters only through the section tensor
+Q(x) = rho int p (x) p dA turned by beta(x),
 
     I_YY = I_v c^2 + I_w s^2,  I_ZZ = I_v s^2 + I_w c^2,  I_YZ = (I_v - I_w) c s,
 
-with I_v = b h^3/12 (bending along e_v, flap) and I_w = h b^3/12 (along e_w,
-chord); the section-frame components the paper works in are recovered at the
-tip, v_L = c_L v_Y(L) + s_L w_Z(L), w_L = -s_L v_Y(L) + c_L w_Z(L).
+with I_v = int eta_v^2 dA (bending along e_v, flap) and I_w (along e_w,
+chord), J, Gamma, I_rr from reduced_model.section (the shear centre is the
+centroid for this doubly symmetric section); the section-frame components the paper
+works in are recovered at the tip, v_L = c_L v_Y(L) + s_L w_Z(L),
+w_L = -s_L v_Y(L) + c_L w_Z(L).
 
-Energies (rho, E, G = E / (2 (1 + nu)), A = b h)
--------------------------------------------------
+Inertia, rotation and loads: one body formula
+----------------------------------------------
+Each section (per unit length) and the shroud are bodies that move rigidly
+with U + r x p; all their inertial terms follow from their mass m, first
+moment S = int rho p and second moment Q = int rho p (x) p about the point
+they hang on (the section centre), with B(p) = [I, -[p x]] (3 x 6) mapping
+s = (U, r) to the displacement of p (:func:`body_terms`):
+
+* kinetic energy 1/2 int rho |B s_dot|^2: M = int rho B^T B;
+* Coriolis 2 rho Omega e_Z x u_dot (geometry.md): G = int rho B^T 2[e_Z x] B,
+  skew; the Euler force of an angular acceleration, -rho Omega_dot e_Z x r,
+  gives K_acc = G / 2 (per Omega_dot) and the lag load
+  f_acc = -int rho B^T (e_Z x P0) (per Omega_dot), P0 = (R, 0, 0) + p the
+  point's position, R = R_d + x;
+* centrifugal potential V = -1/2 Omega^2 int rho |Pi P|^2, Pi = diag(1, 1, 0)
+  (distance from the spin axis), P = P0 + B s + 1/2 r x (r x p) to second
+  order in the rotation (the exact rotation, not its linear part):
+    - linear part: the load f_c = Omega^2 int rho B^T Pi P0 (Eq. 10's F_1 on u,
+      and on theta the propeller moment -Omega^2 rho I_YZ that turns the
+      section towards the plane of rotation);
+    - quadratic part: K_s = -Omega^2 int rho B^T Pi B (spin softening of the
+      X and Y displacement components) plus, on r,
+      K_r = -Omega^2 int rho [sym(Pi P0 p^T) - (Pi P0 . p) I]
+          = -Omega^2 [sym(R e_X S^T + Pi Q) - (R S_X + tr(Pi Q)) I],
+      the work of the zero-order centrifugal field on the second-order
+      displacement of a turning body. For the section it completes the
+      propeller moment: the twist stiffness becomes
+      Omega^2 rho (I_YY - I_ZZ) = -Omega^2 rho (I_w - I_v) cos 2 beta
+      (Bielawa, Rotary Wing Structural Dynamics and Aeroelasticity, 2006,
+      Sect. 6.6: the "propeller moment"; Houbolt & Brooks, NACA Rep. 1346,
+      1958), and it cancels the rotary spin softening of the in-plane tilt
+      (a turn about an axis parallel to the spin axis leaves the distance to
+      it unchanged). For the shroud it holds the pendulum stiffening of its
+      offset centroid, Omega^2 m_s (R + d) d on both tilts.
+  The paper's model keeps only the first quadratic part on the sections
+  (its Eq. 1); ``reduced.torsion = true`` uses both. The shroud body always
+  uses both (for the point mass, S = Q = 0, both forms agree).
+
+Shroud (``reduced.shroud``): "point" is the paper's mass m_s = rho l_s b_s
+t_s at the tip centre (S = Q = 0); "rigid" is the box l_s (along e_ws) x b_s
+(along e_vs) x t_s (along X) of geometry.md fused to the tip section, its
+centroid d = t_s / 2 above the tip: S = m_s d e_X,
+Q = R_s diag(t_s^2, b_s^2, l_s^2) m_s / 12 R_s^T + m_s d^2 e_X e_X^T with R_s
+the columns (e_X, e_vs, e_ws). Its terms enter through the tip values
+s(L) = T q. Without the torsion field its turn about X is held (theta = 0).
+
+Stiffness (rho, E, G = E / (2 (1 + nu)), section A, I, J, I_rr)
+---------------------------------------------------------------
 * strain:      1/2 int EA u'^2 + E psi'^T I psi' + k G A |(v_Y, w_Z)' - psi|^2 dx,
                k = 10 (1 + nu) / (12 + 11 nu), Cowper's coefficient for a
                rectangle (it follows from the 3D solution, which the FE
                reference is; 5/6 is its nu = 0 value);
-* kinetic:     1/2 int rho A |q_dot|^2 + rho psi_dot^T I psi_dot dx
-               + 1/2 m_s |q_dot(L)|^2, m_s = rho l_s b_s t_s a point mass at
-               x = L on the axis (the paper's lumped shroud);
+  with torsion: + 1/2 int G J theta'^2 (St-Venant) + 1/2 int E Gamma theta''^2
+  (Vlasov: the clamped root holds the section's warping, so theta'(0) = 0;
+  the twist functions are those of reduced_model.basis.held_root_slope; the
+  tip warps freely, bimoment zero; Timoshenko & Gere, Theory of Elastic
+  Stability, Sect. 5.2; for the blade's 40 x 7 mm section the decay length
+  sqrt(E Gamma / G J) is 10 mm, and holding the root warping raises torsion1
+  at 8500 r/min by 5.7 %, to within 0.05 % of the solid), and the
+  extension-twist coupling of the pretwisted section: a fibre at distance r
+  from the axis runs on a helix of pitch angle r kappa, kappa = beta_t / L,
+  and its strain gains kappa r^2 theta', so
+               + int E kappa I_p u' theta' + 1/2 int E kappa^2 I_rr theta'^2
+  (Rosen, J. Am. Helicopter Soc. 25(3), 1980; Hodges, J. Appl. Mech. 47,
+  1980: a pretwisted strip under tension untwists); terms in int r^2 Y dA
+  (bending-twist) vanish for a doubly symmetric section;
 * centrifugal stiffening (prestress of the axial force, Eq. 10's F_1 per
   unit length, integrated from the tip)
-               P(x) = Omega^2 [rho A (R_d (L - x) + (L^2 - x^2)/2) + m_s (R_d + L)],
+               P(x) = Omega^2 [rho A (R_d (L - x) + (L^2 - x^2)/2) + m_s (R_d + L) + S_X],
                1/2 int P (u'^2 + v_Y'^2 + w_Z'^2 + psi'^T I psi' / A) dx,
   the 3D geometric stiffness sigma0 : grad(u)^T grad(u) of a uniaxial
-  prestress P / A integrated over the section;
-* spin softening: -1/2 rho Omega^2 |X and Y components of the displacement|^2,
-  i.e. -1/2 Omega^2 [int rho A (u^2 + v_Y^2) + rho psi^T I psi dx
-  + m_s (u_L^2 + v_Y(L)^2)]: minus the mass on u, v_Y and the rotary inertia;
-* Coriolis: 2 rho Omega e_Z x u_dot, coupling u and v_Y (the section-offset
-  terms integrate to zero about the centroid);
-* angular acceleration Omega_dot (Euler force -rho Omega_dot e_Z x r):
-  a skew coupling of u and v_Y (K_acc) and the lag loads
-  -rho A Omega_dot (R_d + x) on v_Y, -rho Omega_dot (I_YY, I_YZ) on psi
-  (Eq. 10, F_2..F_5, written in the disk frame).
+  prestress P / A integrated over the section; a twist moves the section
+  points by theta' (-Z, Y) per unit length, so torsion adds
+               1/2 int P (I_p / A) theta'^2 dx
+  (the tension of the twisted fibres, Houbolt & Brooks' T k_A^2 term);
 
-With q = [u, v_Y, w_Z, psi_Y, psi_Z] coefficients of the N shape functions
-of reduced_model.basis each (5N DOF), the equations are paper Eq. (1):
+With q = [u, v_Y, w_Z, psi_Y, psi_Z (, theta)] coefficients of the N shape
+functions of reduced_model.basis each (5N or 6N DOF), the equations are paper
+Eq. (1):
 
     M q'' + (G + D) q' + (K_e + K_c + K_s + K_acc) q = F.
 
-Loads (Eq. 10): F_1 = Omega^2 f_c1 (centrifugal, on u); the aerodynamic load
-F_e along e_v(x) = (0, cos beta, sin beta) per unit length; the tip forces
-F_y, F_z along e_v(L), e_w(L) enter as tip^T (F_y, F_z).
+Loads (Eq. 10): F_1 = Omega^2 f_c1 (centrifugal); the aerodynamic load F_e
+along e_v(x) = (0, cos beta, sin beta) per unit length at the section
+centre; the tip forces F_y, F_z along e_v(L), e_w(L) enter as
+tip^T (F_y, F_z); a force at a point p of the shroud as point_rows(p)^T F.
 """
 
 from __future__ import annotations
@@ -69,10 +128,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from reduced_model.basis import Quadrature, sample
+from reduced_model.basis import Quadrature, held_root_slope, sample
+from reduced_model.section import rectangle
 from shroud.params import Blade, Material
 
-FIELDS = ("u", "v_Y", "w_Z", "psi_Y", "psi_Z")
+FIELDS = ("u", "v_Y", "w_Z", "psi_Y", "psi_Z", "theta")
+# s = (U_X, U_Y, U_Z, r_X, r_Y, r_Z) from the fields: (field index, sign); r = (theta, -psi_Z, psi_Y)
+_BODY_FROM_FIELD = ((0, 1.0), (1, 1.0), (2, 1.0), (5, 1.0), (4, -1.0), (3, 1.0))
+_PI = np.diag([1.0, 1.0, 0.0])
+E_X, E_Y, E_Z = np.eye(3)
 
 
 def shear_coefficient(nu: float) -> float:
@@ -80,19 +144,106 @@ def shear_coefficient(nu: float) -> float:
     return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
 
 
-@dataclass(frozen=True)
-class SectionTensor:
-    """I_YY, I_ZZ, I_YZ (m^4) of the turned rectangle at the quadrature points."""
+def cross_matrix(a: np.ndarray) -> np.ndarray:
+    """[a x]: the matrix with [a x] b = a x b; a (..., 3) gives (..., 3, 3)."""
+    a = np.asarray(a, dtype=float)
+    out = np.zeros(a.shape + (3,))
+    out[..., 0, 1], out[..., 0, 2] = -a[..., 2], a[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = a[..., 2], -a[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -a[..., 1], a[..., 0]
+    return out
 
-    YY: np.ndarray
-    ZZ: np.ndarray
-    YZ: np.ndarray
+
+_EK = cross_matrix(np.eye(3))          # [e_k x], k = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class TipBody:
+    """The shroud as a rigid body on the tip centre: mass (kg), first moment S (kg m),
+    second moment Q = int rho p (x) p (kg m^2, row-major 9-tuple), p from the tip centre."""
+
+    mass: float
+    first: tuple = (0.0, 0.0, 0.0)
+    second: tuple = (0.0,) * 9
+
+    @property
+    def S(self) -> np.ndarray:
+        return np.array(self.first)
+
+    @property
+    def Q(self) -> np.ndarray:
+        return np.array(self.second).reshape(3, 3)
 
     @classmethod
-    def turned(cls, blade: Blade, beta: np.ndarray) -> "SectionTensor":
-        c, s = np.cos(beta), np.sin(beta)
-        Iv, Iw = blade.I_v, blade.I_w
-        return cls(YY=Iv * c**2 + Iw * s**2, ZZ=Iv * s**2 + Iw * c**2, YZ=(Iv - Iw) * c * s)
+    def box(cls, mass: float, length: float, width: float, thickness: float, angle: float) -> "TipBody":
+        """Box l_s (along e_ws) x b_s (along e_vs) x t_s (along X) on the tip, centroid t_s/2 up.
+
+        ``angle`` = beta_L + alpha (rad): e_vs = (0, cos, sin), e_ws = (0, -sin, cos).
+        """
+        c, s = math.cos(angle), math.sin(angle)
+        frame = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])     # columns e_X, e_vs, e_ws
+        d = 0.5 * thickness
+        Q = frame @ np.diag([thickness**2, width**2, length**2]) @ frame.T * mass / 12.0
+        Q[0, 0] += mass * d**2
+        return cls(mass=mass, first=(mass * d, 0.0, 0.0), second=tuple(Q.ravel()))
+
+
+@dataclass(frozen=True)
+class BodyTerms:
+    """Inertial and rotational terms of bodies in s = (U, r), stacked over a leading axis.
+
+    M kg (kg m, kg m^2); K_s1 per Omega^2; G1 per Omega; f_c1 per Omega^2;
+    f_acc1 per Omega_dot (all SI per unit of s).
+    """
+
+    M: np.ndarray
+    K_s1: np.ndarray
+    G1: np.ndarray
+    f_c1: np.ndarray
+    f_acc1: np.ndarray
+
+
+def _sandwich(A: np.ndarray, m: np.ndarray, S: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """int rho B^T A B for bodies (m (g,), S (g, 3), Q (g, 3, 3)), B = [I, -[p x]]: (g, 6, 6)."""
+    Sx = cross_matrix(S)
+    out = np.empty((m.size, 6, 6))
+    out[:, :3, :3] = m[:, None, None] * A
+    out[:, :3, 3:] = -A @ Sx
+    out[:, 3:, :3] = Sx @ A
+    # -int [p x] A [p x] = -sum_kl Q_kl [e_k x] A [e_l x]
+    out[:, 3:, 3:] = -np.tensordot(Q, np.einsum("kab,bc,lcd->klad", _EK, A, _EK), axes=([1, 2], [0, 1]))
+    return out
+
+
+def _field_load(a0: np.ndarray, Lmat: np.ndarray, m, S, Q) -> np.ndarray:
+    """int rho B^T (a0 + Lmat p) for bodies; a0 (g, 3): (g, 6)."""
+    out = np.empty((m.size, 6))
+    out[:, :3] = m[:, None] * a0 + S @ Lmat.T
+    out[:, 3:] = np.cross(S, a0) + np.einsum("gkl,kab,bl->ga", Q, _EK, Lmat)
+    return out
+
+
+def body_terms(m, S, Q, R, second_order: bool = True) -> BodyTerms:
+    """Terms of bodies with mass m (g,), moments S (g, 3), Q (g, 3, 3) hung at radius R (g,).
+
+    ``second_order`` adds K_r, the centrifugal potential of the second-order
+    displacement 1/2 r x (r x p) (module docstring).
+    """
+    m, R = np.atleast_1d(np.asarray(m, float)), np.atleast_1d(np.asarray(R, float))
+    S, Q = np.asarray(S, float).reshape(-1, 3), np.asarray(Q, float).reshape(-1, 3, 3)
+    Ez = cross_matrix(E_Z)
+    M = _sandwich(np.eye(3), m, S, Q)
+    K_s1 = -_sandwich(_PI, m, S, Q)
+    if second_order:
+        PQ = _PI @ Q
+        outer = R[:, None, None] * np.einsum("a,gb->gab", E_X, S) + PQ
+        sym = 0.5 * (outer + outer.transpose(0, 2, 1))
+        trace = R * S[:, 0] + np.trace(PQ, axis1=1, axis2=2)
+        K_s1[:, 3:, 3:] -= sym - trace[:, None, None] * np.eye(3)
+    G1 = _sandwich(2.0 * Ez, m, S, Q)
+    f_c1 = _field_load(R[:, None] * E_X, _PI, m, S, Q)
+    f_acc1 = -_field_load(R[:, None] * E_Y, Ez, m, S, Q)
+    return BodyTerms(M=M, K_s1=K_s1, G1=G1, f_c1=f_c1, f_acc1=f_acc1)
 
 
 @dataclass(frozen=True)
@@ -105,6 +256,7 @@ class BeamMatrices:
     """
 
     N: int
+    fields: int            # 5 (the paper's model) or 6 (with torsion)
     M: np.ndarray
     K_e: np.ndarray
     K_c1: np.ndarray       # centrifugal stiffening per Omega^2 (rad/s)^2
@@ -114,12 +266,14 @@ class BeamMatrices:
     f_c1: np.ndarray       # Eq. 10 F_1 per Omega^2
     f_aero1: np.ndarray    # load of F_e = 1 N/m along e_v(x)
     f_acc1: np.ndarray     # Euler (lag) load per Omega_dot
-    tip: np.ndarray        # (2, 5N): v_L, w_L along e_v(L), e_w(L)
-    tip_radial: np.ndarray  # (5N,): u_L along X
+    tip: np.ndarray        # (2, n): v_L, w_L along e_v(L), e_w(L)
+    tip_radial: np.ndarray  # (n,): u_L along X
+    tip_body: np.ndarray   # (6, n): s(L) = (U, r) of the tip section
+    torsion_arm: float     # b / 2, m: the length that makes the tip twist a displacement for labels
 
     @property
     def dofs(self) -> int:
-        return 5 * self.N
+        return self.fields * self.N
 
     def stiffness(self, omega: float) -> np.ndarray:
         """K_e + K_c + K_s at Omega (rad/s): the symmetric stiffness of Eq. (1)."""
@@ -133,10 +287,15 @@ class BeamMatrices:
         """Eq. 10 F_1 at Omega (rad/s), N."""
         return omega**2 * self.f_c1
 
+    def point_rows(self, p: np.ndarray) -> np.ndarray:
+        """(3, n): displacement (X, Y, Z) of a point p (m, from the tip centre) moving with the tip section."""
+        return np.hstack([np.eye(3), -cross_matrix(p)]) @ self.tip_body
+
     def tip_kinematics(self, shapes: np.ndarray) -> np.ndarray:
-        """(k, 4) magnitudes [flap v_L, chord w_L, torsion 0, axial u_L] of ``shapes`` (5N, k)."""
+        """(k, 4) magnitudes [flap v_L, chord w_L, torsion theta_L b/2, axial u_L] of ``shapes`` (n, k)."""
         v, w = np.abs(self.tip @ shapes)
-        return np.column_stack([v, w, np.zeros_like(v), np.abs(self.tip_radial @ shapes)])
+        twist = np.abs(self.tip_body[3] @ shapes) * self.torsion_arm
+        return np.column_stack([v, w, twist, np.abs(self.tip_radial @ shapes)])
 
 
 def _gram(a: np.ndarray, coef: np.ndarray, b: np.ndarray, weight: np.ndarray) -> np.ndarray:
@@ -149,31 +308,80 @@ def _load(a: np.ndarray, coef: np.ndarray, weight: np.ndarray) -> np.ndarray:
     return a.T @ (weight * coef)
 
 
+def _body_map(N: int, values: list) -> np.ndarray:
+    """(6, fields N): s = (U, r) from q where field f is values[f] . (its N coefficients)."""
+    T = np.zeros((6, len(values) * N))
+    for a, (f, sign) in enumerate(_BODY_FROM_FIELD):
+        if f < len(values):
+            T[a, f * N:(f + 1) * N] = sign * values[f]
+    return T
+
+
+def _line_integral(terms: np.ndarray, phis: list, weight: np.ndarray, N: int) -> np.ndarray:
+    """int Phi(x)^T terms(x) Phi(x) dx for body terms (g, 6, 6) spread along the line; phis[f] (g, N)."""
+    n = len(phis) * N
+    out = np.zeros((n, n))
+    for a, (fa, sa) in enumerate(_BODY_FROM_FIELD):
+        for b, (fb, sb) in enumerate(_BODY_FROM_FIELD):
+            coef = terms[:, a, b]
+            if fa < len(phis) and fb < len(phis) and np.any(coef):
+                out[fa * N:(fa + 1) * N, fb * N:(fb + 1) * N] += sa * sb * _gram(phis[fa], coef, phis[fb], weight)
+    return out
+
+
+def _line_load(terms: np.ndarray, phis: list, weight: np.ndarray, N: int) -> np.ndarray:
+    """int Phi(x)^T terms(x) dx for body loads (g, 6)."""
+    out = np.zeros(len(phis) * N)
+    for a, (f, sign) in enumerate(_BODY_FROM_FIELD):
+        if f < len(phis):
+            out[f * N:(f + 1) * N] += sign * _load(phis[f], terms[:, a], weight)
+    return out
+
+
 @functools.lru_cache(maxsize=64)
-def beam_matrices(blade: Blade, material: Material, tip_mass: float, N: int) -> BeamMatrices:
-    """Assemble every speed-independent matrix once per (blade, material, m_s, N)."""
+def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
+                  torsion: bool = False) -> BeamMatrices:
+    """Assemble every speed-independent matrix once per (blade, material, shroud body, N, torsion)."""
     q: Quadrature = sample(N, blade.length)
     x, wq, phi, dphi, t = q.x, q.weight, q.value, q.slope, q.tip
-    L, Rd, A = blade.length, blade.disk_radius, blade.area
+    L, Rd = blade.length, blade.disk_radius
+    section = rectangle(blade.width, blade.thickness)
+    A = section.area
     rho, E = material.rho, material.E
     kGA = shear_coefficient(material.nu) * material.G * A
     beta = np.radians(blade.stagger_deg) + np.radians(blade.twist_deg) * x / L
-    I = SectionTensor.turned(blade, beta)
+    c, s = np.cos(beta), np.sin(beta)
+    I_YY = section.I_v * c**2 + section.I_w * s**2
+    I_ZZ = section.I_v * s**2 + section.I_w * c**2
+    I_YZ = (section.I_v - section.I_w) * c * s
     one = np.ones_like(x)
+    fields = 6 if torsion else 5
+    n = fields * N
+    U, V, W, PY, PZ, TH = (slice(k * N, (k + 1) * N) for k in range(6))
 
-    n = 5 * N
-    U, V, W, PY, PZ = (slice(k * N, (k + 1) * N) for k in range(5))
-    tip_outer = np.outer(t, t)
+    # inertia, rotation and loads of the sections (per unit length) and of the shroud
+    Qsec = np.zeros((x.size, 3, 3))
+    Qsec[:, 1, 1], Qsec[:, 2, 2], Qsec[:, 1, 2], Qsec[:, 2, 1] = I_YY, I_ZZ, I_YZ, I_YZ
+    line = body_terms(rho * A * one, np.zeros((x.size, 3)), rho * Qsec, Rd + x, second_order=torsion)
+    body = body_terms(tip_body.mass, tip_body.S, tip_body.Q, Rd + L)
+    # the twist: N functions whose slope vanishes at the root, where the clamp holds the warping,
+    # when the basis resolves that boundary layer; otherwise (slender bars) the free-warping functions
+    if warping_held(section, material, L, N):
+        phi_t, dphi_t, ddphi_t, t_t = held_root_slope(sample(N + 1, L, points=x.size))
+    else:
+        phi_t, dphi_t, ddphi_t, t_t = phi, dphi, q.curvature, t
+    phis, tips = [phi] * 5 + [phi_t] * torsion, [t] * 5 + [t_t] * torsion
+    T = _body_map(N, tips)
 
-    # mass of a translating section plus the point mass of the shroud
-    m_line = _gram(phi, rho * A * one, phi, wq) + tip_mass * tip_outer
-    m_line = 0.5 * (m_line + m_line.T)             # exact symmetry keeps G exactly skew
-    rotary = {(PY, PY): _gram(phi, rho * I.YY, phi, wq), (PZ, PZ): _gram(phi, rho * I.ZZ, phi, wq),
-              (PY, PZ): _gram(phi, rho * I.YZ, phi, wq)}
-    M = np.zeros((n, n))
-    for f in (U, V, W):
-        M[f, f] = m_line
-    _put_symmetric(M, rotary)
+    def assembled(name: str) -> np.ndarray:
+        tip_part = getattr(body, name)[0]
+        if tip_part.ndim == 1:
+            return _line_load(getattr(line, name), phis, wq, N) + T.T @ tip_part
+        return _line_integral(getattr(line, name), phis, wq, N) + T.T @ tip_part @ T
+
+    M, K_s1, G1, f_c1, f_acc1 = (assembled(k) for k in ("M", "K_s1", "G1", "f_c1", "f_acc1"))
+    G1 = 0.5 * (G1 - G1.T)                         # exactly skew
+    K_acc1 = 0.5 * G1
 
     K_e = np.zeros((n, n))
     K_e[U, U] = _gram(dphi, E * A * one, dphi, wq)
@@ -182,37 +390,27 @@ def beam_matrices(blade: Blade, material: Material, tip_mass: float, N: int) -> 
         K_e[disp, tilt] = -_gram(dphi, kGA * one, phi, wq)
         K_e[tilt, disp] = K_e[disp, tilt].T
         K_e[tilt, tilt] = _gram(phi, kGA * one, phi, wq)
-    _add_symmetric(K_e, {(PY, PY): _gram(dphi, E * I.YY, dphi, wq), (PZ, PZ): _gram(dphi, E * I.ZZ, dphi, wq),
-                         (PY, PZ): _gram(dphi, E * I.YZ, dphi, wq)})
+    _add_symmetric(K_e, {(PY, PY): _gram(dphi, E * I_YY, dphi, wq), (PZ, PZ): _gram(dphi, E * I_ZZ, dphi, wq),
+                         (PY, PZ): _gram(dphi, E * I_YZ, dphi, wq)})
 
     # axial force per Omega^2: blade outboard of x plus the shroud at the tip
-    P1 = rho * A * (Rd * (L - x) + 0.5 * (L**2 - x**2)) + tip_mass * (Rd + L)
+    P1 = rho * A * (Rd * (L - x) + 0.5 * (L**2 - x**2)) + tip_body.mass * (Rd + L) + tip_body.first[0]
     K_c1 = np.zeros((n, n))
     for f in (U, V, W):
         K_c1[f, f] = _gram(dphi, P1, dphi, wq)
-    _put_symmetric(K_c1, {(PY, PY): _gram(dphi, P1 * I.YY / A, dphi, wq),
-                          (PZ, PZ): _gram(dphi, P1 * I.ZZ / A, dphi, wq),
-                          (PY, PZ): _gram(dphi, P1 * I.YZ / A, dphi, wq)})
+    _add_symmetric(K_c1, {(PY, PY): _gram(dphi, P1 * I_YY / A, dphi, wq),
+                          (PZ, PZ): _gram(dphi, P1 * I_ZZ / A, dphi, wq),
+                          (PY, PZ): _gram(dphi, P1 * I_YZ / A, dphi, wq)})
+    if torsion:
+        kappa = math.radians(blade.twist_deg) / L              # pretwist rate, rad/m
+        _add_symmetric(K_e, {(TH, TH): _gram(dphi_t, (material.G * section.J + E * kappa**2 * section.I_rr) * one,
+                                             dphi_t, wq)
+                             + _gram(ddphi_t, E * section.warping * one, ddphi_t, wq),
+                             (U, TH): _gram(dphi, E * kappa * section.I_p * one, dphi_t, wq)})
+        K_c1[TH, TH] = _gram(dphi_t, P1 * section.I_p / A, dphi_t, wq)
 
-    # spin softening: minus the inertia of the X and Y displacement components
-    K_s1 = np.zeros((n, n))
-    K_s1[U, U] = K_s1[V, V] = -m_line
-    _put_symmetric(K_s1, {key: -block for key, block in rotary.items()})
-
-    # Coriolis 2 Omega e_Z x u_dot and Euler Omega_dot e_Z x u: both couple u and v_Y
-    G1 = np.zeros((n, n))
-    G1[U, V] = -2.0 * m_line
-    G1[V, U] = -G1[U, V].T
-    K_acc1 = 0.5 * G1
-
-    radius_load = _load(phi, rho * A * (Rd + x), wq) + tip_mass * (Rd + L) * t
-    f_c1 = np.zeros(n)
-    f_c1[U] = radius_load
     f_aero1 = np.zeros(n)
-    f_aero1[V], f_aero1[W] = _load(phi, np.cos(beta), wq), _load(phi, np.sin(beta), wq)
-    f_acc1 = np.zeros(n)
-    f_acc1[V] = -radius_load
-    f_acc1[PY], f_acc1[PZ] = -_load(phi, rho * I.YY, wq), -_load(phi, rho * I.YZ, wq)
+    f_aero1[V], f_aero1[W] = _load(phi, c, wq), _load(phi, s, wq)
 
     bL = blade.beta(L)
     tip = np.zeros((2, n))
@@ -224,17 +422,25 @@ def beam_matrices(blade: Blade, material: Material, tip_mass: float, N: int) -> 
     # quadrature sums are symmetric only to round-off; make them exactly so
     M, K_e, K_c1, K_s1 = (0.5 * (X + X.T) for X in (M, K_e, K_c1, K_s1))
     arrays = dict(M=M, K_e=K_e, K_c1=K_c1, K_s1=K_s1, G1=G1, K_acc1=K_acc1, f_c1=f_c1,
-                  f_aero1=f_aero1, f_acc1=f_acc1, tip=tip, tip_radial=tip_radial)
+                  f_aero1=f_aero1, f_acc1=f_acc1, tip=tip, tip_radial=tip_radial, tip_body=T)
     for a in arrays.values():
         a.flags.writeable = False      # shared through the cache: never modified
-    return BeamMatrices(N=N, **arrays)
+    return BeamMatrices(N=N, fields=fields, torsion_arm=0.5 * blade.width, **arrays)
 
 
-def _put_symmetric(target: np.ndarray, blocks: dict) -> None:
-    """Write blocks (i, j) and their transposes (j, i)."""
-    for (i, j), block in blocks.items():
-        target[i, j] = block
-        target[j, i] = block.T
+def warping_held(section, material: Material, length: float, N: int) -> bool:
+    """Whether the twist functions hold the root's warping (theta'(0) = 0).
+
+    Holding it adds a boundary layer of length lambda = sqrt(E Gamma / G J)
+    at the root (10 mm for the blade's 40 x 7 mm section); it changes the
+    torsional stiffness by about lambda / L. Polynomials of degree N resolve
+    features down to about L / N^2: a thinner layer cannot be carried (the
+    held slope would stiffen a whole L / N^2 stretch, an error larger than
+    the effect), so then the root warps freely (St-Venant) and the error
+    left is below lambda / L < 1 / N^2.
+    """
+    decay = math.sqrt(material.E * section.warping / (material.G * section.J))
+    return decay >= length / N**2
 
 
 def _add_symmetric(target: np.ndarray, blocks: dict) -> None:
@@ -245,6 +451,16 @@ def _add_symmetric(target: np.ndarray, blocks: dict) -> None:
             target[j, i] += block.T
 
 
+def tip_body(params) -> TipBody:
+    """The shroud of ``params`` as the beam sees it (``reduced.shroud``: "point" or "rigid")."""
+    sh = params.shroud
+    if params.reduced.shroud == "rigid":
+        angle = params.blade.beta(params.blade.length) + math.radians(params.contact.alpha_deg)
+        return TipBody.box(params.shroud_mass, sh.length, sh.width, sh.thickness, angle)
+    return TipBody(mass=params.shroud_mass)
+
+
 def for_parameters(params) -> BeamMatrices:
-    """The cached matrices of ``params`` (blade, material, shroud mass, N)."""
-    return beam_matrices(params.blade, params.material, params.shroud_mass, params.reduced.N)
+    """The cached matrices of ``params`` (blade, material, shroud, N, torsion)."""
+    return beam_matrices(params.blade, params.material, tip_body(params), params.reduced.N,
+                         params.reduced.torsion)

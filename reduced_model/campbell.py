@@ -1,6 +1,6 @@
 """Campbell diagram of the beam model: frequencies over speed, tracked by MAC.
 
-At each speed the modes are computed once (5N DOF, a few ms) and matched to
+At each speed the modes are computed once (5N or 6N DOF, a few ms) and matched to
 the previous speed's by the modal assurance criterion with an optimal
 one-to-one assignment, so a track follows one mode shape through veerings
 and crossings instead of following an index. Each track keeps the label it

@@ -28,7 +28,7 @@ from shroud.core.results import Mode, ModalResult
 @dataclass(frozen=True)
 class Modes:
     f_hz: np.ndarray            # (k,) ascending
-    shapes: np.ndarray          # (5N, k), complex with Coriolis
+    shapes: np.ndarray          # (5N or 6N, k), complex with Coriolis
     damping_ratio: np.ndarray | None
 
 
@@ -66,11 +66,11 @@ def modes_at(beam: BeamMatrices, omega: float, count: int, coriolis: bool) -> Mo
 
 
 def modal_analysis(params: Parameters, rpm: float, n_modes: int, coriolis: bool) -> ModalResult:
-    """Frequencies and tip-kinematics labels of the beam model (5N DOF) at ``rpm``."""
+    """Frequencies and tip-kinematics labels of the beam model (5N or 6N DOF) at ``rpm``."""
     t0 = time.perf_counter()
     beam = for_parameters(params)
     if not 1 <= n_modes <= beam.dofs:
-        raise InputError("--modes", f"{n_modes} is out of range; allowed: 1..{beam.dofs} (5 x reduced.N)")
+        raise InputError("--modes", f"{n_modes} is out of range; allowed: 1..{beam.dofs} (fields x reduced.N)")
     modes = modes_at(beam, 2.0 * np.pi * rpm / 60.0, n_modes, coriolis)
     labels, shares = label_modes(beam.tip_kinematics(modes.shapes))
     zeta = modes.damping_ratio if modes.damping_ratio is not None else [None] * len(labels)

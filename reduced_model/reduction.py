@@ -30,7 +30,7 @@ class ModalBasis:
         """N*: the nr lowest modes (nr = 0 keeps all of them, the full model)."""
         total = self.shapes.shape[1]
         if nr > total:
-            raise InputError("reduced.nr", f"{nr} is out of range; allowed: 0..{total} (5 x reduced.N)")
+            raise InputError("reduced.nr", f"{nr} is out of range; allowed: 0..{total} (fields x reduced.N)")
         return self.shapes if nr == 0 else self.shapes[:, :nr]
 
 

@@ -8,18 +8,28 @@ run's speed, computed without Coriolis and with K = K_e + K_c + K_s (the
 stiffness the blade has at that speed). The contact acts on the shroud
 coordinates y = (v_s, w_s) = R(alpha) (v_L, w_L) (Eq. 7); the tip forces
 of Eq. 8 return through W^T, which is Eq. 10's F_y phi(L), F_z phi(L).
+With the rigid shroud (``reduced.shroud = "rigid"``) each side acts on its
+face instead, centred at p = (t_s / 2) e_X -/+ (b_s / 2) e_vs from the tip
+centre, through two points spread along the face (face_points); a point's
+displacement U + r x p carries the tip rotations times its arm, y holds
+(v_s, w_s) of each point, and the contact forces load bending and torsion
+through W^T. The contact law (shroud.core.contact) is the same; so is the
+friction direction e_ws. This beam vibrates about its steady centrifugal
+state (no constant load), as the solid does: the static untwist would
+otherwise move the face points against neighbours that untwist alike.
 With ``reduced=True`` everything is projected on the nr lowest free-interface
 modes (reduced_model.reduction, Eq. 12).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 
 import numpy as np
 
-from reduced_model.beam import for_parameters
+from reduced_model.beam import E_X, BeamMatrices, for_parameters
 from reduced_model.reduction import project, undamped_modes
 from shroud.core.damping import rayleigh
 from shroud.params import Parameters
@@ -32,17 +42,66 @@ def shroud_frame(alpha_deg: float) -> np.ndarray:
     return np.array([[math.cos(a), math.sin(a)], [-math.sin(a), math.cos(a)]])
 
 
-def contact_elements(params: Parameters, tip: np.ndarray) -> ContactElements | None:
+def face_points(params: Parameters) -> list[tuple[int, np.ndarray]]:
+    """(side, p): the contact points of the rigid shroud, p from the tip centre (m).
+
+    Each face (side 1 at v_s = -b_s/2, side 2 at +b_s/2; t_s along X from
+    the tip, l_s along e_ws) carries the two Gauss points of its length at
+    mid-height, p = (t_s / 2) e_X -/+ (b_s / 2) e_vs -/+ l_s / (2 sqrt 3) e_ws,
+    each with half of the side's kn, kt and N0: their resultant acts at the
+    face centre, and a face turning about X compresses them unevenly with
+    the stiffness kn l_s^2 / 12 of the solid's area-weighted face nodes
+    (1333 N m/rad for the default shroud, against G J / L = 2100 N m/rad of
+    the blade). The spread over the height (kn t_s^2 / 12 = 41 N m/rad about
+    e_ws) is left out: the 2 x 2 points of the face's area moved the Fig. 8
+    amplitudes and peaks by less than 0.2 % and the slip share by 0.012, at
+    1.28 times the cost of a transient (benchmarks/bench_transient.py).
+    """
+    sh = params.shroud
+    gamma = params.blade.beta(params.blade.length) + math.radians(params.contact.alpha_deg)
+    e_vs = np.array([0.0, math.cos(gamma), math.sin(gamma)])
+    e_ws = np.array([0.0, -math.sin(gamma), math.cos(gamma)])
+    g = 0.5 / math.sqrt(3.0)
+    return [(side, 0.5 * sh.thickness * E_X + sign * 0.5 * sh.width * e_vs + b * sh.length * e_ws)
+            for side, sign in ((1, -1.0), (2, 1.0)) for b in (-g, g)]
+
+
+def contact_elements(params: Parameters, beam: BeamMatrices) -> ContactElements | None:
     """The two shroud faces as contact elements on y = W q (None without contact)."""
     if not params.contact.enabled or params.shroud.thickness == 0:
         return None
-    return ContactElements(W=shroud_frame(params.contact.alpha_deg) @ tip,
-                           normal_row=np.array([0, 0]), tangent_row=np.array([1, 1]),
-                           side=np.array([1, 2]), weight=np.array([1.0, 1.0]))
+    if params.reduced.shroud == "point":        # both sides act at the tip centre (Eq. 7)
+        return ContactElements(W=shroud_frame(params.contact.alpha_deg) @ beam.tip,
+                               normal_row=np.array([0, 0]), tangent_row=np.array([1, 1]),
+                               side=np.array([1, 2]), weight=np.array([1.0, 1.0]))
+    gamma = params.blade.beta(params.blade.length) + math.radians(params.contact.alpha_deg)
+    frame = np.array([[0.0, math.cos(gamma), math.sin(gamma)], [0.0, -math.sin(gamma), math.cos(gamma)]])
+    points = face_points(params)
+    n = len(points)
+    return ContactElements(W=np.vstack([frame @ beam.point_rows(p) for _, p in points]),
+                           normal_row=2 * np.arange(n), tangent_row=2 * np.arange(n) + 1,
+                           side=np.array([side for side, _ in points]), weight=np.full(n, 2.0 / n))
+
+
+def output_rows(params: Parameters, beam: BeamMatrices) -> np.ndarray:
+    """(2, n): the transient's v_L, w_L (along e_v(L), e_w(L)).
+
+    The point shroud sits at the tip centre, so they are the tip centre's.
+    The rigid shroud's are taken at its centre, t_s / 2 above the tip, where
+    the solid reports its transient (reference_fe.contact_faces: the mean of
+    the two faces' displacements), so that both are compared at one point;
+    the modes keep the tip centre's (BeamMatrices.tip_kinematics, as the
+    solid's modal labels).
+    """
+    if params.reduced.shroud == "point":
+        return beam.tip
+    b = params.blade.beta(params.blade.length)
+    frame = np.array([[0.0, math.cos(b), math.sin(b)], [0.0, -math.sin(b), math.cos(b)]])
+    return frame @ beam.point_rows(0.5 * params.shroud.thickness * E_X)
 
 
 def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
-    """The beam at ``params.speed.rpm``: full (5N DOF) or reduced to ``params.reduced.nr`` modes."""
+    """The beam at ``params.speed.rpm``: full (5N or 6N DOF) or reduced to ``params.reduced.nr`` modes."""
     t0 = time.perf_counter()
     beam = for_parameters(params)
     omega = params.speed.omega
@@ -52,18 +111,22 @@ def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
     modes = undamped_modes(beam.M, K)
     alpha, beta = rayleigh(modes.f_hz[0], modes.f_hz[1], params.damping.xi1, params.damping.xi2)
     C = alpha * beam.M + beta * K + beam.gyroscopic(omega)
-    f_const = beam.centrifugal_load(omega)
+    # the rigid shroud's contact points see the tip's rotations, so the beam vibrates about its steady
+    # centrifugal state as the solid does (its neighbours, identical blades, untwist alike)
+    f_const = beam.centrifugal_load(omega) if params.reduced.shroud == "point" else np.zeros(beam.dofs)
     if omega_dot != 0.0:
         K = K + omega_dot * beam.K_acc1
         f_const = f_const + omega_dot * beam.f_acc1
-    M, f_aero, tip = beam.M, params.load.F0 * beam.f_aero1, beam.tip
+    M, f_aero, tip = beam.M, params.load.F0 * beam.f_aero1, output_rows(params, beam)
+    contact = contact_elements(params, beam)
 
     nr = params.reduced.nr if reduced else 0
     if nr:
         basis = modes.truncated(nr)
         M, C, K = (project(basis, X) for X in (beam.M, C, K))
         f_const, f_aero, tip = basis.T @ f_const, basis.T @ f_aero, tip @ basis
+        if contact is not None:
+            contact = dataclasses.replace(contact, W=contact.W @ basis)
     return StructuralSystem(
         model="reduced" if nr else "full", M=M, C=C, K=K, f_const=f_const, f_aero=f_aero,
-        omega_e=params.load.ke * omega, tip=tip, contact=contact_elements(params, tip),
-        build_s=time.perf_counter() - t0)
+        omega_e=params.load.ke * omega, tip=tip, contact=contact, build_s=time.perf_counter() - t0)

@@ -122,6 +122,8 @@ class Time:
 class Reduced:
     N: int = 6       # shape functions per field (5N DOF)
     nr: int = 6      # kept free-interface modes; 0 = full model
+    torsion: bool = False   # true: a sixth field, the twist (reduced_model.beam); false: the paper's model
+    shroud: str = "point"   # "point": the paper's tip mass; "rigid": a rigid body with offset and rotary inertia
 
 
 @dataclass(frozen=True)
@@ -174,6 +176,7 @@ _RULES: dict[str, tuple[Any, str]] = {
     "time.contact": (lambda v: v in ("implicit", "explicit"), '"implicit" or "explicit"'),
     "reduced.N": (lambda v: 1 <= v <= 40, "an integer in [1, 40]"),
     "reduced.nr": (lambda v: v >= 0, "an integer >= 0 (0 = full model)"),
+    "reduced.shroud": (lambda v: v in ("point", "rigid"), '"point" (the paper\'s tip mass) or "rigid" (a rigid body)'),
     "fe.mesh_size": (_positive, "an element size > 0 m"),
     "fe.order": (lambda v: v in (1, 2), "1 or 2"),
     "fe.cms_modes": (lambda v: v >= 1, "an integer >= 1"),

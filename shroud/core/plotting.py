@@ -15,7 +15,7 @@ STYLE = {
 }
 # One colour per model in every figure, so the four-model comparisons read alike.
 MODEL_COLOURS = {"reduced": "tab:red", "full": "tab:blue", "fe-reduced": "tab:green",
-                 "fe": "black", "paper": "tab:gray"}
+                 "fe": "black", "paper": "tab:gray", "extended": "tab:purple"}
 
 
 def figure(nrows: int = 1, ncols: int = 1, width: float = 6.4, height: float | None = None):

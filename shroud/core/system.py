@@ -13,8 +13,10 @@ Conventions (docs/geometry.md)
 * Element j belongs to side 1 (face at v_s = -b_s/2, neighbour pushes +e_vs)
   or side 2 (face at +b_s/2, neighbour pushes -e_vs); ``weight[j]`` is its
   share of the side's kn, kt and N0 (area weights; they sum to 1 per side).
-* ``tip`` maps q to (v_L, w_L): the tip-centre displacement along e_v(L),
-  e_w(L).
+* ``tip`` maps q to (v_L, w_L), the displacement along e_v(L), e_w(L) of
+  the point the model reports: the tip centre (the paper's beam, where the
+  point-mass shroud sits), or the shroud centre between its two faces (the
+  solid and the beam with a rigid shroud).
 """
 
 from __future__ import annotations

@@ -1,0 +1,241 @@
+"""Section properties of the blade from the shape of its cross-section, computed numerically.
+
+The beam (reduced_model.beam) needs, per section, in the section frame
+(eta_v along e_v, the thickness direction; eta_w along e_w, the chord):
+
+    A                      area, m^2
+    (c_v, c_w)             centroid, m
+    I_v = int eta_v^2 dA   second moment for bending along e_v (flap), m^4
+    I_w = int eta_w^2 dA   second moment for bending along e_w (chord), m^4
+    I_vw = int eta_v eta_w dA, and the principal angle
+                           theta_p = 1/2 atan2(2 I_vw, I_w - I_v), rad
+    I_p = I_v + I_w        polar second moment about the centroid, m^4
+    I_rr = int r^4 dA      fourth polar moment, r^2 = eta_v^2 + eta_w^2, m^6
+                           (the extension-twist coupling of a pretwisted beam)
+    J                      St-Venant torsion constant, m^4
+    Gamma = int omega^2 dA warping constant, omega the St-Venant warping
+                           function about the shear centre, m^6
+    (v_s, w_s)             shear centre, m
+
+all about the centroid. They come from one function of the shape,
+:func:`section_properties`, which takes any shape given by a predicate
+``inside(eta_v, eta_w)`` on its bounding box, so an airfoil section can
+replace the rectangle without touching the beam.
+
+* Area and moments: sums over the cells of a grid laid on the bounding box,
+  each cell whose centre lies inside counting with its exact cell integrals
+  (exact for shapes whose edges follow the grid, such as the rectangle; a
+  staircase of the outline otherwise, converging as the cell size).
+* Torsion constant: Prandtl's stress function, nabla^2 Phi = -2 in the
+  section, Phi = 0 on its outline, J = 2 int Phi dA (Timoshenko & Goodier,
+  Theory of Elasticity, Sect. 104), by the five-point finite-difference
+  Laplacian on the grid nodes (nodes outside the shape or on its outline hold
+  Phi = 0), solved on two grids and Richardson-extrapolated (the scheme is
+  second order). The series solutions of the rectangle (Timoshenko &
+  Goodier, Sect. 109) are the checks (tests/test_reduced_section.py).
+* Warping function and shear centre: omega from the same Phi (its harmonic
+  conjugate), the shear centre as the pole that makes it orthogonal to the
+  linear functions, Gamma = int omega^2 dA (Vlasov's warping constant, the
+  stiffness E Gamma of a section whose warping is held, as at a clamped root).
+
+The shear coefficient stays Cowper's closed form for the rectangle (beam.py):
+it is not computed from the shape here.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import scipy.sparse
+import scipy.sparse.linalg
+
+GRID_THICKNESS_CELLS = 24     # cells across the thickness on the coarser grid of the J solve
+
+
+@dataclass(frozen=True)
+class SectionProperties:
+    """Properties of one cross-section about its centroid, section frame (e_v, e_w); SI units."""
+
+    area: float            # A, m^2
+    centroid: tuple        # (c_v, c_w), m, in the shape's own coordinates
+    I_v: float             # int eta_v^2 dA, m^4 (flap bending)
+    I_w: float             # int eta_w^2 dA, m^4 (chord bending)
+    I_vw: float            # int eta_v eta_w dA, m^4
+    I_rr: float            # int (eta_v^2 + eta_w^2)^2 dA, m^6
+    J: float               # St-Venant torsion constant, m^4
+    warping: float         # Gamma = int omega^2 dA, warping constant about the shear centre, m^6
+    shear_centre: tuple    # (v_s, w_s), m, in the shape's own coordinates
+
+    @property
+    def I_p(self) -> float:
+        """Polar second moment I_v + I_w about the centroid, m^4."""
+        return self.I_v + self.I_w
+
+    @property
+    def principal_angle(self) -> float:
+        """Angle (rad) from e_w to the principal axis of the larger second moment."""
+        return 0.5 * math.atan2(2.0 * self.I_vw, self.I_w - self.I_v)
+
+
+def _cell_powers(lo: np.ndarray, hi: np.ndarray, k: int) -> np.ndarray:
+    """int_lo^hi s^k ds, exact."""
+    return (hi ** (k + 1) - lo ** (k + 1)) / (k + 1)
+
+
+def _moments(inside, v_edges: np.ndarray, w_edges: np.ndarray) -> dict:
+    """Exact integrals of v^i w^j (i + j <= 4) over the cells whose centres are inside."""
+    vc, wc = 0.5 * (v_edges[1:] + v_edges[:-1]), 0.5 * (w_edges[1:] + w_edges[:-1])
+    mask = inside(vc[:, None], wc[None, :]).astype(float)
+    pv = {k: _cell_powers(v_edges[:-1], v_edges[1:], k) for k in range(5)}
+    pw = {k: _cell_powers(w_edges[:-1], w_edges[1:], k) for k in range(5)}
+    return {(i, j): float(pv[i] @ mask @ pw[j]) for i in range(5) for j in range(5) if i + j <= 4}
+
+
+def _node_grid(v_range: tuple, w_range: tuple, nv: int, nw: int):
+    """Nodes of an (nv x nw)-cell grid on the box: coordinates (V, W) and spacings."""
+    v = np.linspace(*v_range, nv + 1)
+    w = np.linspace(*w_range, nw + 1)
+    V, W = np.meshgrid(v, w, indexing="ij")
+    return V, W, v[1] - v[0], w[1] - w[0]
+
+
+def _prandtl(inside, V: np.ndarray, W: np.ndarray, dv: float, dw: float) -> np.ndarray:
+    """Phi on the nodes: nabla^2 Phi = -2 at the nodes inside the shape, Phi = 0 elsewhere and on the box."""
+    free = inside(V, W)
+    free[[0, -1], :] = False
+    free[:, [0, -1]] = False
+    index = -np.ones(free.shape, dtype=np.int64)
+    n = int(free.sum())
+    index[free] = np.arange(n)
+    rows, cols, vals = [np.arange(n)], [np.arange(n)], [np.full(n, 2.0 / dv**2 + 2.0 / dw**2)]
+    for shift, axis, h in ((1, 0, dv), (-1, 0, dv), (1, 1, dw), (-1, 1, dw)):
+        neighbour = np.roll(index, -shift, axis=axis)      # the box edge holds Phi = 0: no wrap-around reaches a free node
+        ok = free & (neighbour >= 0)
+        rows.append(index[ok])
+        cols.append(neighbour[ok])
+        vals.append(np.full(int(ok.sum()), -1.0 / h**2))
+    A = scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                shape=(n, n))
+    phi = np.zeros(free.shape)
+    phi[free] = scipy.sparse.linalg.spsolve(A, np.full(n, 2.0))
+    return phi
+
+
+def _warping(inside, V, W, dv, dw, phi) -> np.ndarray:
+    """St-Venant warping function omega (pole at the centroid of the grid) on the nodes inside.
+
+    omega is the harmonic conjugate of Phi + r^2 / 2 (Cauchy-Riemann, from
+    tau_xv = G theta' (omega_v - w) = G theta' Phi_w, tau_xw = G theta' (omega_w + v) = -G theta' Phi_v):
+    omega_v = w + Phi_w, omega_w = -v - Phi_v, integrated along the grid edges
+    by least squares (exact for a gradient field).
+    """
+    dphi_v, dphi_w = np.gradient(phi, dv, dw, edge_order=2)
+    gv, gw = W + dphi_w, -V - dphi_v
+    mask = inside(V, W)
+    index = -np.ones(mask.shape, dtype=np.int64)
+    n = int(mask.sum())
+    index[mask] = np.arange(n)
+    rows, cols, vals, rhs = [], [], [], []
+    k = 0
+    for axis, g, h in ((0, gv, dv), (1, gw, dw)):
+        a = index.take(range(index.shape[axis] - 1), axis=axis)
+        b = index.take(range(1, index.shape[axis]), axis=axis)
+        ga = g.take(range(g.shape[axis] - 1), axis=axis)
+        gb = g.take(range(1, g.shape[axis]), axis=axis)
+        ok = (a >= 0) & (b >= 0)
+        m = int(ok.sum())
+        e = np.arange(k, k + m)
+        rows += [e, e]
+        cols += [b[ok], a[ok]]
+        vals += [np.ones(m), -np.ones(m)]
+        rhs.append(0.5 * (ga[ok] + gb[ok]) * h)
+        k += m
+    D = scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(k, n))
+    # omega is fixed up to a constant: hold it at node 0 and solve the normal equations for the rest
+    D1 = D[:, 1:]
+    omega = np.zeros(mask.shape)
+    values = np.zeros(n)
+    values[1:] = scipy.sparse.linalg.spsolve((D1.T @ D1).tocsc(), D1.T @ np.concatenate(rhs))
+    omega[mask] = values
+    return omega
+
+
+def _torsion_warping(inside, v_range, w_range, nv, nw, centroid) -> tuple[float, float, tuple]:
+    """(J, Gamma, shear centre) on one grid: J = 2 int Phi dA; omega about the shear centre.
+
+    The shear centre (v_s, w_s) is the pole that makes omega orthogonal to
+    1, v and w (Trefftz's definition; Vlasov's sectorial coordinate): moving
+    the pole from the origin to (v_s, w_s) adds -w_s v + v_s w to omega, so
+    the weighted least-squares fit omega_O = c0 + w_s (v - c_v) - v_s (w - c_w)
+    + omega_S gives it; Gamma = int omega_S^2 dA, m^6.
+    """
+    V, W, dv, dw = _node_grid(v_range, w_range, nv, nw)
+    phi = _prandtl(inside, V, W, dv, dw)
+    # trapezoid weights of the box grid, on the nodes inside
+    tv, tw = np.full(nv + 1, dv), np.full(nw + 1, dw)
+    tv[[0, -1]] *= 0.5
+    tw[[0, -1]] *= 0.5
+    weight = np.outer(tv, tw) * inside(V, W)
+    J = 2.0 * float(np.sum(phi * weight))
+    omega = _warping(inside, V, W, dv, dw, phi)
+    cv, cw = centroid
+    basis = np.stack([np.ones_like(V), V - cv, W - cw], axis=-1)[weight > 0]
+    wt = weight[weight > 0]
+    coef, *_ = np.linalg.lstsq(basis * np.sqrt(wt)[:, None], omega[weight > 0] * np.sqrt(wt), rcond=None)
+    residual = omega[weight > 0] - basis @ coef
+    gamma = float(np.sum(wt * residual**2))
+    # omega_P = omega_O - w_P v + v_P w (+ const), omega_O about the origin: the fitted linear part is (w_P, -v_P)
+    shear_centre = (-coef[2], coef[1])
+    return J, gamma, shear_centre
+
+
+def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
+                       cells_v: int = GRID_THICKNESS_CELLS) -> SectionProperties:
+    """Properties of the shape ``inside(eta_v, eta_w) -> bool`` within the box v_range x w_range (m).
+
+    ``cells_v`` cells across v_range; cells along w_range keep the aspect
+    close to one. The torsion constant is the Richardson extrapolation of
+    the grids with cells_v and 2 cells_v cells (error O(h^4) for a smooth
+    stress function).
+    """
+    span_v, span_w = v_range[1] - v_range[0], w_range[1] - w_range[0]
+    cells_w = max(1, round(cells_v * span_w / span_v))
+    fine_v, fine_w = 4 * cells_v, 4 * cells_w
+    m = _moments(inside, np.linspace(*v_range, fine_v + 1), np.linspace(*w_range, fine_w + 1))
+    A = m[0, 0]
+    cv, cw = m[1, 0] / A, m[0, 1] / A
+    # central moments from the raw ones (parallel-axis shifts)
+    Ivv = m[2, 0] - A * cv**2
+    Iww = m[0, 2] - A * cw**2
+    Ivw = m[1, 1] - A * cv * cw
+
+    def shifted(i, j):
+        """int (v - cv)^i (w - cw)^j dA from the raw moments (binomial expansion)."""
+        total = 0.0
+        for a in range(i + 1):
+            for b in range(j + 1):
+                total += (math.comb(i, a) * math.comb(j, b) * (-cv) ** (i - a) * (-cw) ** (j - b) * m[a, b])
+        return total
+
+    I_rr = shifted(4, 0) + 2.0 * shifted(2, 2) + shifted(0, 4)
+    coarse = _torsion_warping(inside, v_range, w_range, cells_v, cells_w, (cv, cw))
+    fine = _torsion_warping(inside, v_range, w_range, 2 * cells_v, 2 * cells_w, (cv, cw))
+    J, gamma = (f + (f - c) / 3.0 for c, f in zip(coarse[:2], fine[:2]))     # Richardson, second order
+    return SectionProperties(area=A, centroid=(cv, cw), I_v=Ivv, I_w=Iww, I_vw=Ivw, I_rr=I_rr, J=J,
+                             warping=gamma, shear_centre=fine[2])
+
+
+@functools.lru_cache(maxsize=32)
+def rectangle(chord: float, thickness: float) -> SectionProperties:
+    """The blade's section: chord b along e_w, thickness h along e_v, centred (m)."""
+    hv, hw = 0.5 * thickness, 0.5 * chord
+
+    def inside(v, w):
+        return (np.abs(v) <= hv) & (np.abs(w) <= hw)
+
+    return section_properties(inside, (-hv, hv), (-hw, hw))
+

@@ -1,0 +1,91 @@
+"""Section properties computed from the shape, against the rectangle's series solutions
+(Timoshenko & Goodier, Theory of Elasticity, Sects. 104-109) and composite-area formulas."""
+
+import math
+
+import numpy as np
+import pytest
+
+from reduced_model.section import rectangle, section_properties
+
+
+def torsion_series(b, h, terms=60):
+    """St-Venant J of a b x h rectangle, b >= h: b h^3/3 [1 - 192 h/(pi^5 b) sum tanh(n pi b/2h)/n^5]."""
+    n = np.arange(1, 2 * terms, 2, dtype=float)
+    return b * h**3 / 3 * (1 - 192 * h / (math.pi**5 * b) * np.sum(np.tanh(n * math.pi * b / (2 * h)) / n**5))
+
+
+def warping_series(b, h, terms=60, points=200):
+    """Gamma = int omega^2 dA of the rectangle, y in [-b/2, b/2], z in [-h/2, h/2]:
+    omega = -y z + sum_n A_n sin(k_n z) sinh(k_n y) / cosh(k_n b/2), k_n = n pi / h,
+    A_n = 8 h^2 (-1)^((n-1)/2) / (pi^3 n^3) (n odd), the harmonic conjugate of Prandtl's series."""
+    a, c = b / 2, h / 2
+    t, w = np.polynomial.legendre.leggauss(points)
+    Y, Z = np.meshgrid(a * t, c * t, indexing="ij")
+    omega = -Y * Z
+    for n in range(1, 2 * terms, 2):
+        k = n * math.pi / (2 * c)
+        A = 32 * c**2 * (-1) ** ((n - 1) // 2) / (math.pi**3 * n**3)
+        # sinh(k y) / cosh(k a) without overflow
+        ratio = np.sign(Y) * np.exp(k * (np.abs(Y) - a)) * (1 - np.exp(-2 * k * np.abs(Y))) / (1 + np.exp(-2 * k * a))
+        omega += A * np.sin(k * Z) * ratio
+    return float(np.einsum("i,j,ij->", w * a, w * c, omega**2))
+
+
+@pytest.mark.parametrize("b, h, rtol_gamma", [(0.04, 0.007, 1e-4), (0.02, 0.01, 1e-3), (0.01, 0.01, 3e-3),
+                                              (0.1, 0.005, 1e-4)])
+def test_rectangle_torsion_and_warping_constants_match_their_series(b, h, rtol_gamma):
+    s = rectangle(b, h)
+    assert s.J == pytest.approx(torsion_series(b, h), rel=2e-5)
+    assert s.warping == pytest.approx(warping_series(b, h), rel=rtol_gamma)
+    # and neither is its thin-strip value (b h^3/3, b^3 h^3/144) for the blade's 40 x 7 mm
+    if b / h < 6:
+        assert abs(s.J / (b * h**3 / 3) - 1) > 0.05 and abs(s.warping / (b**3 * h**3 / 144) - 1) > 0.1
+
+
+def test_rectangle_area_and_moments_are_exact():
+    b, h = 0.04, 0.007
+    s = rectangle(b, h)
+    assert s.area == pytest.approx(b * h, rel=1e-13)
+    assert s.I_v == pytest.approx(b * h**3 / 12, rel=1e-12)          # flap: along the thickness
+    assert s.I_w == pytest.approx(h * b**3 / 12, rel=1e-12)
+    assert s.I_rr == pytest.approx(b * h * (b**4 / 80 + b**2 * h**2 / 72 + h**4 / 80), rel=1e-12)
+    assert abs(s.I_vw) < 1e-12 * s.I_w and s.principal_angle == pytest.approx(0.0, abs=1e-12)
+    assert np.hypot(*s.shear_centre) < 1e-9 * b                        # doubly symmetric: the centroid
+
+
+def test_shifted_rectangle_has_its_shear_centre_and_centroid_at_its_middle():
+    """Nothing in the section depends on where the shape sits: an off-origin rectangle
+    gives the same J and Gamma and its shear centre at its own middle."""
+    b, h, cv, cw = 0.02, 0.01, 0.003, -0.006
+
+    def inside(v, w):
+        return (np.abs(v - cv) <= h / 2) & (np.abs(w - cw) <= b / 2)
+
+    s = section_properties(inside, (cv - h / 2, cv + h / 2), (cw - b / 2, cw + b / 2))
+    ref = rectangle(b, h)
+    assert s.centroid == pytest.approx((cv, cw), abs=1e-12)
+    assert s.shear_centre == pytest.approx((cv, cw), abs=1e-6 * b)
+    assert s.J == pytest.approx(ref.J, rel=1e-9) and s.warping == pytest.approx(ref.warping, rel=1e-6)
+
+
+def test_angle_section_moments_and_principal_angle_match_composite_areas():
+    """An equal-leg angle (two t x a legs): its product of inertia and principal axes at 45 deg."""
+    a, t = 0.03, 0.01
+
+    def inside(v, w):
+        return ((v <= t) | (w <= t)) & (v >= 0) & (w >= 0)
+
+    s = section_properties(inside, (0.0, a), (0.0, a))
+    # composite: leg 1 = a x t along v (w in [0, t]), leg 2 = (a - t) x t along w (v in [0, t])
+    parts = [(a * t, a / 2, t / 2, t * a**3 / 12, a * t**3 / 12), ((a - t) * t, t / 2, t + (a - t) / 2,
+                                                                     (a - t) * t**3 / 12, t * (a - t) ** 3 / 12)]
+    A = sum(p[0] for p in parts)
+    cv = sum(p[0] * p[1] for p in parts) / A
+    cw = sum(p[0] * p[2] for p in parts) / A
+    Ivv = sum(p[3] + p[0] * (p[1] - cv) ** 2 for p in parts)
+    Iww = sum(p[4] + p[0] * (p[2] - cw) ** 2 for p in parts)
+    Ivw = sum(p[0] * (p[1] - cv) * (p[2] - cw) for p in parts)
+    assert s.area == pytest.approx(A, rel=1e-12)
+    assert (s.I_v, s.I_w, s.I_vw) == pytest.approx((Ivv, Iww, Ivw), rel=1e-10)
+    assert abs(s.principal_angle) == pytest.approx(math.pi / 4, abs=1e-9)
