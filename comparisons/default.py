@@ -88,8 +88,10 @@ def run(scene, out: Path) -> dict:
 def _frequencies(modal: dict, rpm: float, out: Path) -> dict:
     """Frequencies by label for each model; relative difference to the solid FE."""
     by_label = {m: r.by_label() for m, r in modal.items()}
-    # a mode is listed when two models or more have it (the extended beam and the solid: torsion1)
-    labels = [lab for lab in _ordered_labels(modal) if sum(lab in f for f in by_label.values()) >= 2]
+    # a mode is listed when two models or more have it (the extended beam and the solid: torsion1),
+    # every mode of a model compared with none
+    shared = min(2, len(by_label))
+    labels = [lab for lab in _ordered_labels(modal) if sum(lab in f for f in by_label.values()) >= shared]
     reference = "fe" if "fe" in by_label else None
     rows = []
     for lab in labels:
