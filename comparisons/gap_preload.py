@@ -73,9 +73,15 @@ def run(scene, out: Path) -> dict:
              markdown_table(["case", "resonant speed (r/min)", "resonant amplitude (mm)", "periods seen", "cpu"],
                             [(r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
+             fam.settling_text(rows, opts),
              *[f"![{f}]({f})" for f in files]]
     (out / "report.md").write_text("\n".join(lines) + "\n")
+    every_preload_beyond = all(r["beyond_range"] for r in rows if r["kind"] == "preload" and r["value"] > 0)
     return {"resonances": rows, "curves": fam.curves_json(family),
+            "conclusions": {"resonances": {r["case"]: {"rpm": r["resonance_rpm"], "beyond_range": r["beyond_range"],
+                                                       "settled": r["resonance_settled"]} for r in rows},
+                            "resonant_speed_rises_as_gap_closes": rising,
+                            "every_preload_beyond_range": every_preload_beyond},
             "optimal_preload_N": n_opt, "optimal_resonant_amplitude_m": a_opt,
             "resonant_speed_rises_as_gap_closes": rising,
             "first_frequency_hz_at_top_speed": {"free": f_free, "stuck": f_stuck}}
