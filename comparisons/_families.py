@@ -19,7 +19,7 @@ import numpy as np
 
 from shroud.params import Parameters
 from shroud.core.plotting import figure, save
-from shroud.analysis.sweep import SETTLING_OPTIONS, Settling, SweepResult, run_sweeps
+from shroud.analysis.sweep import PLATEAU, SETTLING_OPTIONS, Settling, SweepResult, run_sweeps, steady_resonance
 
 FAMILY_OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
@@ -67,16 +67,17 @@ def run_family(variants: dict[str, Parameters], options: dict) -> dict[str, list
 
 
 def resonance_table(family: dict[str, list[tuple[Case, SweepResult]]]) -> list[dict]:
-    """Resonance of every curve; ``beyond_range`` when the largest amplitude sits on the last speed
-    (the resonance lies at or above the swept range, and its speed and amplitude are lower bounds)."""
+    """Resonance of every curve (shroud.analysis.sweep.steady_resonance: settled points only, the end
+    of a flat top); ``beyond_range`` when it sits on the last speed (the resonance lies at or above the
+    swept range, and its speed and amplitude are lower bounds)."""
     rows = []
     for name, curves in family.items():
         for c, r in curves:
+            res = steady_resonance(r)
             rows.append({"variant": name, "case": c.label, "kind": c.kind, "value": c.value,
-                         "resonance_rpm": r.resonance["rpm"],
-                         "beyond_range": bool(r.resonance["rpm"] >= r.rpm[-1]),
-                         "resonance_amplitude_m": r.resonance["amplitude"],
-                         "resonance_settled": bool(r.settled[int(np.nanargmax(r.amplitude_v_L))]),
+                         "resonance_rpm": res["rpm"],
+                         "beyond_range": bool(res["rpm"] >= r.rpm[-1]),
+                         "resonance_amplitude_m": res["amplitude"],
                          "unsettled_speeds": int(sum(not x for x in r.settled)),
                          "periods_seen": sorted({p for p in r.period if p}),
                          "unperiodic_speeds": int(sum(p is None for p in r.period)),
@@ -85,10 +86,8 @@ def resonance_table(family: dict[str, list[tuple[Case, SweepResult]]]) -> list[d
 
 
 def speed_text(row: dict) -> str:
-    """Resonant speed as the reports print it: '>= 30000' when beyond the swept range, marked when the
-    point of the largest amplitude had not settled."""
-    return ((">= " if row["beyond_range"] else "") + f"{row['resonance_rpm']:.0f}"
-            + ("" if row["resonance_settled"] else " (not settled)"))
+    """Resonant speed as the reports print it: '>= 30000' when beyond the swept range."""
+    return (">= " if row["beyond_range"] else "") + f"{row['resonance_rpm']:.0f}"
 
 
 def curve_differences(family, kind: str, min_value: float | None = None,
@@ -174,7 +173,9 @@ def settling_text(rows: list[dict], options: dict) -> str:
     """The report's paragraph on settling and on what the sweep's settings cannot resolve."""
     unsettled = [f"{r['variant']} {r['case']}: {r['unsettled_speeds']}" for r in rows if r["unsettled_speeds"]]
     step = (options["rpm_to"] - options["rpm_from"]) / (int(options["rpm_count"]) - 1)
-    return (Settling.from_options(options).describe() + " Speeds not settled per curve: "
+    return (Settling.from_options(options).describe() + " Resonance: the largest settled amplitude, or "
+            f"where the top is flat (within {100 * PLATEAU:g} % of it over a band of speeds, an impacting branch) "
+            "the highest speed on it, where the branch ends. Speeds not settled per curve: "
             + (", ".join(unsettled) or "none") + ".\n\n"
             f"What these settings cannot resolve: resonant speeds closer than the speed step ({step:.0f} r/min; "
             "a peak between two speeds is read at the nearer one) and amplitude jumps narrower than one step.\n")

@@ -111,10 +111,16 @@ def run(scene, out: Path) -> dict:
     ref, ref_dofs, ref_s = measure(params, ref_point)
     t_ref, s_ref = ref.trajectory.t, signals_of(ref.trajectory)
     info(f"reference {ref_point.setting}: {ref_dofs} DOF, {ref_s:.1f} s")
-    rows = []
+    rows, runs = [], []
     for pt in points(o):
         if pt.model == ref_point.model and set(pt.overrides) <= set(ref_point.overrides):
             continue                                              # the reference itself: not a point
+        run_of = (pt.model, params.with_overrides(list(pt.overrides)))
+        twin = next((r for key, r in runs if key == run_of), None)
+        if twin is not None:                                      # e.g. the scene's own step: one run, one point
+            twin["setting"] += f" (= {pt.setting})"
+            twin["names"].append(f"{pt.model} {pt.setting}")
+            continue
         try:
             result, dofs, cost = measure(params, pt)
         except RunDiverged as exc:
@@ -123,7 +129,9 @@ def run(scene, out: Path) -> dict:
         fit = agreement(result.trajectory.t, signals_of(result.trajectory), t_ref, s_ref, period,
                         o["window_periods"])
         rows.append({"model": pt.model, "setting": pt.setting, "dofs": dofs, "time_s": cost,
-                     "error": fit.worst_nrmse, **{f"nrmse_{k}": v for k, v in fit.nrmse.items()}})
+                     "error": fit.worst_nrmse, **{f"nrmse_{k}": v for k, v in fit.nrmse.items()},
+                     "names": [f"{pt.model} {pt.setting}"]})
+        runs.append((run_of, rows[-1]))
         info(f"{pt.model} {pt.setting}: {dofs} DOF, {cost:.2f} s, worst NRMSE {fit.worst_nrmse:.3g}")
     times = np.array([r["time_s"] for r in rows])
     errors = np.array([r["error"] for r in rows])
@@ -131,7 +139,7 @@ def run(scene, out: Path) -> dict:
     for r, f in zip(rows, front):
         r["pareto"] = bool(f)
     with open(out / "error_vs_time.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w = csv.DictWriter(fh, fieldnames=[k for k in rows[0] if k != "names"], extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
     fig_name = _figure(rows, front, ref_point, out)
@@ -146,7 +154,7 @@ def conclusions(rows: list[dict], scene) -> dict:
     """What the report concludes, as data: for pairs of points that differ in one respect, whether the
     first has the smaller error (the accuracy ordering the front rests on)."""
     p = scene.params
-    err = {f"{r['model']} {r['setting']}": r["error"] for r in rows}
+    err = {name: r["error"] for r in rows for name in r["names"]}
     beams = [r["error"] for r in rows if r["model"] in ("reduced", "full")]
     solid = err.get(f"fe-reduced {p.fe.cms_modes} modes")
     out = {}
@@ -185,7 +193,7 @@ def place_labels(ax, xy: list[tuple[float, float]], texts: list[str], fontsize: 
     for (x, y), text in zip(xy, texts):
         for dx, dy in LABEL_OFFSETS:
             a = put(text, x, y, dx, dy)
-            box = a.get_window_extent(renderer)
+            box = a.get_window_extent(renderer).padded(2)
             if not any(box.overlaps(b) for b in taken) and not any(box.contains(*m) for m in markers):
                 break
             a.remove()
@@ -195,8 +203,9 @@ def place_labels(ax, xy: list[tuple[float, float]], texts: list[str], fontsize: 
 
 
 def _figure(rows, front, ref_point, out: Path) -> str:
-    fig, axes = figure(1, 2, width=9.6, height=4.4)
+    fig, axes = figure(1, 2, width=9.0, height=4.4)
     ax, key = axes[0]
+    ax.get_gridspec().set_width_ratios([2.3, 1])
     for model in dict.fromkeys(r["model"] for r in rows):
         sel = [(i, r) for i, r in enumerate(rows) if r["model"] == model]
         ax.loglog([r["time_s"] for _, r in sel], [r["error"] for _, r in sel], "o", mfc="none", ms=6,

@@ -37,12 +37,12 @@ def trend(values: list[float]) -> int:
 
 def conclusions(rows: list[dict], small_gap_um: float, big_gap_amplitude_spread: float) -> dict:
     """What the report concludes, as data: per case and variant the resonant speed (r/min), whether it
-    lies beyond the range and has settled; whether the variant has (almost) no effect at gaps >= 100 um
+    lies beyond the range; whether the variant has (almost) no effect at gaps >= 100 um
     (resonant amplitudes spread by less than JUMP_THRESHOLD); and at the small gap the trend of the
     resonant speed and amplitude from the first variant to the last (+1 rising, -1 falling, 0 equal)."""
     small = [r for r in rows if r["kind"] == "preload" and r["value"] < 0]
-    return {"resonances": {f"{r['variant']}, {r['case']}": {"rpm": r["resonance_rpm"], "beyond_range": r["beyond_range"],
-                                                            "settled": r["resonance_settled"]} for r in rows},
+    return {"resonances": {f"{r['variant']}, {r['case']}": {"rpm": r["resonance_rpm"], "beyond_range": r["beyond_range"]}
+                           for r in rows},
             "large_gaps_no_effect": bool(big_gap_amplitude_spread < JUMP_THRESHOLD),
             f"gap {small_gap_um:g} um": {"speed_trend": trend([r["resonance_rpm"] for r in small]),
                                          "amplitude_trend": trend([r["resonance_amplitude_m"] for r in small])}}
@@ -79,7 +79,7 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
     beyond = sum(r["beyond_range"] for r in rows)
     cpu = sum(r["cpu_s"] for r in rows)
     lines = [f"# {scene.title}\n",
-             f"Reduced model, {scene.params.time.periods} periods per speed, {len(fam.rpms(opts))} speeds "
+             f"Reduced model, at least {scene.params.time.periods} periods per speed, {len(fam.rpms(opts))} speeds "
              f"per curve, {len(rows)} curves; runs' summed time {seconds(cpu)}.\n",
              "| paper | here |", "|---|---|",
              f"| gaps >= 100 um: {describe} has (almost) no effect | the variants' curves differ by at most "

@@ -184,6 +184,24 @@ def run_sweeps(cases: Sequence[Parameters], model: str, rpms: Sequence[float],
     return out
 
 
+PLATEAU = 0.02      # settled amplitudes within 2 % of the largest form the top of the resonance
+
+
+def steady_resonance(sweep: SweepResult) -> dict[str, float]:
+    """Speed (r/min) and v_L amplitude (m) of the resonance, read off the settled points only.
+
+    A sharp peak: the largest settled amplitude. An impacting branch has a flat top (amplitudes
+    within PLATEAU of the largest over a band of speeds, where argmax picks a point at random):
+    the highest speed on it, where the branch ends and the response jumps down. NaN when no
+    point has settled.
+    """
+    a = np.where(np.array(sweep.settled, bool), sweep.amplitude_v_L, np.nan)
+    if not np.any(np.isfinite(a)):
+        return {"rpm": math.nan, "amplitude": math.nan}
+    top = np.flatnonzero(a >= (1 - PLATEAU) * np.nanmax(a))[-1]
+    return {"rpm": float(sweep.rpm[top]), "amplitude": float(a[top])}
+
+
 def run_sweep(params: Parameters, model: str, rpms: Sequence[float],
               settling: Settling = Settling()) -> SweepResult:
     """Steady-state v_L amplitude of ``model`` at each speed in ``rpms`` (r/min)."""
