@@ -84,8 +84,9 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
              "| paper | here |", "|---|---|",
              f"| gaps >= 100 um: {describe} has (almost) no effect | the variants' curves differ by at most "
              f"{100 * big_gap_curves:.2f} % of the peak except at {len(jumps)} speeds next to a jump (below); "
-             f"spread of the resonant amplitude {100 * big_gap_amp:.2f} %, of the speed of the largest "
-             f"amplitude {100 * big_gap_rpm:.2f} % (flat plateaus: the argmax moves) |",
+             f"spread of the resonant amplitude {100 * big_gap_amp:.2f} %, of the resonant speed "
+             f"{100 * big_gap_rpm:.2f} % (where the impacting branch reached from rest ends: coexisting "
+             "states, below) |",
              "| optimal preload per variant | " + "; ".join(
                  f"{n}: {v[0]:g} N ({v[1] * 1e3:.4f} mm)" for n, v in optimum.items()) + " |",
              "| resonant speed (r/min) with 1 um gap / preloads | " + "; ".join(
