@@ -117,7 +117,9 @@ def run(scene, out: Path) -> dict:
     shift = 100 * (gyro.f_hz - plain.f_hz) / plain.f_hz
     _figure(plain, gyro, fe, tracks, fits, orders, ke, out / "campbell.png")
     beam_ke = {lab: next((c["rpm"] for c in crossings[str(ke)] if c["label"] == lab), None) for lab in gyro.labels}
-    found = {"ke": ke, "beam_crossings_rpm": beam_ke, "solid_crossings_rpm": fe_crossings}
+    found = {"ke": ke, "beam_crossings_rpm": beam_ke, "solid_crossings_rpm": fe_crossings,
+             "beam_crossings_every_order_rpm": {f"{k}x {c['label']}": c["rpm"] for k in orders
+                                                for c in crossings[str(k)]}}
     (out / "report.md").write_text(_report(scene, plain, gyro, fe, tracks, crossings, fe_crossings, shift, ke))
     return {"rpm": rpms, "labels": list(plain.labels), "f_hz": plain.f_hz.T, "f_coriolis_hz": gyro.f_hz.T,
             "coriolis_shift_pct_at_max_rpm": dict(zip(gyro.labels, shift[-1])),
