@@ -150,10 +150,22 @@ def run(scene, out: Path) -> dict:
             "conclusions": found}
 
 
+CLEARLY = 1.5     # one error is clearly smaller than another when smaller by this factor
+
+
+def ordering(error_a: float, error_b: float) -> str:
+    """How the second error compares with the first: "smaller", "larger" or "about the same"
+    (within a factor CLEARLY: differences the reference's own error and the window can shift)."""
+    if error_b * CLEARLY < error_a:
+        return "smaller"
+    return "larger" if error_b > CLEARLY * error_a else "about the same"
+
+
 def conclusions(rows: list[dict], scene) -> dict:
-    """What the report concludes, as data: for pairs of points that differ in one respect, whether the
-    first has the smaller error (the accuracy ordering the front rests on)."""
-    p = scene.params
+    """What the report concludes, as data: whether the scene's reduced solid beats every beam and each
+    solid every beam, and for every two fidelities of one model differing in one setting, how the finer
+    one's error compares (ordering)."""
+    p, o = scene.params, scene.options
     err = {name: r["error"] for r in rows for name in r["names"]}
     beams = [r["error"] for r in rows if r["model"] in ("reduced", "full")]
     solid = err.get(f"fe-reduced {p.fe.cms_modes} modes")
@@ -163,13 +175,15 @@ def conclusions(rows: list[dict], scene) -> dict:
     for r in rows:
         if r["model"] == "fe" and beams:
             out[f"solid {r['setting']} beats the best beam"] = bool(r["error"] < min(beams))
-    pairs = [(f"fe-reduced {a} modes", f"fe-reduced {b} modes") for a, b in
-             zip(scene.options["cms_modes"], scene.options["cms_modes"][1:])]
-    pairs += [(f"{m} {a} steps/period", f"{m} {b} steps/period") for m in scene.options["step_models"]
-              for a, b in zip(scene.options["steps_per_period"], scene.options["steps_per_period"][1:])]
-    for a, b in pairs:
-        if a in err and b in err:
-            out[f"{b} beats {a}"] = bool(err[b] < err[a])
+    ladders = [[f"reduced nr = {n}" for n in sorted(o["reduced_nr"])],
+               [f"full N = {n} ({5 * n} DOF)" for n in sorted(o["beam_N"])],
+               [f"fe-reduced {k} modes" for k in sorted(o["cms_modes"])],
+               *[[f"{m} {s} steps/period" for s in sorted(o["steps_per_period"])] for m in o["step_models"]]]
+    for ladder in ladders:
+        for i, a in enumerate(ladder):
+            for b in ladder[i + 1:]:
+                if a in err and b in err:
+                    out[f"error of {b} against {a}"] = ordering(err[a], err[b])
     return out
 
 
@@ -242,8 +256,9 @@ def _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found) -> str:
         markdown_table(("#", "model", "setting", "DOF", "time", "worst NRMSE", "NRMSE v_L", "Pareto"),
                        [(i + 1, r["model"], r["setting"], r["dofs"], seconds(r["time_s"]), r["error"],
                          r["nrmse_v_L"], "yes" if r["pareto"] else "") for i, r in enumerate(rows)]),
-        "\nThe reference is not a point of its own front (its error is 0 by definition). Comparisons: "
-        + "; ".join(f"{k}: {'yes' if v else 'no'}" for k, v in found.items()) + ".\n",
+        "\nThe reference is not a point of its own front (its error is 0 by definition). Comparisons "
+        f"(errors within a factor {CLEARLY:g} count as about the same): "
+        + "; ".join(f"{k}: {({True: 'yes', False: 'no'}).get(v, v)}" for k, v in found.items()) + ".\n",
         f"What these settings cannot resolve: errors below the reference's own time-step and mesh error "
         f"(it is one mesh, {ref_point.setting.replace(' (reference)', '')}), and with {p.time.periods} periods "
         f"the window of the last {scene.options['window_periods']} periods "

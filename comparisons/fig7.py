@@ -159,7 +159,7 @@ def _figure(cases, sweeps, out: Path) -> str:
         ax.set_title(title)
         ax.set_xlabel("speed (r/min)")
         ax.set_ylabel("amplitude of v_L (um)")
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=6, loc="best")
     return save(fig, out / "fig7.png").name
 
 
