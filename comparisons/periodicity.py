@@ -22,7 +22,7 @@ from shroud.core import signals
 from shroud.analysis.api import build_system
 from shroud.core.plotting import figure, save
 from shroud.base.markdown import markdown_table, seconds
-from shroud.analysis.sweep import run_sweeps
+from shroud.analysis.sweep import Settling, run_sweeps
 from shroud.analysis.transient import simulate
 
 OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0, 50.0],
@@ -74,7 +74,9 @@ def period_map(params, opts) -> tuple[np.ndarray, list[tuple[str, object]]]:
     cases = [(f"gap {g:g} um", base.updated({"contact.gap": g * 1e-6})) for g in opts["search_gaps_um"]]
     cases += [(f"N0 {n:g} N", base.updated({"contact.N0": n})) for n in opts["search_preloads_N"]]
     rpms = np.linspace(opts["search_rpm_from"], opts["search_rpm_to"], int(opts["search_rpm_count"]))
-    sweeps = run_sweeps([p for _, p in cases], "reduced", rpms)
+    # exactly search_periods per run, as the report says (no extension until the amplitude settles)
+    sweeps = run_sweeps([p for _, p in cases], "reduced", rpms,
+                        settling=Settling(max_periods=int(opts["search_periods"])))
     return rpms, [(label, sw) for (label, _), sw in zip(cases, sweeps)]
 
 
