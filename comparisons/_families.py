@@ -4,7 +4,9 @@ One study = one contact parameter varied (none, mu, or the stiffness ratio
 xi = kt/kn) over two panels of cases: initial gaps, and a 1 um gap followed
 by initial normal preloads (the paper's (a)/(b) panels). Every curve is a
 speed sweep of the reduced model; the resonance (speed and amplitude of the
-largest steady-state v_L amplitude) is read off each curve.
+largest steady-state v_L amplitude) is read off each curve. Every point runs
+until it has settled (shroud.analysis.sweep.Settling); points that have not
+are marked in the figures and counted in the tables.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ import numpy as np
 
 from shroud.params import Parameters
 from shroud.core.plotting import figure, save
-from shroud.analysis.sweep import run_sweeps
+from shroud.analysis.sweep import PLATEAU, SETTLING_OPTIONS, Settling, run_sweeps, steady_resonance
 from shroud.core.results import SweepResult
 
 FAMILY_OPTIONS = {
@@ -26,6 +28,7 @@ FAMILY_OPTIONS = {
     "preloads_N": [10.0, 25.0, 50.0, 100.0, 200.0],
     "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 66,
     "model": "reduced",
+    **SETTLING_OPTIONS,
 }
 
 
@@ -56,7 +59,8 @@ def rpms(options: dict) -> np.ndarray:
 def run_family(variants: dict[str, Parameters], options: dict) -> dict[str, list[tuple[Case, SweepResult]]]:
     """Every case of every variant, swept in one parallel map."""
     all_cases = [(name, c) for name, base in variants.items() for c in cases(base, options)]
-    results = run_sweeps([c.params for _, c in all_cases], options["model"], rpms(options))
+    results = run_sweeps([c.params for _, c in all_cases], options["model"], rpms(options),
+                         settling=Settling.from_options(options))
     out: dict[str, list] = {name: [] for name in variants}
     for (name, c), r in zip(all_cases, results):
         out[name].append((c, r))
@@ -64,15 +68,18 @@ def run_family(variants: dict[str, Parameters], options: dict) -> dict[str, list
 
 
 def resonance_table(family: dict[str, list[tuple[Case, SweepResult]]]) -> list[dict]:
-    """Resonance of every curve; ``beyond_range`` when the largest amplitude sits on the last speed
-    (the resonance lies at or above the swept range, and its speed and amplitude are lower bounds)."""
+    """Resonance of every curve (shroud.analysis.sweep.steady_resonance: settled points only, the end
+    of a flat top); ``beyond_range`` when it sits on the last speed (the resonance lies at or above the
+    swept range, and its speed and amplitude are lower bounds)."""
     rows = []
     for name, curves in family.items():
         for c, r in curves:
+            res = steady_resonance(r)
             rows.append({"variant": name, "case": c.label, "kind": c.kind, "value": c.value,
-                         "resonance_rpm": r.resonance["rpm"],
-                         "beyond_range": bool(r.resonance["rpm"] >= r.rpm[-1]),
-                         "resonance_amplitude_m": r.resonance["amplitude"],
+                         "resonance_rpm": res["rpm"],
+                         "beyond_range": bool(res["rpm"] >= r.rpm[-1]),
+                         "resonance_amplitude_m": res["amplitude"],
+                         "unsettled_speeds": int(sum(not x for x in r.settled)),
                          "periods_seen": sorted({p for p in r.period if p}),
                          "unperiodic_speeds": int(sum(p is None for p in r.period)),
                          "cpu_s": r.cpu_s})
@@ -122,6 +129,10 @@ def write_outputs(out: Path, family, rows: list[dict], title: str) -> list[str]:
             for c, r in family[name]:
                 if c.kind == kind:
                     ax.plot(r.rpm, r.amplitude_v_L * 1e3, label=c.label)
+                    bad = ~np.array(r.settled, bool)
+                    if bad.any():
+                        ax.plot(r.rpm[bad], r.amplitude_v_L[bad] * 1e3, "x", color="k",
+                                label=None if "not settled" in ax.get_legend_handles_labels()[1] else "not settled")
             ax.set_xlabel("speed (r/min)")
             ax.set_ylabel("amplitude of v_L (mm)")
             ax.set_title(f"{name}: {'initial gaps' if kind == 'gap' else 'small gap and preloads'}")
@@ -146,17 +157,29 @@ def write_outputs(out: Path, family, rows: list[dict], title: str) -> list[str]:
     files.append(save(fig, out / "resonance_characteristics.png").name)
     with open(out / "amplitude_frequency.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["variant", "case", "rpm", "amplitude_v_L_m", "amplitude_w_L_m", "period"])
+        w.writerow(["variant", "case", "rpm", "amplitude_v_L_m", "amplitude_w_L_m", "period", "settled"])
         for name in names:
             for c, r in family[name]:
                 for k in range(len(r.rpm)):
                     w.writerow([name, c.label, r.rpm[k], r.amplitude_v_L[k], r.amplitude_w_L[k],
-                                r.period[k] or ""])
+                                r.period[k] or "", int(r.settled[k])])
     with open(out / "resonances.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
     return files
+
+
+def settling_text(rows: list[dict], options: dict) -> str:
+    """The report's paragraph on settling and on what the sweep's settings cannot resolve."""
+    unsettled = [f"{r['variant']} {r['case']}: {r['unsettled_speeds']}" for r in rows if r["unsettled_speeds"]]
+    step = (options["rpm_to"] - options["rpm_from"]) / (int(options["rpm_count"]) - 1)
+    return (Settling.from_options(options).describe() + " Resonance: the largest settled amplitude, or "
+            f"where the top is flat (within {100 * PLATEAU:g} % of it over a band of speeds, an impacting branch) "
+            "the highest speed on it, where the branch ends. Speeds not settled per curve: "
+            + (", ".join(unsettled) or "none") + ".\n\n"
+            f"What these settings cannot resolve: resonant speeds closer than the speed step ({step:.0f} r/min; "
+            "a peak between two speeds is read at the nearer one) and amplitude jumps narrower than one step.\n")
 
 
 def curves_json(family) -> dict:

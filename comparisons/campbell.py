@@ -1,11 +1,15 @@
 """Campbell diagram of the beam model, with and without Coriolis.
 
 Frequencies of the lowest modes over a speed range, tracked by MAC
-(reduced_model.campbell), with the engine-order lines f = k_e rpm / 60 of
-the excitation (k_e = 2 obstacles in the paper) and the speeds where they
-cross a mode: the resonances the Fig. 4 sweeps pass through. Option
+(reduced_model.campbell), with the engine-order lines f = k rpm / 60 for
+k in ``excitation_orders`` (1..8); the study's excitation order load.ke
+(k_e = 2 obstacles in the paper) is highlighted and its crossings with every
+mode marked: the resonances the Fig. 4 sweeps pass through. Option
 ``with_fe`` overlays our 3D solid's frequencies at a few speeds, matched by
-label (shroud.analysis.api.modal(params, "fe")).
+label (shroud.analysis.api.modal(params, "fe")): every mode the beam also
+has, plus the solid's torsion modes (the beam has none). The solid's
+crossings come from a Southwell fit f^2 = f0^2 + S (rpm/60)^2 through its
+points, the form a rotating blade's frequencies follow.
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ OPTIONS = {
     "rpm_to": 15000.0,
     "speeds": 200,
     "n_modes": 4,
-    "excitation_orders": [2],          # k_e lines drawn and crossed
+    "excitation_orders": [1, 2, 3, 4, 5, 6, 7, 8],   # engine-order lines drawn (load.ke highlighted)
     "with_fe": False,
     "fe_rpms": [0.0, 5000.0, 10000.0, 15000.0],
 }
@@ -39,12 +43,15 @@ def check(scene) -> None:
         raise InputError("options.speeds", f"{o['speeds']!r}; allowed: an integer >= 2")
     if not 1 <= o["n_modes"] <= 5 * scene.params.reduced.N - 4:
         raise InputError("options.n_modes", f"{o['n_modes']!r}; allowed: 1..{5 * scene.params.reduced.N - 4}")
+    if o["with_fe"] and len(o["fe_rpms"]) < 2:
+        raise InputError("options.fe_rpms", f"{o['fe_rpms']!r}; allowed: at least two speeds (the Southwell fit)")
     if any(k < 1 for k in o["excitation_orders"]):
         raise InputError("options.excitation_orders", f"{o['excitation_orders']!r}; allowed: integers >= 1")
 
 
 def fe_points(params, rpms, n_modes) -> list[dict]:
-    """Our solid's frequencies by label at a few speeds (loads the FE stack)."""
+    """Our solid's frequencies by label at a few speeds (loads the FE stack): enough modes that the
+    torsion modes below the beam's highest mode are among them."""
     from shroud.analysis.api import modal
     out = []
     for rpm in rpms:
@@ -53,76 +60,172 @@ def fe_points(params, rpms, n_modes) -> list[dict]:
     return out
 
 
+def southwell(rpms, f_hz) -> tuple[float, float]:
+    """Least-squares (f0^2 in Hz^2, S) of f^2 = f0^2 + S (rpm/60)^2 (Southwell's relation)."""
+    A = np.column_stack([np.ones(len(rpms)), (np.asarray(rpms, float) / 60.0) ** 2])
+    (f0sq, s), *_ = np.linalg.lstsq(A, np.asarray(f_hz, float) ** 2, rcond=None)
+    return float(f0sq), float(s)
+
+
+def southwell_crossing(f0sq: float, s: float, order: int, rpm_to: float) -> float | None:
+    """Speed (r/min) where f^2 = f0^2 + S (rpm/60)^2 meets f = order rpm / 60, or None beyond ``rpm_to``."""
+    if order ** 2 <= s:
+        return None
+    rpm = 60.0 * np.sqrt(f0sq / (order ** 2 - s))
+    return float(rpm) if rpm <= rpm_to else None
+
+
+def fe_tracks(fe: list[dict], beam_labels, f_max: float) -> list[str]:
+    """The solid's labels to show: every one the beam also has, plus the torsion modes below ``f_max`` (Hz)."""
+    seen = dict.fromkeys(lab for p in fe for lab in p["f_hz"])
+    return [lab for lab in seen if lab in beam_labels or
+            (lab.startswith("torsion") and min(p["f_hz"].get(lab, np.inf) for p in fe) < f_max)]
+
+
+def spread(ys: list[float], gap: float) -> list[float]:
+    """Positions as close to ``ys`` as keeps neighbours at least ``gap`` apart (order kept)."""
+    order = np.argsort(ys)
+    y = np.asarray(ys, float)[order]
+    for i in range(1, len(y)):
+        y[i] = max(y[i], y[i - 1] + gap)
+    out = np.empty_like(y)
+    out[order] = y
+    return list(out)
+
+
 def run(scene, out: Path) -> dict:
     params, o = scene.params, scene.options
+    ke = params.load.ke
+    orders = sorted(set(o["excitation_orders"]) | {ke})
     rpms = np.linspace(o["rpm_from"], o["rpm_to"], o["speeds"])
     plain = campbell(params, rpms, o["n_modes"], coriolis=False)
     gyro = campbell(params, rpms, o["n_modes"], coriolis=True)
     fe = fe_points(params, o["fe_rpms"], o["n_modes"]) if o["with_fe"] else []
+    tracks = fe_tracks(fe, plain.labels, float(gyro.f_hz.max()))
+    fits = {lab: southwell([p["rpm"] for p in fe if lab in p["f_hz"]], [p["f_hz"][lab] for p in fe if lab in p["f_hz"]])
+            for lab in tracks if sum(lab in p["f_hz"] for p in fe) >= 2}
 
     with open(out / "campbell.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["rpm"] + [f"{lab}_hz" for lab in plain.labels]
                    + [f"{lab}_coriolis_hz" for lab in gyro.labels]
-                   + [f"ke{k}_line_hz" for k in o["excitation_orders"]])
+                   + [f"ke{k}_line_hz" for k in orders])
         for i, rpm in enumerate(rpms):
-            w.writerow([rpm, *plain.f_hz[i], *gyro.f_hz[i], *(k * rpm / 60 for k in o["excitation_orders"])])
-    crossings = {str(k): [{"label": lab, "rpm": r, "f_hz": f} for lab, r, f in gyro.crossings(k)]
-                 for k in o["excitation_orders"]}
+            w.writerow([rpm, *plain.f_hz[i], *gyro.f_hz[i], *(k * rpm / 60 for k in orders)])
+    crossings = {str(k): [{"label": lab, "rpm": r, "f_hz": f} for lab, r, f in gyro.crossings(k)] for k in orders}
+    fe_crossings = {lab: southwell_crossing(*fit, ke, o["rpm_to"]) for lab, fit in fits.items()}
     shift = 100 * (gyro.f_hz - plain.f_hz) / plain.f_hz
-    _figure(plain, gyro, fe, o["excitation_orders"], out / "campbell.png")
-    (out / "report.md").write_text(_report(scene, plain, gyro, fe, crossings, shift))
+    _figure(plain, gyro, fe, tracks, fits, orders, ke, out / "campbell.png")
+    beam_ke = {lab: next((c["rpm"] for c in crossings[str(ke)] if c["label"] == lab), None) for lab in gyro.labels}
+    found = {"ke": ke, "beam_crossings_rpm": beam_ke, "solid_crossings_rpm": fe_crossings,
+             "beam_crossings_every_order_rpm": {f"{k}x {c['label']}": c["rpm"] for k in orders
+                                                for c in crossings[str(k)]}}
+    (out / "report.md").write_text(_report(scene, plain, gyro, fe, tracks, crossings, fe_crossings, shift, ke))
     return {"rpm": rpms, "labels": list(plain.labels), "f_hz": plain.f_hz.T, "f_coriolis_hz": gyro.f_hz.T,
             "coriolis_shift_pct_at_max_rpm": dict(zip(gyro.labels, shift[-1])),
-            "crossings": crossings, "fe": fe,
+            "crossings": crossings, "fe": fe, "fe_southwell": {lab: {"f0_hz": float(np.sqrt(max(a, 0.0))), "S": b}
+                                                               for lab, (a, b) in fits.items()},
+            "conclusions": found,
             "elapsed_s": {"without_coriolis": plain.elapsed_s, "with_coriolis": gyro.elapsed_s}}
 
 
-def _figure(plain, gyro, fe, orders, path: Path) -> None:
-    fig, axes = figure(1, 1, height=4.2)
+def _figure(plain, gyro, fe, tracks, fits, orders, ke, path: Path) -> None:
+    fig, axes = figure(1, 1, width=7.4, height=5.0)
     ax = axes[0, 0]
-    for j, lab in enumerate(plain.labels):
-        ax.plot(plain.rpm, plain.f_hz[:, j], color=MODEL_COLOURS["reduced"], lw=1.0,
-                label="beam, no Coriolis" if j == 0 else None)
-        ax.plot(gyro.rpm, gyro.f_hz[:, j], color=MODEL_COLOURS["full"], ls="--", lw=1.0,
-                label="beam, with Coriolis" if j == 0 else None)
-        ax.annotate(lab, (plain.rpm[-1], plain.f_hz[-1, j]), fontsize=7, ha="right", va="bottom")
+    rpm = plain.rpm
+    top = 1.08 * max(plain.f_hz.max(), max((f for p in fe for lab, f in p["f_hz"].items() if lab in tracks),
+                                           default=0.0))
+    right: list[tuple[float, str, str]] = []      # (y at the right edge, text, colour)
     for k in orders:
-        ax.plot(plain.rpm, k * plain.rpm / 60, color="k", lw=0.8, ls=":", label=f"{k} x rotation")
-        for lab, rpm, f in gyro.crossings(k):
-            ax.plot(rpm, f, "o", color="k", ms=4)
-            ax.annotate(f"{rpm:.0f} r/min", (rpm, f), fontsize=7, xytext=(4, -10), textcoords="offset points")
-    for j, point in enumerate(fe):
-        freqs = [point["f_hz"][lab] for lab in plain.labels if lab in point["f_hz"]]
-        ax.plot([point["rpm"]] * len(freqs), freqs, "s", color=MODEL_COLOURS["fe"], ms=4,
-                label="3D FE" if j == 0 else None)
+        main = k == ke
+        ax.plot(rpm, k * rpm / 60, color="k" if main else "0.6", lw=1.4 if main else 0.6, ls="-" if main else ":",
+                label=f"{k} x rotation (k_e, the excitation)" if main else ("engine orders 1..8" if k == orders[0]
+                                                                            or (k == 2 and ke == 1) else None),
+                zorder=2 if main else 1)
+        if k * rpm[-1] / 60 > top:                     # leaves through the top: labelled there
+            ax.annotate(f"{k}x", (60 * top / k, top), fontsize=6.5, color="k" if main else "0.45", va="bottom",
+                        annotation_clip=False)
+        else:
+            right.append((k * rpm[-1] / 60, f"{k}x", "k" if main else "0.45"))
+    for j, lab in enumerate(plain.labels):
+        ax.plot(rpm, plain.f_hz[:, j], color=MODEL_COLOURS["reduced"], lw=1.0,
+                label="beam, no Coriolis" if j == 0 else None, zorder=3)
+        ax.plot(rpm, gyro.f_hz[:, j], color=MODEL_COLOURS["full"], ls="--", lw=1.0,
+                label="beam, with Coriolis" if j == 0 else None, zorder=3)
+        right.append((plain.f_hz[-1, j], lab, "k"))
+    for lab, r, f in gyro.crossings(ke):
+        ax.plot(r, f, "o", color="k", ms=5, zorder=5)
+        ax.annotate(f"{lab}: {r:.0f} r/min", (r, f), fontsize=7, xytext=(6, -12), textcoords="offset points",
+                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8}, zorder=6)
+    fine = np.linspace(rpm[0], rpm[-1], 100)
+    # labels in the right margin, each at its curve's end, spread so that none overlaps another
+    for i, lab in enumerate(tracks):
+        pts = [(p["rpm"], p["f_hz"][lab]) for p in fe if lab in p["f_hz"]]
+        torsion = lab.startswith("torsion")
+        ax.plot(*zip(*pts), "D" if torsion else "s", color=MODEL_COLOURS["fe"], ms=4, mfc="none" if torsion else None,
+                label=("3D solid, torsion" if torsion else "3D solid") if lab == next(
+                    t for t in tracks if t.startswith("torsion") == torsion) else None, zorder=4)
+        if lab in fits:
+            a, s = fits[lab]
+            ax.plot(fine, np.sqrt(np.maximum(a + s * (fine / 60) ** 2, 0.0)), color=MODEL_COLOURS["fe"], lw=0.5,
+                    ls="-." if torsion else "-", zorder=3)
+            cross = southwell_crossing(a, s, ke, rpm[-1])
+            if cross is not None:
+                ax.plot(cross, ke * cross / 60, "x", color=MODEL_COLOURS["fe"], ms=7, mew=1.5, zorder=5)
+        if torsion:
+            right.append((pts[-1][1], f"{lab} (solid)", "k"))
     ax.set_xlabel("rotation speed (r/min)")
     ax.set_ylabel("frequency (Hz)")
-    ax.set_ylim(0, 1.1 * plain.f_hz.max())
-    ax.legend(loc="upper left")
+    ax.set_xlim(rpm[0], rpm[-1])
+    ax.set_ylim(0, top)
+    x_text = rpm[-1] + 0.03 * (rpm[-1] - rpm[0])
+    for (y, text, colour), y_text in zip(right, spread([r[0] for r in right], 0.03 * top)):
+        ax.annotate(text, (rpm[-1], y), xytext=(x_text, y_text), textcoords="data", fontsize=6.5, color=colour,
+                    va="center", annotation_clip=False,
+                    arrowprops={"arrowstyle": "-", "lw": 0.4, "color": "0.6", "shrinkA": 0, "shrinkB": 0})
+    ax.plot([], [], "x", color=MODEL_COLOURS["fe"], ms=7, mew=1.5, label="solid crossing (Southwell fit)")
+    ax.plot([], [], "o", color="k", ms=5, label="beam crossing")
+    ax.legend(loc="center left", bbox_to_anchor=(0.0, 0.62), fontsize=7, framealpha=0.95)
+    fig.subplots_adjust(right=0.86)
     save(fig, path)
 
 
-def _report(scene, plain, gyro, fe, crossings, shift) -> str:
+def _report(scene, plain, gyro, fe, tracks, crossings, fe_crossings, shift, ke) -> str:
     rpm = plain.rpm
     picks = sorted({0, len(rpm) // 3, 2 * len(rpm) // 3, len(rpm) - 1})
     rows = [[f"{rpm[i]:.0f}", *(f"{plain.f_hz[i, j]:.1f} / {gyro.f_hz[i, j]:.1f} ({shift[i, j]:+.3f} %)"
                                 for j in range(len(plain.labels)))] for i in picks]
-    cross = [[k, c["label"], f"{c['rpm']:.0f}", f"{c['f_hz']:.1f}"] for k, cs in crossings.items() for c in cs]
+    main = {c["label"]: c for c in crossings[str(ke)]}
+    cross = [[lab, f"{main[lab]['rpm']:.0f} r/min, {main[lab]['f_hz']:.1f} Hz" if lab in main else
+              f"none below {rpm[-1]:.0f} r/min" if lab in plain.labels else "(no such mode)",
+              (f"{fe_crossings[lab]:.0f} r/min" if fe_crossings.get(lab) else f"none below {rpm[-1]:.0f} r/min")
+              if lab in fe_crossings else "-"] for lab in dict.fromkeys([*plain.labels, *tracks])]
+    others = [[k, c["label"], f"{c['rpm']:.0f}", f"{c['f_hz']:.1f}"] for k, cs in crossings.items() if int(k) != ke
+              for c in cs]
+    step = rpm[1] - rpm[0]
     text = [f"# {scene.title or 'Campbell diagram'}\n",
             f"Beam model (5N = {5 * scene.params.reduced.N} DOF), {len(rpm)} speeds from {rpm[0]:g} to "
-            f"{rpm[-1]:g} r/min, modes tracked by MAC and named by their tip kinematics at the first speed.\n",
+            f"{rpm[-1]:g} r/min, modes tracked by MAC and named by their tip kinematics at the first speed. "
+            f"Engine-order lines 1..{max(int(k) for k in crossings)}; the excitation k_e = {ke} is drawn bold "
+            "and its crossings with every mode are marked.\n",
             "![Campbell diagram](campbell.png)\n",
+            f"## Crossings with the excitation line k_e = {ke} (resonances)\n",
+            markdown_table(["mode", "beam (with Coriolis)", "3D solid (Southwell fit of its points)"], cross),
+            f"\nThe beam's crossings are interpolated between speeds {step:.0f} r/min apart (what this speed "
+            "grid resolves); the solid's come from the fit f^2 = f0^2 + S (rpm/60)^2 through its "
+            f"{len(fe)} speeds. The beam has no torsion mode (its torsion is restrained, as the paper's); "
+            "the solid's torsion modes are shown for where they would resonate.\n" if fe else
+            f"\nThe beam's crossings are interpolated between speeds {step:.0f} r/min apart.\n",
             "## Frequencies, without / with Coriolis (Hz)\n",
             markdown_table(["rpm", *plain.labels], rows),
             "\nCoriolis couples the radial stretch with the in-plane (Y) bending only; with the stiff "
             "radial direction it moves the bending modes by the amounts shown (a fraction of a percent).\n",
-            "\n## Excitation-line crossings (with Coriolis)\n",
-            markdown_table(["k_e", "mode", "rpm", "f (Hz)"], cross) if cross else "None in the range.\n"]
+            "\n## Other engine orders: crossings (with Coriolis)\n",
+            markdown_table(["k", "mode", "rpm", "f (Hz)"], others) if others else "None in the range.\n"]
     if fe:
         text += ["\n## Our 3D FE at a few speeds (Hz)\n",
-                 markdown_table(["rpm", *plain.labels, "DOF", "time"],
-                                [[f"{p['rpm']:.0f}", *(p["f_hz"].get(lab) for lab in plain.labels),
+                 markdown_table(["rpm", *tracks, "DOF", "time"],
+                                [[f"{p['rpm']:.0f}", *(p["f_hz"].get(lab) for lab in tracks),
                                   p["dofs"], seconds(p["elapsed_s"])] for p in fe])]
     text += ["\n## Cost\n",
              f"Without Coriolis {seconds(plain.elapsed_s)}, with Coriolis {seconds(gyro.elapsed_s)} "

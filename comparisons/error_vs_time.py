@@ -8,7 +8,9 @@ signals (N1, N2, Ff1, Ff2, v_L, w_L) against the full solid FE model at the
 finest setting, over the last ``window_periods`` periods; its cost is the
 wall time of building the model plus integrating it (cached artefacts such
 as meshes and reduction bases are counted as reused). The Pareto front is
-the set of points no other point beats in both error and time.
+the set of points no other point beats in both error and time. The
+reference is not one of the points (its error is 0 by definition): a point
+with the reference's own settings is left out.
 """
 
 from __future__ import annotations
@@ -113,20 +115,27 @@ def run(scene, out: Path) -> dict:
     ref, ref_dofs, ref_s = measure(params, ref_point)
     t_ref, s_ref = ref.trajectory.t, signals_of(ref.trajectory)
     info(f"reference {ref_point.setting}: {ref_dofs} DOF, {ref_s:.1f} s")
-    rows = []
+    rows, runs = [], []
     for pt in points(o):
         if pt.model == ref_point.model and set(pt.overrides) <= set(ref_point.overrides):
-            result, dofs, cost = ref, ref_dofs, ref_s          # the reference itself: error 0
-        else:
-            try:
-                result, dofs, cost = measure(params, pt)
-            except RunDiverged as exc:
-                warn(f"{pt.model} {pt.setting}: {exc}")
-                continue
+            continue                                              # the reference itself: not a point
+        run_of = (pt.model, params.with_overrides(list(pt.overrides)))
+        twin = next((r for key, r in runs if key == run_of), None)
+        if twin is not None:                                      # e.g. the scene's own step: one run, one point
+            twin["setting"] += f" (= {pt.setting})"
+            twin["names"].append(f"{pt.model} {pt.setting}")
+            continue
+        try:
+            result, dofs, cost = measure(params, pt)
+        except RunDiverged as exc:
+            warn(f"{pt.model} {pt.setting}: {exc}")
+            continue
         fit = agreement(result.trajectory.t, signals_of(result.trajectory), t_ref, s_ref, period,
                         o["window_periods"])
         rows.append({"model": pt.model, "setting": pt.setting, "dofs": dofs, "time_s": cost,
-                     "error": fit.worst_nrmse, **{f"nrmse_{k}": v for k, v in fit.nrmse.items()}})
+                     "error": fit.worst_nrmse, **{f"nrmse_{k}": v for k, v in fit.nrmse.items()},
+                     "names": [f"{pt.model} {pt.setting}"]})
+        runs.append((run_of, rows[-1]))
         info(f"{pt.model} {pt.setting}: {dofs} DOF, {cost:.2f} s, worst NRMSE {fit.worst_nrmse:.3g}")
     times = np.array([r["time_s"] for r in rows])
     errors = np.array([r["error"] for r in rows])
@@ -134,37 +143,112 @@ def run(scene, out: Path) -> dict:
     for r, f in zip(rows, front):
         r["pareto"] = bool(f)
     with open(out / "error_vs_time.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w = csv.DictWriter(fh, fieldnames=[k for k in rows[0] if k != "names"], extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
-    fig_name = _figure(rows, front, out)
-    (out / "report.md").write_text(_report(scene, ref_point, ref_dofs, ref_s, rows, fig_name))
+    fig_name = _figure(rows, front, ref_point, out)
+    found = conclusions(rows, scene)
+    (out / "report.md").write_text(_report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found))
     return {"reference": {"setting": ref_point.setting, "dofs": ref_dofs, "time_s": ref_s},
-            "points": rows, "pareto": [f"{r['model']} {r['setting']}" for r in rows if r["pareto"]]}
+            "points": rows, "pareto": [f"{r['model']} {r['setting']}" for r in rows if r["pareto"]],
+            "conclusions": found}
 
 
-def _figure(rows, front, out: Path) -> str:
-    fig, axes = figure(1, 1, width=6.4, height=4.2)
-    ax = axes[0][0]
-    floor = 1e-8                     # the reference itself (error 0) on a log axis
+CLEARLY = 1.5     # one error is clearly smaller than another when smaller by this factor
+
+
+def ordering(error_a: float, error_b: float) -> str:
+    """How the second error compares with the first: "smaller", "larger" or "about the same"
+    (within a factor CLEARLY: differences the reference's own error and the window can shift)."""
+    if error_b * CLEARLY < error_a:
+        return "smaller"
+    return "larger" if error_b > CLEARLY * error_a else "about the same"
+
+
+def conclusions(rows: list[dict], scene) -> dict:
+    """What the report concludes, as data: whether the scene's reduced solid beats every beam and each
+    solid every beam, and for every two fidelities of one model differing in one setting, how the finer
+    one's error compares (ordering)."""
+    p, o = scene.params, scene.options
+    err = {name: r["error"] for r in rows for name in r["names"]}
+    beams = [r["error"] for r in rows if r["model"] in ("reduced", "full")]
+    solid = err.get(f"fe-reduced {p.fe.cms_modes} modes")
+    out = {}
+    if beams and solid is not None:
+        out[f"reduced solid ({p.fe.cms_modes} modes) beats every beam"] = bool(solid < min(beams))
+    for r in rows:
+        if r["model"] == "fe" and beams:
+            out[f"solid {r['setting']} beats the best beam"] = bool(r["error"] < min(beams))
+    ladders = [[f"reduced nr = {n}" for n in sorted(o["reduced_nr"])],
+               [f"full N = {n} ({5 * n} DOF)" for n in sorted(o["beam_N"])],
+               [f"fe-reduced {k} modes" for k in sorted(o["cms_modes"])],
+               *[[f"{m} {s} steps/period" for s in sorted(o["steps_per_period"])] for m in o["step_models"]]]
+    for ladder in ladders:
+        for i, a in enumerate(ladder):
+            for b in ladder[i + 1:]:
+                if a in err and b in err:
+                    out[f"error of {b} against {a}"] = ordering(err[a], err[b])
+    return out
+
+
+LABEL_OFFSETS = [(5, 5), (5, -11), (-14, 5), (-14, -11), (5, 15), (-14, 15), (5, -21), (-14, -21),
+                 (16, -3), (-24, -3), (16, 12), (-24, 12), (16, -18), (-24, -18), (5, 25), (5, -31)]  # points
+
+
+def place_labels(ax, xy: list[tuple[float, float]], texts: list[str], fontsize: float = 7) -> None:
+    """Annotate each point with its text at the first offset (LABEL_OFFSETS) whose box overlaps no label
+    placed before and no marker (the last offset when none is free); a thin leader line joins labels
+    set further off. Call after the layout is final."""
+    renderer = ax.figure.canvas.get_renderer()
+    markers = [ax.transData.transform(p) for p in xy]
+    taken = []
+
+    def put(text, x, y, dx, dy):
+        far = abs(dx) > 10 or abs(dy) > 12
+        return ax.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=fontsize,
+                           zorder=5, arrowprops={"arrowstyle": "-", "lw": 0.4, "color": "0.5"} if far else None)
+
+    for (x, y), text in zip(xy, texts):
+        for dx, dy in LABEL_OFFSETS:
+            a = put(text, x, y, dx, dy)
+            box = a.get_window_extent(renderer).padded(2)
+            if not any(box.overlaps(b) for b in taken) and not any(box.contains(*m) for m in markers):
+                break
+            a.remove()
+        else:
+            box = put(text, x, y, dx, dy).get_window_extent(renderer)
+        taken.append(box)
+
+
+def _figure(rows, front, ref_point, out: Path) -> str:
+    fig, axes = figure(1, 2, width=9.0, height=4.4)
+    ax, key = axes[0]
+    ax.get_gridspec().set_width_ratios([2.3, 1])
     for model in dict.fromkeys(r["model"] for r in rows):
-        sel = [r for r in rows if r["model"] == model]
-        ax.loglog([r["time_s"] for r in sel], [max(r["error"], floor) for r in sel], "o",
-                  color=MODEL_COLOURS[model], label=model)
-        for r in sel:
-            ax.annotate(r["setting"].replace(" (reference)", ""), (r["time_s"], max(r["error"], floor)),
-                        fontsize=5, xytext=(3, 2), textcoords="offset points")
+        sel = [(i, r) for i, r in enumerate(rows) if r["model"] == model]
+        ax.loglog([r["time_s"] for _, r in sel], [r["error"] for _, r in sel], "o", mfc="none", ms=6,
+                  color=MODEL_COLOURS[model], label=model, zorder=2)
+        on = [r for i, r in sel if front[i]]
+        ax.loglog([r["time_s"] for r in on], [r["error"] for r in on], "o", ms=6, color=MODEL_COLOURS[model],
+                  zorder=4)
     order = np.argsort([r["time_s"] for r in rows])
     fr = [rows[i] for i in order if front[i]]
-    ax.step([r["time_s"] for r in fr], [max(r["error"], floor) for r in fr], where="post", color="k",
-            lw=0.8, label="Pareto front")
+    ax.step([r["time_s"] for r in fr], [r["error"] for r in fr], where="post", color="k", lw=1.0,
+            label="Pareto front (filled points)", zorder=3)
     ax.set_xlabel("run time: build + integration (s)")
-    ax.set_ylabel("worst NRMSE against the full FE reference")
-    ax.legend()
+    ax.set_ylabel("worst NRMSE against the reference")
+    ax.set_title(f"reference: full solid FE, {ref_point.setting.replace(' (reference)', '')}", fontsize=8)
+    ax.margins(0.15)
+    ax.legend(loc="lower left", fontsize=7)
+    key.axis("off")
+    key.text(0.0, 1.0, "\n".join(f"{i + 1:>2}  {r['model']}: {r['setting']}" for i, r in enumerate(rows)),
+             fontsize=7, va="top", family="monospace", transform=key.transAxes)
+    fig.tight_layout()
+    place_labels(ax, [(r["time_s"], r["error"]) for r in rows], [str(i + 1) for i in range(len(rows))])
     return save(fig, out / "error_vs_time.png").name
 
 
-def _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name) -> str:
+def _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found) -> str:
     p = scene.params
     return "\n".join([
         f"# {scene.title}\n",
@@ -173,7 +257,15 @@ def _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name) -> str:
         "v_L, w_L over the last periods. Time: build + integration on this machine (cached meshes and "
         "reduction bases are reused, as in daily use).\n",
         f"![error against run time]({fig_name})\n",
-        markdown_table(("model", "setting", "DOF", "time", "worst NRMSE", "NRMSE v_L", "Pareto"),
-                       [(r["model"], r["setting"], r["dofs"], seconds(r["time_s"]), r["error"],
-                         r["nrmse_v_L"], "yes" if r["pareto"] else "") for r in rows]),
+        markdown_table(("#", "model", "setting", "DOF", "time", "worst NRMSE", "NRMSE v_L", "Pareto"),
+                       [(i + 1, r["model"], r["setting"], r["dofs"], seconds(r["time_s"]), r["error"],
+                         r["nrmse_v_L"], "yes" if r["pareto"] else "") for i, r in enumerate(rows)]),
+        "\nThe reference is not a point of its own front (its error is 0 by definition). Comparisons "
+        f"(errors within a factor {CLEARLY:g} count as about the same): "
+        + "; ".join(f"{k}: {({True: 'yes', False: 'no'}).get(v, v)}" for k, v in found.items()) + ".\n",
+        f"What these settings cannot resolve: errors below the reference's own time-step and mesh error "
+        f"(it is one mesh, {ref_point.setting.replace(' (reference)', '')}), and with {p.time.periods} periods "
+        f"the window of the last {scene.options['window_periods']} periods "
+        + ("still holds the start-up transient, so errors measure the transient as much as the steady response."
+           if p.time.periods < 2 * scene.options["window_periods"] else "lies after the start-up transient.") + "\n",
         "\nData: `error_vs_time.csv`.\n"])

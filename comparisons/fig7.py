@@ -31,7 +31,7 @@ from shroud.base.errors import InputError
 from shroud.base.log import Progress, info
 from shroud.core.plotting import figure, save
 from shroud.base.markdown import markdown_table, seconds
-from shroud.analysis.sweep import run_sweeps
+from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
 
 OPTIONS = {
     "gaps_um": [600.0, 100.0, 50.0],
@@ -42,6 +42,7 @@ OPTIONS = {
     **_coexistence.OPTIONS,
 }
 LINE, POINTS = "reduced", "fe-reduced"
+PEAKED = 1.5     # a curve has a resonance peak in the range when its largest amplitude is this many times its smallest
 
 
 def check(scene) -> None:
@@ -72,36 +73,61 @@ def curve_gap(line: np.ndarray, points: np.ndarray) -> float:
     return float(np.sqrt(np.mean((points[ok] - line[ok]) ** 2)) / np.max(line[ok])) if ok.any() else float("nan")
 
 
+def conclusions(rows: list[dict], coexist: list[dict], step_rpm: float, threshold: float) -> dict:
+    """What the report concludes, per case, as data: whether the beam curve has a resonance peak in the
+    range (PEAKED), then each model's resonant speed (r/min, settled points only) and whether both models resonate at the same speed (within the speed step; None without a peak), whether
+    the curves agree (curve gap within ``threshold``), and the verdicts at differing speeds."""
+    out = {}
+    for r in rows:
+        verdicts = sorted({c["verdict"] for c in coexist if c["case"] == r["case"]})
+        out[r["case"]] = {"peaked": r["peaked"],
+                          "beam_resonance_rpm": r["reduced_resonance_rpm"] if r["peaked"] else None,
+                          "solid_resonance_rpm": r["fe_reduced_resonance_rpm"] if r["peaked"] else None,
+                          "same_resonant_speed": bool(abs(r["reduced_resonance_rpm"] - r["fe_reduced_resonance_rpm"])
+                                                      <= step_rpm + 1e-6) if r["peaked"] else None,
+                          "curves_agree": bool(r["curve_gap"] <= threshold),
+                          "differing_speed_verdicts": verdicts}
+    return out
+
+
 def run(scene, out: Path) -> dict:
     check(scene)
     params, o = scene.params, scene.options
     cases = fam.cases(params, o)
     rpms = fam.rpms(o)
+    settling = Settling.from_options(o)
     build_s = prebuild_reductions(params, rpms)
     info(f"FE reductions at {len(rpms)} speeds ready ({build_s:.1f} s)")
-    sweeps = {m: run_sweeps([c.params for c in cases], m, rpms) for m in (LINE, POINTS)}
+    sweeps = {m: run_sweeps([c.params for c in cases], m, rpms, settling=settling) for m in (LINE, POINTS)}
     rows, curves = [], []
     for k, c in enumerate(cases):
         line, pts = sweeps[LINE][k], sweeps[POINTS][k]
+        res_line, res_pts = steady_resonance(line), steady_resonance(pts)
         rows.append({"case": c.label, "kind": c.kind, "value": c.value,
-                     "reduced_resonance_rpm": line.resonance["rpm"],
-                     "reduced_resonance_amplitude_m": line.resonance["amplitude"],
-                     "fe_reduced_resonance_rpm": pts.resonance["rpm"],
-                     "fe_reduced_resonance_amplitude_m": pts.resonance["amplitude"],
+                     "reduced_resonance_rpm": res_line["rpm"],
+                     "reduced_resonance_amplitude_m": res_line["amplitude"],
+                     "fe_reduced_resonance_rpm": res_pts["rpm"],
+                     "fe_reduced_resonance_amplitude_m": res_pts["amplitude"],
+                     "peaked": bool(np.nanmax(line.amplitude_v_L) > PEAKED * np.nanmin(line.amplitude_v_L)),
+                     "unsettled_speeds": {m: int(sum(not x for x in s.settled)) for m, s in ((LINE, line), (POINTS, pts))},
                      "curve_gap": curve_gap(line.amplitude_v_L, pts.amplitude_v_L),
                      "reduced_cpu_s": line.cpu_s, "fe_reduced_cpu_s": pts.cpu_s})
         for i, rpm in enumerate(rpms):
             curves.append({"case": c.label, "rpm": rpm, "reduced_v_L_m": line.amplitude_v_L[i],
                            "fe_reduced_v_L_m": pts.amplitude_v_L[i], "reduced_w_L_m": line.amplitude_w_L[i],
-                           "fe_reduced_w_L_m": pts.amplitude_w_L[i]})
+                           "fe_reduced_w_L_m": pts.amplitude_w_L[i], "reduced_settled": line.settled[i],
+                           "fe_reduced_settled": pts.settled[i]})
     coexist = _coexistence.coexistence([(c.label, c.params) for c in cases], sweeps, rpms, o, (LINE, POINTS))
     _csv(out / "fig7_curves.csv", curves)
     _csv(out / "fig7_resonances.csv", rows)
     figure_name = _figure(cases, sweeps, out)
     dofs = {m: sweeps[m][0].dofs for m in (LINE, POINTS)}
-    (out / "report.md").write_text(_report(scene, rows, dofs, build_s, figure_name, len(rpms), coexist))
+    step = float(rpms[1] - rpms[0])
+    found = conclusions(rows, coexist, step, o["coexist_threshold"])
+    (out / "report.md").write_text(_report(scene, rows, dofs, build_s, figure_name, len(rpms), coexist,
+                                           settling, step))
     return {"rpm": rpms, "dofs": dofs, "reduction_build_s": build_s, "resonances": rows,
-            "coexisting_states": coexist,
+            "coexisting_states": coexist, "conclusions": found,
             "curves": {c.label: {m: sweeps[m][k].to_json() for m in (LINE, POINTS)} for k, c in enumerate(cases)}}
 
 
@@ -124,30 +150,48 @@ def _figure(cases, sweeps, out: Path) -> str:
         ax.plot(line.rpm, 1e6 * line.amplitude_v_L, "-", color=colour, label=f"{c.label} (beam)")
         ax.plot(pts.rpm, 1e6 * pts.amplitude_v_L, "o", ms=3.5, mfc="none", color=colour,
                 label=f"{c.label} (solid FE, reduced)")
+        for s in (line, pts):
+            bad = ~np.array(s.settled, bool)
+            if bad.any():
+                ax.plot(s.rpm[bad], 1e6 * s.amplitude_v_L[bad], "x", ms=6, color="k",
+                        label="not settled" if "not settled" not in ax.get_legend_handles_labels()[1] else None)
     for ax, title in zip(axes[0], ("(a) initial gaps", "(b) small gap and initial preloads")):
         ax.set_title(title)
         ax.set_xlabel("speed (r/min)")
         ax.set_ylabel("amplitude of v_L (um)")
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=6, loc="best")
     return save(fig, out / "fig7.png").name
 
 
-def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist) -> str:
+def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist, settling, step) -> str:
     p = scene.params
+    unsettled = [f"{r['case']}: {n} {'beam' if m == LINE else 'solid'}" for r in rows
+                 for m, n in r["unsettled_speeds"].items() if n]
     lines = [f"# {scene.title}\n",
              f"alpha = {p.contact.alpha_deg:g} deg, kn = {p.contact.kn:g} N/m, kt = {p.contact.kt:g} N/m, "
-             f"mu = {p.contact.mu:g}; {p.time.periods} periods per speed, {n_speeds} speeds per curve. "
+             f"mu = {p.contact.mu:g}; at least {p.time.periods} periods per speed, {n_speeds} speeds per curve. "
              f"Lines: beam model, {dofs[LINE]} DOF (nr = {p.reduced.nr}); points: reduced solid FE, "
              f"{dofs[POINTS]} DOF (mesh {p.fe.mesh_size:g} m, order {p.fe.order}, {p.fe.cms_modes} modes "
              f"+ attachment modes). The FE reductions (one per speed) took {seconds(build_s)}.\n",
+             settling.describe() + " Not settled here: " + (", ".join(unsettled) or "none") + ".\n",
+             f"What these settings cannot resolve: resonant speeds closer than the speed step "
+             f"({step:.0f} r/min; a peak between two speeds is read at the nearer one), amplitude jumps "
+             f"narrower than one step, and coexisting states whose basins the starts "
+             f"({', '.join(f'{c:g}' for c in scene.options['coexist_starts'])} x the amplitude) miss.\n",
              f"![Fig. 7]({figure_name})\n",
              markdown_table(("case", "beam resonance (r/min)", "FE resonance (r/min)", "beam peak (um)",
                              "FE peak (um)", "curve gap", "beam cost", "FE cost"),
-                            [(r["case"], r["reduced_resonance_rpm"], r["fe_reduced_resonance_rpm"],
+                            [(r["case"],
+                              r["reduced_resonance_rpm"] if r["peaked"] else "no peak",
+                              r["fe_reduced_resonance_rpm"] if r["peaked"] else "no peak",
                               1e6 * r["reduced_resonance_amplitude_m"], 1e6 * r["fe_reduced_resonance_amplitude_m"],
                               r["curve_gap"], seconds(r["reduced_cpu_s"]), seconds(r["fe_reduced_cpu_s"]))
                              for r in rows]),
-             "\nCurve gap: RMS of (FE - beam) amplitude over the speeds divided by the beam curve's peak. "
+             f"\nResonance: the largest settled amplitude, or where the top is flat (within {100 * PLATEAU:g} % "
+             "of it over a band of speeds, an impacting branch) the highest speed on it. "
+             f"No peak: the beam curve's largest amplitude is less than {PEAKED:g} times its smallest, so no "
+             "resonant speed is read off it (the largest amplitude is the peak column). "
+             "Curve gap: RMS of (FE - beam) amplitude over the speeds divided by the beam curve's peak. "
              "The paper shows the two models agreeing by eye; its numbers are not printed.\n",
              "Data: `fig7_curves.csv`, `fig7_resonances.csv`.\n",
              *_coexistence.section(coexist, scene.options, (LINE, POINTS), ("beam", "solid FE"))]

@@ -12,9 +12,10 @@ from pathlib import Path
 
 from comparisons import _families as fam
 from shroud.base.markdown import markdown_table, seconds
-from shroud.analysis.sweep import coexisting_states
+from shroud.analysis.sweep import Settling, coexisting_states
 
 OPTIONS = {**fam.FAMILY_OPTIONS, "values": [0.1, 0.3, 0.5], "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0]}
+JUMP_THRESHOLD = 0.05     # curves apart by more than this share of the peak: a jump, not "no effect"
 
 
 def spread(rows, kind, field, min_value=None) -> float:
@@ -27,6 +28,24 @@ def spread(rows, kind, field, min_value=None) -> float:
         if len(vals) > 1:
             worst = max(worst, (max(vals) - min(vals)) / max(abs(max(vals)), 1e-300))
     return worst
+
+
+def trend(values: list[float]) -> int:
+    """+1 when the last variant's value is the larger, -1 when the smaller, 0 when equal."""
+    return int((values[-1] > values[0]) - (values[-1] < values[0]))
+
+
+def conclusions(rows: list[dict], small_gap_um: float, big_gap_amplitude_spread: float) -> dict:
+    """What the report concludes, as data: per case and variant the resonant speed (r/min), whether it
+    lies beyond the range; whether the variant has (almost) no effect at gaps >= 100 um
+    (resonant amplitudes spread by less than JUMP_THRESHOLD); and at the small gap the trend of the
+    resonant speed and amplitude from the first variant to the last (+1 rising, -1 falling, 0 equal)."""
+    small = [r for r in rows if r["kind"] == "preload" and r["value"] < 0]
+    return {"resonances": {f"{r['variant']}, {r['case']}": {"rpm": r["resonance_rpm"], "beyond_range": r["beyond_range"]}
+                           for r in rows},
+            "large_gaps_no_effect": bool(big_gap_amplitude_spread < JUMP_THRESHOLD),
+            f"gap {small_gap_um:g} um": {"speed_trend": trend([r["resonance_rpm"] for r in small]),
+                                         "amplitude_trend": trend([r["resonance_amplitude_m"] for r in small])}}
 
 
 def run(scene, out: Path) -> dict:
@@ -43,13 +62,16 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
     optimum = {name: fam.optimal_preload(rows, name) for name in family}
     big_gap_rpm = spread(rows, "gap", "resonance_rpm", min_value=100.0)
     big_gap_amp = spread(rows, "gap", "resonance_amplitude_m", min_value=100.0)
-    big_gap_curves, jumps = fam.curve_differences(family, "gap", min_value=100.0)
-    for j in jumps:                      # which steady states each variant has there
+    big_gap_curves, jumps = fam.curve_differences(family, "gap", min_value=100.0, threshold=JUMP_THRESHOLD)
+    settling = Settling.from_options(opts)
+    for j in jumps:                      # which settled steady states each variant has there
         case = next(c for c, _ in family[next(iter(family))] if c.label == j["case"])
         peak = max(j["amplitude_m"].values())
-        j["states_m"] = {n: coexisting_states(variants[n].updated({"contact.gap": case.params.contact.gap}),
-                                              opts["model"], j["rpm"], [c * peak for c in opts["coexist_starts"]])
-                         for n in family}
+        states = {n: coexisting_states(variants[n].updated({"contact.gap": case.params.contact.gap}),
+                                       opts["model"], j["rpm"], [c * peak for c in opts["coexist_starts"]],
+                                       settling=settling) for n in family}
+        j["states_m"] = {n: s.amplitudes for n, s in states.items()}
+        j["unsettled_runs"] = {n: s.unsettled for n, s in states.items()}
     pre_rpm = {name: [fam.speed_text(r) for r in rows if r["variant"] == name and r["kind"] == "preload"]
                for name in family}
     pre_amp = {name: [r["resonance_amplitude_m"] for r in rows if r["variant"] == name and r["kind"] == "preload"]
@@ -57,13 +79,14 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
     beyond = sum(r["beyond_range"] for r in rows)
     cpu = sum(r["cpu_s"] for r in rows)
     lines = [f"# {scene.title}\n",
-             f"Reduced model, {scene.params.time.periods} periods per speed, {len(fam.rpms(opts))} speeds "
+             f"Reduced model, at least {scene.params.time.periods} periods per speed, {len(fam.rpms(opts))} speeds "
              f"per curve, {len(rows)} curves; runs' summed time {seconds(cpu)}.\n",
              "| paper | here |", "|---|---|",
              f"| gaps >= 100 um: {describe} has (almost) no effect | the variants' curves differ by at most "
              f"{100 * big_gap_curves:.2f} % of the peak except at {len(jumps)} speeds next to a jump (below); "
-             f"spread of the resonant amplitude {100 * big_gap_amp:.2f} %, of the speed of the largest "
-             f"amplitude {100 * big_gap_rpm:.2f} % (flat plateaus: the argmax moves) |",
+             f"spread of the resonant amplitude {100 * big_gap_amp:.2f} %, of the resonant speed "
+             f"{100 * big_gap_rpm:.2f} % (where the impacting branch reached from rest ends: coexisting "
+             "states, below) |",
              "| optimal preload per variant | " + "; ".join(
                  f"{n}: {v[0]:g} N ({v[1] * 1e3:.4f} mm)" for n, v in optimum.items()) + " |",
              "| resonant speed (r/min) with 1 um gap / preloads | " + "; ".join(
@@ -71,7 +94,7 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
              "| resonant amplitude (mm) with 1 um gap / preloads | " + "; ".join(
                  f"{n}: " + ", ".join(f"{1e3 * x:.4f}" for x in v) for n, v in pre_amp.items()) + " |",
              "",
-             *([f"Speeds (gaps >= 100 um) where the variants differ by >= 5 % of the peak. Near the jump "
+             *(["Speeds (gaps >= 100 um) where the variants differ by >= 5 % of the peak. Near the jump "
                 "the blade has coexisting steady states (see the Fig. 4 study): each variant is restarted "
                 "from the static deflection under the load scaled to tip deflections "
                 + ", ".join(f"{c:g}" for c in opts["coexist_starts"]) + " times the peak, and the distinct "
@@ -80,9 +103,12 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
                                 *[f"{n}: from rest / states reached" for n in family]],
                                [(j["case"], j["rpm"], f"{100 * j['difference']:.1f} %",
                                  *[f"{1e6 * j['amplitude_m'][n]:.1f} / "
-                                   + ", ".join(f"{1e6 * a:.1f}" for a in j["states_m"][n]) for n in family])
+                                   + (", ".join(f"{1e6 * a:.1f}" for a in j["states_m"][n]) or "none settled")
+                                   + (f" ({j['unsettled_runs'][n]} not settled)" if j["unsettled_runs"][n] else "")
+                                   for n in family])
                                 for j in jumps]), ""]
                if jumps else []),
+             fam.settling_text(rows, opts),
              f"'>=': {beyond} of {len(rows)} curves have their largest amplitude at the last swept speed: "
              "their resonance lies at or beyond the range, and the optimal preload is only meaningful among "
              "curves whose resonance lies inside it.\n",
@@ -93,6 +119,7 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
              *[f"![{f}]({f})" for f in files]]
     (out / "report.md").write_text("\n".join(lines) + "\n")
     return {"resonances": rows, "curves": fam.curves_json(family),
+            "conclusions": conclusions(rows, opts["small_gap_um"], big_gap_amp),
             "optimal_preload": {n: {"N0": v[0], "amplitude_m": v[1]} for n, v in optimum.items()},
             "large_gap_spread": {"resonance_rpm": big_gap_rpm, "resonance_amplitude": big_gap_amp,
                                  "curves_outside_jumps": big_gap_curves, "jump_speeds": jumps}}

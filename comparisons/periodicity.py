@@ -26,7 +26,7 @@ import numpy as np
 
 from comparisons import paper
 from shroud.analysis.api import build_system
-from shroud.analysis.sweep import run_sweeps
+from shroud.analysis.sweep import Settling, run_sweeps
 from shroud.analysis.transient import simulate
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core import signals
@@ -129,7 +129,9 @@ def period_map(params, opts) -> tuple[np.ndarray, list[tuple[str, SweepResult]]]
     cases = [(f"gap {g:g} um", base.updated({"contact.gap": g * 1e-6})) for g in opts["search_gaps_um"]]
     cases += [(f"N0 {n:g} N", base.updated({"contact.N0": n})) for n in opts["search_preloads_N"]]
     rpms = np.linspace(opts["search_rpm_from"], opts["search_rpm_to"], int(opts["search_rpm_count"]))
-    sweeps = run_sweeps([p for _, p in cases], "reduced", rpms)
+    # exactly search_periods per run, as the report says (no extension until the amplitude settles)
+    sweeps = run_sweeps([p for _, p in cases], "reduced", rpms,
+                        settling=Settling(max_periods=int(opts["search_periods"])))
     return rpms, [(label, sw) for (label, _), sw in zip(cases, sweeps)]
 
 

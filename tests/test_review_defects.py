@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from comparisons import _coexistence
+from shroud.analysis.sweep import States
 from comparisons._agreement import SIGNALS, agreement, nrmse
 from shroud.core.modes import pair_by_mac
 
@@ -14,12 +15,14 @@ from shroud.core.modes import pair_by_mac
 class _Sweep:
     def __init__(self, amplitudes):
         self.amplitude_v_L = np.asarray(amplitudes, dtype=float)
+        self.settled = (True,) * len(amplitudes)
 
 
 @pytest.mark.parametrize("found", [{"reduced": [], "full": []}, {"reduced": [], "full": [40e-6]},
                                    {"reduced": [40e-6, 120e-6], "full": []}])
 def test_no_steady_state_is_never_called_the_same_or_shared(monkeypatch, found):
-    monkeypatch.setattr(_coexistence, "coexisting_states", lambda params, model, rpm, starts: found[model])
+    monkeypatch.setattr(_coexistence, "coexisting_states",
+                        lambda params, model, rpm, starts, settling: States(found[model], unsettled=0))
     sweeps = {"reduced": [_Sweep([40e-6, 120e-6])], "full": [_Sweep([40e-6, 40e-6])]}
     opts = dict(_coexistence.OPTIONS)
     rows = _coexistence.coexistence([("50 um gap", None)], sweeps, np.array([12000.0, 13000.0]), opts,
@@ -29,8 +32,9 @@ def test_no_steady_state_is_never_called_the_same_or_shared(monkeypatch, found):
     assert not row["shared_states"] and not row["same_states"]
     assert row["largest_state_difference"] == np.inf
     table = "".join(_coexistence.section(rows, opts, ("reduced", "full"), ("reduced beam", "full beam")))
-    assert "| different |" in table and "no steady state reached by" in table
-    assert "same coexisting" not in _coexistence.summary(rows)
+    assert "| no steady state |" in table and "| same |" not in table and "| shared |" not in table
+    assert "no settled steady state" in _coexistence.summary(rows)
+    assert "have the same coexisting" not in _coexistence.summary(rows)
 
 
 def test_matched_states_within_one_percent_are_the_same():

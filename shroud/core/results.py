@@ -217,10 +217,14 @@ class SweepResult:
     dofs: int
     elapsed_s: float                  # wall time of the sweep
     cpu_s: float                      # summed time of the runs (build + integration)
+    # False where the run had not settled by the period cap (or diverged): such an
+    # amplitude is a transient's, never a steady state (shroud.analysis.sweep.Settling).
+    settled: tuple[bool, ...] = ()
 
     @property
     def resonance(self) -> dict[str, float]:
-        """Speed and amplitude of the largest v_L amplitude."""
+        """Speed and amplitude of the largest v_L amplitude (every point; the studies read
+        the resonance off settled points, shroud.analysis.sweep.steady_resonance)."""
         if not np.any(np.isfinite(self.amplitude_v_L)):
             return {"rpm": math.nan, "amplitude": math.nan}
         i = int(np.nanargmax(self.amplitude_v_L))
@@ -230,15 +234,16 @@ class SweepResult:
         return {"model": self.model, "rpm": [float(r) for r in self.rpm],
                 "amplitude_v_L": _finite_or_none(self.amplitude_v_L),
                 "amplitude_w_L": _finite_or_none(self.amplitude_w_L), "period": list(self.period),
-                "resonance": self.resonance, "dofs": self.dofs,
+                "resonance": self.resonance, "dofs": self.dofs, "settled": list(self.settled),
                 "elapsed_s": round(self.elapsed_s, 6), "cpu_s": round(self.cpu_s, 6)}
 
     def to_csv(self, path: Path) -> Path:
-        """One row per speed: rpm, v_L and w_L amplitudes (m), period, slip share."""
-        rows = [(f"{r:g}", f"{a:.9e}", f"{b:.9e}", "" if p is None else p, f"{s:.4f}")
-                for r, a, b, p, s in zip(self.rpm, self.amplitude_v_L, self.amplitude_w_L,
-                                         self.period, self.slip_fraction)]
-        return _write_rows(path, ["rpm", "amplitude_v_L", "amplitude_w_L", "period", "slip_fraction"],
+        """One row per speed: rpm, v_L and w_L amplitudes (m), period, slip share, settled (1/0)."""
+        settled = self.settled or (None,) * len(self.rpm)
+        rows = [(f"{r:g}", f"{a:.9e}", f"{b:.9e}", "" if p is None else p, f"{s:.4f}", "" if k is None else int(k))
+                for r, a, b, p, s, k in zip(self.rpm, self.amplitude_v_L, self.amplitude_w_L,
+                                            self.period, self.slip_fraction, settled)]
+        return _write_rows(path, ["rpm", "amplitude_v_L", "amplitude_w_L", "period", "slip_fraction", "settled"],
                            rows, f"{self.model}, {self.dofs} DOF; amplitudes (max - min)/2, m")
 
     def plot(self, ax=None, **line):

@@ -1,0 +1,113 @@
+"""Every study's quick version concludes what its full version concludes.
+
+Each test runs a scene's ``--quick`` version as a user would (shroud.app.runner.run_scene) and
+compares the conclusions its study returns as data (``results["conclusions"]``) with those of the
+full scene, recorded in tests/data/full_conclusions.json with the command that produced them (the
+full scenes take minutes to hours, too long for CI). Resonant and crossing speeds must agree within
+the quick grid's speed step, every yes/no and every sign of a comparison exactly.
+"""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from shroud.app.runner import run_scene
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+FULL = json.loads((Path(__file__).parent / "data" / "full_conclusions.json").read_text())
+
+
+def quick(study: str, tmp_path: Path) -> tuple[dict, dict]:
+    """(conclusions, options) of the quick version of scenes/<study>.toml."""
+    run_scene(SCENES / f"{study}.toml", tmp_path / study, quick=True)
+    record = json.loads((tmp_path / study / "results.json").read_text())
+    assert record["status"] == "complete" and record["quick"]
+    return record["results"]["conclusions"], record["options"]
+
+
+def step(options: dict) -> float:
+    return (options["rpm_to"] - options["rpm_from"]) / (options["rpm_count"] - 1)
+
+
+def model_error(verdicts: list[str]) -> bool:
+    """Whether the curves differ anywhere by more than coexisting states explain."""
+    return "different" in verdicts
+
+
+@pytest.mark.slow
+def test_fig4_quick_agrees_with_full(tmp_path):
+    got, options = quick("fig4", tmp_path)
+    full = FULL["fig4"]["conclusions"]
+    for case in got.keys() & full.keys():
+        q, f = got[case], full[case]
+        for model in ("reduced", "full"):
+            assert abs(q[f"{model}_resonance_rpm"] - f[f"{model}_resonance_rpm"]) <= step(options), (case, model)
+        assert q["same_resonant_speed"] == f["same_resonant_speed"], case
+        assert model_error(q["differing_speed_verdicts"]) == model_error(f["differing_speed_verdicts"]), case
+        assert "no steady state" not in q["differing_speed_verdicts"], case
+    assert len(got.keys() & full.keys()) == 6
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("study", ["gap_preload", "friction", "stiffness_ratio"])
+def test_family_quick_agrees_with_full(tmp_path, study):
+    got, options = quick(study, tmp_path)
+    full = FULL[study]["conclusions"]
+    shared = got["resonances"].keys() & full["resonances"].keys()
+    assert len(shared) >= 4
+    for case in shared:
+        q, f = got["resonances"][case], full["resonances"][case]
+        assert q["beyond_range"] == f["beyond_range"], case
+        assert abs(q["rpm"] - f["rpm"]) <= step(options), case
+    for key in full.keys() - {"resonances"}:
+        assert got[key] == full[key], key
+
+
+@pytest.mark.fe
+@pytest.mark.slow
+def test_fig7_quick_agrees_with_full(tmp_path):
+    got, options = quick("fig7", tmp_path)
+    full = FULL["fig7"]["conclusions"]
+    shared = got.keys() & full.keys()
+    assert {"gap 600 um", "gap 1 um", "N0 10 N"} <= shared
+    for case in shared:
+        q, f = got[case], full[case]
+        assert q["peaked"] == f["peaked"], case
+        if q["peaked"]:
+            for model in ("beam", "solid"):
+                assert abs(q[f"{model}_resonance_rpm"] - f[f"{model}_resonance_rpm"]) <= step(options), (case, model)
+            assert q["same_resonant_speed"] == f["same_resonant_speed"], case
+        assert q["curves_agree"] == f["curves_agree"], case
+        assert model_error(q["differing_speed_verdicts"]) == model_error(f["differing_speed_verdicts"]), case
+        assert "no steady state" not in q["differing_speed_verdicts"], case
+
+
+@pytest.mark.fe
+@pytest.mark.slow
+def test_campbell_quick_agrees_with_full(tmp_path):
+    got, options = quick("campbell", tmp_path)
+    full = FULL["campbell"]["conclusions"]
+    grid = (options["rpm_to"] - options["rpm_from"]) / (options["speeds"] - 1)
+    assert got["ke"] == full["ke"]
+    for kind, tol in (("beam_crossings_rpm", grid), ("solid_crossings_rpm", grid)):
+        assert got[kind].keys() == full[kind].keys(), kind
+        for mode, rpm in full[kind].items():
+            assert (got[kind][mode] is None) == (rpm is None), (kind, mode)
+            if rpm is not None:
+                assert abs(got[kind][mode] - rpm) <= tol, (kind, mode)
+    every = full["beam_crossings_every_order_rpm"]
+    assert got["beam_crossings_every_order_rpm"].keys() == every.keys()
+    for crossing, rpm in every.items():
+        assert abs(got["beam_crossings_every_order_rpm"][crossing] - rpm) <= grid, crossing
+
+
+@pytest.mark.fe
+@pytest.mark.slow
+def test_error_vs_time_quick_agrees_with_full(tmp_path):
+    got, _ = quick("error_vs_time", tmp_path)
+    full = FULL["error_vs_time"]["conclusions"]
+    shared = got.keys() & full.keys()
+    assert len(shared) >= 3
+    for key in shared:
+        assert got[key] == full[key], key
