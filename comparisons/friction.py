@@ -8,6 +8,7 @@ stays nearly the same; P10 motion near 22500-26000 r/min at mu 0.5.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 from comparisons import _families as fam
@@ -53,15 +54,31 @@ def run(scene, out: Path) -> dict:
     return run_variants(scene, out, variants, "the coefficient of friction")
 
 
-def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
-    """Sweep every variant over the gap and preload cases; report the paper's checks."""
+@dataclass
+class FamilyComparison:
+    """The variants' curves over the gap and preload cases, and what the paper checks on them."""
+
+    family: dict                   # variant -> [(case, SweepResult)]
+    rows: list[dict]               # resonance per variant and case (comparisons._families.resonance_table)
+    optimum: dict                  # variant -> (N0, amplitude) of the optimal preload
+    big_gap_rpm: float             # spread of the resonant speed over the variants, gaps >= 100 um
+    big_gap_amp: float             # spread of the resonant amplitude
+    big_gap_curves: float          # largest curve difference outside the jumps, share of the peak
+    jumps: list[dict]              # speeds next to a jump, with the settled states each variant reaches
+
+    def to_json(self, small_gap_um: float) -> dict:
+        return {"resonances": self.rows, "curves": fam.curves_json(self.family),
+                "conclusions": conclusions(self.rows, small_gap_um, self.big_gap_amp),
+                "optimal_preload": {n: {"N0": v[0], "amplitude_m": v[1]} for n, v in self.optimum.items()},
+                "large_gap_spread": {"resonance_rpm": self.big_gap_rpm, "resonance_amplitude": self.big_gap_amp,
+                                     "curves_outside_jumps": self.big_gap_curves, "jump_speeds": self.jumps}}
+
+
+def compute_variants(scene, variants: dict) -> FamilyComparison:
+    """Sweep every variant over the gap and preload cases; restart both sides of every jump."""
     opts = scene.options
     family = fam.run_family(variants, opts)
     rows = fam.resonance_table(family)
-    files = fam.write_outputs(out, family, rows, scene.title)
-    optimum = {name: fam.optimal_preload(rows, name) for name in family}
-    big_gap_rpm = spread(rows, "gap", "resonance_rpm", min_value=100.0)
-    big_gap_amp = spread(rows, "gap", "resonance_amplitude_m", min_value=100.0)
     big_gap_curves, jumps = fam.curve_differences(family, "gap", min_value=100.0, threshold=JUMP_THRESHOLD)
     settling = Settling.from_options(opts)
     for j in jumps:                      # which settled steady states each variant has there
@@ -72,6 +89,16 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
                                        settling=settling) for n in family}
         j["states_m"] = {n: s.amplitudes for n, s in states.items()}
         j["unsettled_runs"] = {n: s.unsettled for n, s in states.items()}
+    return FamilyComparison(family=family, rows=rows,
+                            optimum={name: fam.optimal_preload(rows, name) for name in family},
+                            big_gap_rpm=spread(rows, "gap", "resonance_rpm", min_value=100.0),
+                            big_gap_amp=spread(rows, "gap", "resonance_amplitude_m", min_value=100.0),
+                            big_gap_curves=big_gap_curves, jumps=jumps)
+
+
+def report_variants(result: FamilyComparison, scene, describe: str, files: list[str]) -> str:
+    """The paper's checks beside ours, the jumps' states, the resonance table, the figures."""
+    opts, family, rows, jumps = scene.options, result.family, result.rows, result.jumps
     pre_rpm = {name: [fam.speed_text(r) for r in rows if r["variant"] == name and r["kind"] == "preload"]
                for name in family}
     pre_amp = {name: [r["resonance_amplitude_m"] for r in rows if r["variant"] == name and r["kind"] == "preload"]
@@ -83,12 +110,12 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
              f"per curve, {len(rows)} curves; runs' summed time {seconds(cpu)}.\n",
              "| paper | here |", "|---|---|",
              f"| gaps >= 100 um: {describe} has (almost) no effect | the variants' curves differ by at most "
-             f"{100 * big_gap_curves:.2f} % of the peak except at {len(jumps)} speeds next to a jump (below); "
-             f"spread of the resonant amplitude {100 * big_gap_amp:.2f} %, of the resonant speed "
-             f"{100 * big_gap_rpm:.2f} % (where the impacting branch reached from rest ends: coexisting "
+             f"{100 * result.big_gap_curves:.2f} % of the peak except at {len(jumps)} speeds next to a jump (below); "
+             f"spread of the resonant amplitude {100 * result.big_gap_amp:.2f} %, of the resonant speed "
+             f"{100 * result.big_gap_rpm:.2f} % (where the impacting branch reached from rest ends: coexisting "
              "states, below) |",
              "| optimal preload per variant | " + "; ".join(
-                 f"{n}: {v[0]:g} N ({v[1] * 1e3:.4f} mm)" for n, v in optimum.items()) + " |",
+                 f"{n}: {v[0]:g} N ({v[1] * 1e3:.4f} mm)" for n, v in result.optimum.items()) + " |",
              "| resonant speed (r/min) with 1 um gap / preloads | " + "; ".join(
                  f"{n}: " + ", ".join(v) for n, v in pre_rpm.items()) + " |",
              "| resonant amplitude (mm) with 1 um gap / preloads | " + "; ".join(
@@ -117,9 +144,12 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
                             [(r["variant"], r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
              *[f"![{f}]({f})" for f in files]]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"resonances": rows, "curves": fam.curves_json(family),
-            "conclusions": conclusions(rows, opts["small_gap_um"], big_gap_amp),
-            "optimal_preload": {n: {"N0": v[0], "amplitude_m": v[1]} for n, v in optimum.items()},
-            "large_gap_spread": {"resonance_rpm": big_gap_rpm, "resonance_amplitude": big_gap_amp,
-                                 "curves_outside_jumps": big_gap_curves, "jump_speeds": jumps}}
+    return "\n".join(lines) + "\n"
+
+
+def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
+    """compute -> plot (the families' figures and CSV) -> report, for one varied contact parameter."""
+    result = compute_variants(scene, variants)
+    files = fam.write_outputs(out, result.family, result.rows, scene.title)
+    (out / "report.md").write_text(report_variants(result, scene, describe, files))
+    return result.to_json(scene.options["small_gap_um"])
