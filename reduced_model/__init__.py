@@ -22,7 +22,14 @@ def _builder(reduced: bool):
     return build
 
 
-register(ModelEntry("reduced", build_system=_builder(True), modal=_modal,
+def _at_speed(reduced: bool):
+    def at_speed(params):
+        from reduced_model.system import at_speed
+        return at_speed(params, reduced=reduced)
+    return at_speed
+
+
+register(ModelEntry("reduced", build_system=_builder(True), modal=_modal, at_speed=_at_speed(True),
                     description="beam reduced to reduced.nr free-interface modes"))
-register(ModelEntry("full", build_system=_builder(False),
+register(ModelEntry("full", build_system=_builder(False), at_speed=_at_speed(False),
                     description="Galerkin beam, 5N DOF"))
