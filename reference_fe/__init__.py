@@ -24,5 +24,10 @@ def _builder(reduced: bool):
 
 register(ModelEntry("fe", build_system=_builder(False), modal=_modal, sweepable=False,
                     description="full solid, P2 cells"))
-register(ModelEntry("fe-reduced", build_system=_builder(True),
+def _at_speed(params):
+    from reference_fe.frequency import at_speed
+    return at_speed(params)
+
+
+register(ModelEntry("fe-reduced", build_system=_builder(True), at_speed=_at_speed,
                     description="solid reduced by free-interface CMS"))
