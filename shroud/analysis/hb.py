@@ -73,8 +73,7 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 
         b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx))
         h = step * rpm
         _, _, Lp, Fp = speeds.at(rpm + h)
-        Rp = ((Lp - L) @ X - (Fp - F)) / h
-        return b.R, b.J, Rp
+        return b.R, b.J, ((Lp - L) @ X - (Fp - F)) / h
     return residual
 
 
@@ -116,9 +115,9 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     system, lin, _, _ = speeds.at(rpm_from)
     law = contact_law_for(system, params.contact)
     residual = residual_in_speed(speeds, law, basis)
-    X0 = hb.linear_solution(lin)
+    X0 = hb.solve(system, law, harmonics, n).X           # the first point, by a load homotopy if need be
     gap = abs(params.contact.N0) / params.contact.kn if params.contact.enabled else 0.0
-    x_scale = max(float(np.abs(X0).max()), gap, 1e-7)
+    x_scale = max(float(np.abs(hb.linear_solution(lin)).max()), gap, 1e-7)
     count = max(min_points or MIN_POINTS, 2)
     details: list[dict] = []
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,

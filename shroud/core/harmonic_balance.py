@@ -296,12 +296,12 @@ def _real_blocks(Z: np.ndarray) -> np.ndarray:
     H1, n = Z.shape[0], Z.shape[1]
     nh = 2 * H1 - 1
     L = np.zeros((nh, n, nh, n))
+    k = np.arange(1, H1)
+    a, b = 2 * k - 1, 2 * k
     L[0, :, 0, :] = Z[0].real
-    for k in range(1, H1):
-        a, b = 2 * k - 1, 2 * k
-        L[a, :, a, :] = L[b, :, b, :] = Z[k].real
-        L[a, :, b, :] = Z[k].imag
-        L[b, :, a, :] = -Z[k].imag
+    L[a, :, a, :] = L[b, :, b, :] = Z[1:].real
+    L[a, :, b, :] = Z[1:].imag
+    L[b, :, a, :] = -Z[1:].imag
     return L.reshape(nh * n, nh * n)
 
 
