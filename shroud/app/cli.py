@@ -123,7 +123,8 @@ def cmd_sweep(args) -> None:
         return _sweep_hb(args)
     from shroud.analysis.api import sweep
     if args.rpm_count is None:
-        raise InputError("--rpm-count", "missing; allowed: an integer >= 1 (required by --method time)")
+        raise InputError("command line", "the following arguments are required: --rpm-count "
+                                         "(with --method time)")
     params = _params(args)
     if args.rpm_count < 1:
         raise InputError("--rpm-count", f"{args.rpm_count} is out of range; allowed: an integer >= 1")
