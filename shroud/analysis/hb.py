@@ -131,13 +131,13 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
 
 def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
              samples: int | None = None, X0: np.ndarray | None = None) -> tuple[hb.HarmonicSolution, dict]:
-    """One speed: the harmonic-balance solution reached from ``X0`` (default: the linear one) and its details."""
+    """One speed: the harmonic-balance solution reached from ``X0`` (default: the linear one, then a load
+    homotopy if Newton fails from it) and its details (amplitudes, multipliers, stability)."""
     n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm)
     law = contact_law_for(system, params.contact)
-    X0 = hb.linear_solution(lin) if X0 is None else X0
-    X, b, it, ok = hb.newton(X0, lin, law, basis)
-    return hb.solution(X, b, lin, basis, it, ok), point_details(speeds, law, basis, X, rpm)
+    sol = hb.solve(system, law, harmonics, n, X0=X0, condense=lin.condensed)
+    return sol, point_details(speeds, law, basis, sol.X, rpm)
 
