@@ -87,7 +87,8 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     Phi = floquet.monodromy(system.M, system.C, system.K, W, law, b.contact.state, b.contact.F, lin.omega)
     mult = floquet.multipliers(Phi)
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
-            "tail": hb.spectral_tail(b.contact.lam, basis.H), "multipliers": mult,
+            "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
+            "multipliers": mult,
             "stable": floquet.is_stable(mult)}
 
 

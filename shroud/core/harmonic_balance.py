@@ -473,11 +473,6 @@ def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None
     return solution(X, b, lin, basis, it, ok)
 
 
-def real_time_samples(coefficients: np.ndarray, basis: Fourier) -> np.ndarray:
-    """Samples over one period of real coefficients (nh, c)."""
-    return basis.E @ coefficients
-
-
 def state_vector(system: StructuralSystem, sol: HarmonicSolution, lin: LinearHarmonics) -> tuple:
     """(q, q') at tau = 0 of a solution (for starting a time run on it), full DOFs.
 

@@ -49,8 +49,9 @@ class HBResult:
     rpm may go back at a fold; ``stable`` from the Floquet multipliers;
     amplitudes are (max - min)/2 over one period, m. ``bifurcations``: where
     stability changes ({"rpm", "amplitude", "kind"}: fold, period-doubling,
-    Neimark-Sacker). ``spectral_tail``: the largest share of the contact
-    forces' spectrum above H along the branch.
+    Neimark-Sacker). ``spectral_tail``: the share (RMS) of the contact
+    forces' spectrum above H at the point of the largest contact forces
+    (grazing points, whose brief touches are all tail, would say nothing).
     """
 
     model: str
@@ -86,7 +87,8 @@ class HBResult:
                    amplitude_v_L=amp, amplitude_w_L=np.array([d["amplitude_w_L"] for d in details]),
                    stable=np.array([d["stable"] for d in details], bool),
                    max_multiplier=np.array([float(np.abs(d["multipliers"]).max(initial=0.0)) for d in details]),
-                   bifurcations=tuple(bif), spectral_tail=max((d["tail"] for d in details), default=0.0),
+                   bifurcations=tuple(bif),
+                   spectral_tail=max(details, key=lambda d: d["force_rms"])["tail"] if details else 0.0,
                    iterations=int(sum(iterations)), complete=complete, stopped=stopped, dofs=dofs,
                    condensed=condensed, elapsed_s=elapsed_s, X=None if X is None else np.array(X))
 
