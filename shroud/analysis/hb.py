@@ -66,14 +66,17 @@ class SpeedModel:
 
 
 def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 1e-6):
-    """R(X, rpm), dR/dX (analytic through the law) and dR/drpm (a forward difference of the linear part
-    over ``step`` times the speed; the law does not depend on the speed)."""
+    """R(X, rpm), dR/dX (analytic through the law) and, on demand, dR/drpm (a forward difference of the
+    linear part over ``step`` times the speed; the law does not depend on the speed)."""
     def residual(X, rpm):
         _, lin, L, F = speeds.at(rpm)
         b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx))
-        h = step * rpm
-        _, _, Lp, Fp = speeds.at(rpm + h)
-        return b.R, b.J, ((Lp - L) @ X - (Fp - F)) / h
+
+        def d_rpm():
+            h = step * rpm
+            _, _, Lp, Fp = speeds.at(rpm + h)
+            return ((Lp - L) @ X - (Fp - F)) / h
+        return b.R, b.J, d_rpm
     return residual
 
 

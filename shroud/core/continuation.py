@@ -21,8 +21,10 @@ from typing import Callable
 
 import numpy as np
 
-# residual(x, p) -> (R, dR/dx, dR/dp)
-Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+GROW_ITERATIONS = 4      # a corrector this quick lets the next step grow
+
+# residual(x, p) -> (R, dR/dx, () -> dR/dp): the parameter derivative is asked for only where it is used
+Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, Callable[[], np.ndarray]]]
 
 
 @dataclass
@@ -53,7 +55,7 @@ def _tangent(J: np.ndarray, Rp: np.ndarray, previous: np.ndarray | None) -> np.n
 
 def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float, x_scale: float,
                     ds: float = 0.02, ds_min: float = 1e-5, ds_max: float = 0.1, max_points: int = 2000,
-                    dp_max: float | None = None, max_turn: float = 0.3, ds_kink: float = 2e-3,
+                    dp_max: float | None = None, max_turn: float = 0.5, ds_kink: float = 2e-3,
                     on_point: Callable[[np.ndarray, float], None] | None = None) -> Branch:
     """Follow R(x, p) = 0 from (x0, p0) until p passes ``p_end`` (p0 < p_end).
 
@@ -79,8 +81,8 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
             x = x + dx
             if np.linalg.norm(dx) <= 1e-10 * x_scale * (1.0 + np.linalg.norm(x) / x_scale):
                 R, J, Rp = residual(x, p)
-                return x, it, True, (J, Rp)
-        return x, 40, False, (J, Rp)
+                return x, it, True, (J, Rp())
+        return x, 40, False, (J, Rp())
 
     x, it, ok, (J, Rp) = newton_fixed_p(np.asarray(x0, float), p0)
     if not ok:
@@ -99,7 +101,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
         u_pred = u + ds * t
         u_new, it, ok, R, J, Rp = _corrector(residual, u_pred, t, x_scale, p_scale)
         if ok:
-            t_new = _tangent(J * x_scale, Rp * p_scale, t)
+            t_new = _tangent(J * x_scale, Rp() * p_scale, t)
             turn = math.acos(min(1.0, max(-1.0, float(t_new @ t))))
             ok = turn <= max_turn or ds <= ds_kink     # a kink (grazing, stick onset) is passed, not resolved
         if not ok:
@@ -128,7 +130,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
         branch.x.append(x), branch.p.append(p_new), branch.iterations.append(it)
         if on_point:
             on_point(x, p_new)
-        ds = min(ds_max, ds * (1.5 if it <= 3 else 1.0 if it <= 6 else 0.6))
+        ds = min(ds_max, ds * (1.5 if it <= GROW_ITERATIONS else 1.0 if it <= 6 else 0.6))
     branch.complete = False
     branch.stopped = f"{max_points} points reached at p = {branch.p[-1]:g} before p = {p_end:g}"
     return branch
@@ -138,9 +140,10 @@ def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: f
                max_iterations: int = 10):
     """Newton on [R(u); t . (u - u_pred)] = 0 from the predictor: (u, iterations, converged, R, J, R_p).
 
-    Converged when a Newton step moves u by less than 1e-10 (scaled); the
-    law is piecewise linear, so once the contact states settle one more step
-    lands on the solution to round-off. The returned R, J, R_p are at u.
+    Converged when a
+    Newton step moves u by less than 1e-10 (scaled); the law is piecewise
+    linear, so once the contact states settle one more step lands on the
+    solution to round-off. The returned R, J, R_p (a callable) are at u.
     """
     u = u_pred.copy()
     n = u.size - 1
@@ -149,7 +152,7 @@ def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: f
     for it in range(1, max_iterations + 1):
         if not np.all(np.isfinite(R)):
             return u, it, False, R, J, Rp
-        A[:n, :n], A[:n, n], A[n] = J * x_scale, Rp * p_scale, t
+        A[:n, :n], A[:n, n], A[n] = J * x_scale, Rp() * p_scale, t
         du = np.linalg.solve(A, -np.r_[R, t @ (u - u_pred)])
         u = u + du
         R, J, Rp = residual(u[:-1] * x_scale, u[-1] * p_scale)

@@ -101,16 +101,18 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     d = 2 * n + nz
     sigma = np.where(F > 0, 1.0, -1.0)
     key = state * 2 + (sigma > 0) * (state == SLIP)
-    cache: dict[bytes, np.ndarray] = {}
     Phi = np.eye(d)
     s, kn, kt, mu = law.props[:, SIGN], law.props[:, KN], law.props[:, KT], law.props[:, MU]
     nr, tr = law.rows[:, 0], law.rows[:, 1]
-    for i in range(nt):
-        col = key[:, i]
-        tag = col.tobytes()
-        step = cache.get(tag)
-        if step is None:
-            st, sg = state[:, i], sigma[:, i]
+    change = np.flatnonzero(np.any(key[:, 1:] != key[:, :-1], axis=0)) + 1
+    starts = np.r_[0, change]
+    lengths = np.diff(np.r_[starts, nt])
+    flows: dict[bytes, np.ndarray] = {}
+    for i, length in zip(starts, lengths):              # runs of samples with the same states
+        st, sg = state[:, i], sigma[:, i]
+        tag = key[:, i].tobytes()
+        A = flows.get(tag)
+        if A is None:
             D = np.zeros((W.shape[0], W.shape[0]))        # dlam = -D dy + Bz dz
             Bz = np.zeros((W.shape[0], nz))
             touching = st != SEPARATE
@@ -126,16 +128,16 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
             A[n:2 * n, :n] = -Minv @ (K + W.T @ D @ W)
             A[n:2 * n, n:2 * n] = -Minv @ C
             A[n:2 * n, 2 * n:] = Minv @ W.T @ Bz
-            step = expm_small(A * dt)
-            for j in hist:                                 # released sliders follow the blade
-                if st[j] == STICK:
-                    continue
-                row = np.zeros(d)
-                row[:n] = W[tr[j]]
-                if st[j] == SLIP:
-                    row[:n] += sg[j] * mu[j] * s[j] * kn[j] / kt[j] * W[nr[j]]
-                step[2 * n + slot[j]] = row @ step
-            cache[tag] = step
+            flows[tag] = A
+        step = expm_small(A * (dt * length))
+        for j in hist:                                     # released sliders follow the blade (at the
+            if st[j] == STICK:                             # run's end: inside it they act on nothing)
+                continue
+            row = np.zeros(d)
+            row[:n] = W[tr[j]]
+            if st[j] == SLIP:
+                row[:n] += sg[j] * mu[j] * s[j] * kn[j] / kt[j] * W[nr[j]]
+            step[2 * n + slot[j]] = row @ step
         Phi = _matmul(step, Phi)
     return Phi
 
