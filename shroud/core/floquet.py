@@ -37,6 +37,7 @@ from numba import njit
 from shroud.core.contact import KN, KT, MU, SEPARATE, SIGN, SLIP, STICK, ContactLaw
 
 UNIT_CIRCLE_TOL = 1e-6
+SMALL = 24        # state dimension up to which the compiled loops beat LAPACK/BLAS calls (and their threads)
 
 
 @njit(cache=True)
@@ -112,24 +113,22 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
         st, sg = state[:, i], sigma[:, i]
         tag = key[:, i].tobytes()
         A = flows.get(tag)
-        if A is None:
-            D = np.zeros((W.shape[0], W.shape[0]))        # dlam = -D dy + Bz dz
-            Bz = np.zeros((W.shape[0], nz))
-            touching = st != SEPARATE
-            np.add.at(D, (nr[touching], nr[touching]), kn[touching])
-            stick = st == STICK
-            np.add.at(D, (tr[stick], tr[stick]), kt[stick])
-            for j in np.flatnonzero(stick & (slot >= 0)):
-                Bz[tr[j], slot[j]] += kt[j]
-            slip = st == SLIP
-            np.add.at(D, (tr[slip], nr[slip]), -sg[slip] * mu[slip] * s[slip] * kn[slip])
+        if A is None:                                  # dlam = -D dy + Bz dz, projected on q
+            touching, stick, slip = st != SEPARATE, st == STICK, st == SLIP
+            Wn, Wt = W[nr], W[tr]
+            Kc = (np.einsum("j,ji,jk->ik", kn[touching], Wn[touching], Wn[touching])
+                  + np.einsum("j,ji,jk->ik", kt[stick], Wt[stick], Wt[stick])
+                  - np.einsum("j,ji,jk->ik", sg[slip] * mu[slip] * s[slip] * kn[slip], Wt[slip], Wn[slip]))
+            WBz = np.zeros((n, nz))
+            held = np.flatnonzero(stick & (slot >= 0))
+            WBz[:, slot[held]] = (kt[held, None] * Wt[held]).T
             A = np.zeros((d, d))
             A[:n, n:2 * n] = np.eye(n)
-            A[n:2 * n, :n] = -Minv @ (K + W.T @ D @ W)
+            A[n:2 * n, :n] = -Minv @ (K + Kc)
             A[n:2 * n, n:2 * n] = -Minv @ C
-            A[n:2 * n, 2 * n:] = Minv @ W.T @ Bz
+            A[n:2 * n, 2 * n:] = Minv @ WBz
             flows[tag] = A
-        step = expm_small(A * (dt * length))
+        step = expm_small(A * (dt * length)) if d <= SMALL else scipy.linalg.expm(A * (dt * length))
         for j in hist:                                     # released sliders follow the blade (at the
             if st[j] == STICK:                             # run's end: inside it they act on nothing)
                 continue
@@ -138,7 +137,7 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
             if st[j] == SLIP:
                 row[:n] += sg[j] * mu[j] * s[j] * kn[j] / kt[j] * W[nr[j]]
             step[2 * n + slot[j]] = row @ step
-        Phi = _matmul(step, Phi)
+        Phi = _matmul(step, Phi) if d <= SMALL else step @ Phi
     return Phi
 
 

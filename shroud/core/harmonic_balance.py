@@ -102,14 +102,15 @@ def default_samples(H: int) -> int:
 # --- AFT: the contact law along one period, with its derivative -------------------
 
 @njit(cache=True)
-def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt):
+def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
     """March every element's law around the period (shroud.core.contact's functions).
 
     Yc (nh, m): coefficients of y; E (samples, nh) synthesis, A (nh, samples)
     analysis. Fills per element j and sample i N, F, state, and the
     harmonics' derivatives Bn[j] = d(N harmonics)/d(normal coefficients)
     (nh, nh) and Bt[j] = d(F harmonics)/d([normal, tangent] coefficients)
-    (nh, 2 nh). The slider starts at the mean of w and is marched until it
+    (nh, 2 nh), and the forces lam (samples, m) on the projected
+    coordinates (-s N on the normal row, F on the tangent row). The slider starts at the mean of w and is marched until it
     closes (after a slip or a separation z no longer depends on its start,
     so two periods suffice); the last period is recorded. The derivative
     of the slider is carried from the period's last release (slip or
@@ -148,6 +149,9 @@ def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt):
             if p > 0 and abs(z - z_start) <= 1e-13 * (abs(z) + wmax + 1e-300):
                 break
         most = max(most, passes)
+        for i in range(nt):
+            lam[i, nr] -= s * N[j, i]
+            lam[i, tr] += F[j, i]
         # the slider's derivative at the period's start: from its last release, if any
         for c in range(2 * nh):
             dz[c] = 0.0
@@ -201,33 +205,42 @@ class ContactHarmonics:
 
     lam: np.ndarray          # (samples, m) forces on the projected coordinates, N
     Lam: np.ndarray          # (nh, m) their harmonics
-    dLam_x: np.ndarray       # (nh*nx, nh*nx) d(Wx^T Lam)/dX
+    dLam_x: np.ndarray | None   # (nh*nx, nh*nx) d(Wx^T Lam)/dX
     N: np.ndarray            # (k, samples) normal force per element
     F: np.ndarray            # (k, samples) friction per element
     state: np.ndarray        # (k, samples) 0 separate, 1 stick, 2 slip
     passes: int              # periods the sliders were marched
 
 
-def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fourier) -> ContactHarmonics:
-    """AFT of ``law`` at the coefficients X (nh, nx) of the unknown coordinates, y = Wx x."""
+def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fourier,
+                      jacobian: bool = True) -> ContactHarmonics:
+    """AFT of ``law`` at the coefficients X (nh, nx) of the unknown coordinates, y = Wx x.
+
+    The Jacobian is projected on x element by element, over the elements
+    that touch at some instant (the others contribute nothing); ``jacobian=False``
+    skips it (dLam_x is then None).
+    """
     nh, nt, k, m = basis.nh, basis.samples, law.count, law.m
     Yc = np.ascontiguousarray(X @ Wx.T)
     N, F = np.zeros((k, nt)), np.zeros((k, nt))
     state = np.zeros((k, nt), np.int64)
     Bn, Bt = np.zeros((k, nh, nh)), np.zeros((k, nh, 2 * nh))
-    passes = _aft_kernel(Yc, basis.E, basis.A, law.rows, law.props, MAX_PASSES, N, F, state, Bn, Bt) if k else 0
-    s = law.props[:, SIGN]
     lam = np.zeros((nt, m))
-    np.add.at(lam.T, law.rows[:, 0], -s[:, None] * N)
-    np.add.at(lam.T, law.rows[:, 1], F)
+    passes = _aft_kernel(Yc, basis.E, basis.A, law.rows, law.props, MAX_PASSES, N, F, state, Bn, Bt,
+                         lam) if k else 0
+    s = law.props[:, SIGN]
     Lam = basis.A @ lam
     nx = Wx.shape[1]
+    if not jacobian:
+        return ContactHarmonics(lam=lam, Lam=Lam, dLam_x=None, N=N, F=F, state=state, passes=int(passes))
     dLam = np.zeros((nh, nx, nh, nx))
-    if k:
-        Bn = -s[:, None, None] * Bn                       # the normal force acts as -s N
-        Wn, Wt = Wx[law.rows[:, 0]], Wx[law.rows[:, 1]]   # (k, nx)
+    act = np.flatnonzero(N.any(axis=1))
+    if act.size:
+        Bn = -s[act, None, None] * Bn[act]                # the normal force acts as -s N
+        Bt = Bt[act]
+        Wn, Wt = Wx[law.rows[act, 0]], Wx[law.rows[act, 1]]   # (touching elements, nx)
         for B, Wa, Wb in ((Bn, Wn, Wn), (Bt[:, :, :nh], Wt, Wn), (Bt[:, :, nh:], Wt, Wt)):
-            outer = (Wa[:, :, None] * Wb[:, None, :]).reshape(k, nx * nx)
+            outer = (Wa[:, :, None] * Wb[:, None, :]).reshape(act.size, nx * nx)
             dLam += np.tensordot(B, outer, axes=(0, 0)).reshape(nh, nh, nx, nx).transpose(0, 2, 1, 3)
     return ContactHarmonics(lam=lam, Lam=Lam, dLam_x=dLam.reshape(nh * nx, nh * nx), N=N, F=F,
                             state=state, passes=int(passes))
@@ -361,20 +374,20 @@ class Balance:
     """Residual of the harmonic balance at one speed and its pieces."""
 
     R: np.ndarray                # (nh nx,) N
-    J: np.ndarray                # (nh nx, nh nx) dR/dX
+    J: np.ndarray | None         # (nh nx, nh nx) dR/dX
     contact: ContactHarmonics
 
 
 def balance(X: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier,
-            L: np.ndarray | None = None, Fr: np.ndarray | None = None) -> Balance:
-    """R(X) = L X - F - Wx^T Lam(Wx X) and its analytic Jacobian (X flat, harmonic-major)."""
+            L: np.ndarray | None = None, Fr: np.ndarray | None = None, jacobian: bool = True) -> Balance:
+    """R(X) = L X - F - Wx^T Lam(Wx X) and its analytic Jacobian (X flat, harmonic-major; None if not asked)."""
     nh, nx = basis.nh, lin.nx
     L = lin.matrix() if L is None else L
     Fr = lin.load() if Fr is None else Fr
     Xm = X.reshape(nh, nx)
-    ch = contact_harmonics(Xm, lin.Wx, law, basis)
+    ch = contact_harmonics(Xm, lin.Wx, law, basis, jacobian)
     R = L @ X - Fr.ravel() - (ch.Lam @ lin.Wx).ravel()
-    return Balance(R=R, J=L - ch.dLam_x, contact=ch)
+    return Balance(R=R, J=L - ch.dLam_x if jacobian else None, contact=ch)
 
 
 def linear_solution(lin: LinearHarmonics) -> np.ndarray:
@@ -412,12 +425,13 @@ def newton(X0: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier
         t = 1.0
         while True:
             Xt = X + t * dX
-            bt = balance(Xt, lin, law, basis, L, Fr)
+            bt = balance(Xt, lin, law, basis, L, Fr, jacobian=False)
             rt = np.linalg.norm(bt.R)
             if rt < r or t < 1e-3:
                 break
             t *= 0.5
-        X, b, r = Xt, bt, rt
+        X, r = Xt, rt
+        b = balance(X, lin, law, basis, L, Fr)
         if r <= tol * scale or np.linalg.norm(t * dX) <= 1e-12 * (np.linalg.norm(X) + 1e-300):
             return X, b, it, r <= 1e-6 * scale
     return X, b, max_iterations, False
