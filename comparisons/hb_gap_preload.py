@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from comparisons._hb import landed_on, on_stable
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
@@ -48,37 +49,6 @@ def cases(params, opts) -> list[tuple[str, str, float, object]]:
     return out
 
 
-def crossings(branch, rpm: float, stable: bool) -> list[float]:
-    """Amplitudes (m) where stretches of ``branch`` with the given stability cross ``rpm`` (interpolated)."""
-    out = []
-    for i in range(len(branch.rpm) - 1):
-        r0, r1 = branch.rpm[i], branch.rpm[i + 1]
-        if (r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1) and branch.stable[i] == stable
-                and branch.stable[i + 1] == stable):
-            t = (rpm - r0) / (r1 - r0)
-            out.append(float((1 - t) * branch.amplitude_v_L[i] + t * branch.amplitude_v_L[i + 1]))
-    return sorted(out)
-
-
-def landed_on(branch, rpm: float, amplitude: float, period, match: float) -> str:
-    """Name of the branch a time-domain point landed on."""
-    if not np.isfinite(amplitude):
-        return "diverged"
-    stable = crossings(branch, rpm, True)
-    names = (["lower stable", "upper stable"] if len(stable) == 2 else
-             [f"stable {i + 1} of {len(stable)}" for i in range(len(stable))] if len(stable) > 2 else
-             ["stable"])
-    if stable:
-        i = int(np.argmin([abs(a / amplitude - 1) for a in stable]))
-        if abs(stable[i] / amplitude - 1) <= match:
-            return names[i]
-    if period not in (None, 1):
-        return f"P{period} (no P1 branch holds it)"
-    if crossings(branch, rpm, False) and not stable:
-        return "beside an unstable P1 branch (quasi-periodic or drifting)"
-    return "off the P1 branches"
-
-
 def run(scene, out: Path) -> dict:
     opts, params = scene.options, scene.params
     cs = cases(params, opts)
@@ -94,7 +64,7 @@ def run(scene, out: Path) -> dict:
         br.plot(ax, label=label, colour=colour)
         ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, ".", color=colour, ms=4)
         names = [landed_on(br, r, a, per, opts["match"]) for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
-        on = sum(n.endswith("stable") or n.startswith("stable") for n in names)
+        on = sum(on_stable(n) for n in names)
         for r, a, per, n in zip(sw.rpm, sw.amplitude_v_L, sw.period, names):
             points.append({"case": label, "rpm": float(r), "amplitude_m": float(a), "period": per, "branch": n})
         rows.append({"case": label, "kind": kind, "value": value,
@@ -119,7 +89,7 @@ def run(scene, out: Path) -> dict:
         w.writeheader()
         w.writerows(points)
     hb_total, td_total = sum(r["hb_s"] for r in rows), sum(r["td_cpu_s"] for r in rows)
-    off = [p for p in points if not (p["branch"].endswith("stable") or p["branch"].startswith("stable"))]
+    off = [p for p in points if not on_stable(p["branch"])]
     lines = [f"# {scene.title}\n",
              f"Model {opts['model']}; harmonic balance H = {opts['harmonics']}, {opts['samples']} samples per "
              f"period, continuation from {opts['rpm_from']:g} to {opts['rpm_to']:g} r/min with the Floquet "

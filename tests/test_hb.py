@@ -9,6 +9,7 @@ import pytest
 import scipy.optimize
 
 import reduced_model  # noqa: F401  (registers the beam models)
+from comparisons._hb import crossings
 from shroud.analysis.hb import run_hb, solve_at
 from shroud.analysis.transient import contact_law_for
 from shroud.analysis.api import build_system
@@ -186,7 +187,7 @@ def test_every_p1_time_domain_point_lies_on_a_stable_hb_branch(model):
         if detect_period(tr.tip[:, 0], spp) != 1:
             continue
         a = amplitude(tr.tip[:, 0], spp)
-        near = _crossings(branch, rpm, stable=True)
+        near = crossings(branch, rpm, stable=True)
         assert near and min(abs(x / a - 1) for x in near) < 0.01, (rpm, a, near)
         checked += 1
     assert checked >= 3
@@ -198,8 +199,8 @@ def test_a_time_run_leaves_an_unstable_hb_state_and_stays_on_a_stable_one():
     p = Parameters().updated({"contact.gap": 1e-4})
     branch = run_hb(p, "reduced", 9000.0, 16000.0, harmonics=12, samples=512)
     rpm = 12500.0
-    stable_amplitudes = _crossings(branch, rpm, stable=True)
-    assert len(stable_amplitudes) == 2 and len(_crossings(branch, rpm, stable=False)) == 1
+    stable_amplitudes = crossings(branch, rpm, stable=True)
+    assert len(stable_amplitudes) == 2 and len(crossings(branch, rpm, stable=False)) == 1
     for stable_wanted in (True, False):
         sol, info = _hb_state_at(p, rpm, branch, stable_wanted)
         assert info["stable"] == stable_wanted
@@ -212,18 +213,6 @@ def test_a_time_run_leaves_an_unstable_hb_state_and_stays_on_a_stable_one():
         else:
             assert abs(a_end / sol.amplitude_v_L - 1) > 0.02
             assert min(abs(a_end / a - 1) for a in stable_amplitudes) < 0.01
-
-
-def _crossings(branch, rpm, stable):
-    """Amplitudes where stretches of the branch with the given stability cross ``rpm`` (interpolated)."""
-    out = []
-    for i in range(len(branch.rpm) - 1):
-        r0, r1 = branch.rpm[i], branch.rpm[i + 1]
-        if (min(r0, r1) <= rpm <= max(r0, r1) and r0 != r1 and branch.stable[i] == stable
-                and branch.stable[i + 1] == stable):
-            t = (rpm - r0) / (r1 - r0)
-            out.append((1 - t) * branch.amplitude_v_L[i] + t * branch.amplitude_v_L[i + 1])
-    return out
 
 
 def _hb_state_at(p, rpm, branch, stable):
