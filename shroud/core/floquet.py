@@ -37,7 +37,7 @@ from numba import njit
 from shroud.core.contact import KN, KT, MU, SEPARATE, SIGN, SLIP, STICK, ContactLaw
 
 UNIT_CIRCLE_TOL = 1e-6
-SMALL = 24        # state dimension up to which the compiled loops beat LAPACK/BLAS calls (and their threads)
+SMALL = 128       # state dimension up to which the compiled loops beat LAPACK/BLAS calls (and their threads)
 
 
 @njit(cache=True)
