@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._hb import landed_on, on_stable
+from comparisons._hb import landed_on, on_stable, states_at
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
@@ -44,14 +44,15 @@ def run(scene, out: Path) -> dict:
     sweeps = {m: run_sweeps([p for _, p in cases], m, rpms) for m in MODELS}
     fig, axes = figure(2, 3, width=10.0, height=6.4)
     rows, out_json, points = [], {}, []
-    for i, (label, _) in enumerate(cases):
+    for i, (label, p) in enumerate(cases):
         ax = axes[i // 3][i % 3]
         row = {"case": label}
         for m in MODELS:
             br, sw = branches[m][i], sweeps[m][i]
             br.plot(ax, label=f"{m} ({br.dofs} DOF)", colour=MODEL_COLOURS[m])
             ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, "." if m == "reduced" else "x", color=MODEL_COLOURS[m], ms=4)
-            names = [landed_on(br, r, a, per, opts["match"]) for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
+            names = [landed_on(states_at(br, p, m, r), a, per, opts["match"])
+                     for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
             points += [{"case": label, "model": m, "rpm": float(r), "amplitude_m": float(a), "period": per,
                         "branch": n} for r, a, per, n in zip(sw.rpm, sw.amplitude_v_L, sw.period, names)]
             row[m] = {"resonance": br.resonance, "folds_rpm": _fold_speeds(br), "hb_points": len(br.rpm),

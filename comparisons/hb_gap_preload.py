@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._hb import landed_on, on_stable
+from comparisons._hb import landed_on, on_stable, states_at
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
@@ -58,12 +58,13 @@ def run(scene, out: Path) -> dict:
     sweeps = run_sweeps([p for _, _, _, p in cs], opts["model"], rpms)
     fig, axes = figure(1, 2, width=10.0, height=4.2)
     rows, points, curves = [], [], {}
-    for i, ((label, kind, value, _), br, sw) in enumerate(zip(cs, branches, sweeps)):
+    for i, ((label, kind, value, p), br, sw) in enumerate(zip(cs, branches, sweeps)):
         ax = axes[0][0 if kind == "gap" else 1]
         colour = f"C{i % 10}"
         br.plot(ax, label=label, colour=colour)
         ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, ".", color=colour, ms=4)
-        names = [landed_on(br, r, a, per, opts["match"]) for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
+        names = [landed_on(states_at(br, p, opts["model"], r), a, per, opts["match"])
+                 for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
         on = sum(on_stable(n) for n in names)
         for r, a, per, n in zip(sw.rpm, sw.amplitude_v_L, sw.period, names):
             points.append({"case": label, "rpm": float(r), "amplitude_m": float(a), "period": per, "branch": n})
@@ -82,7 +83,8 @@ def run(scene, out: Path) -> dict:
         ax.set_title(f"{title}: HB stable -, unstable --; time domain .")
         ax.legend(ncol=2)
     save(fig, out / "hb_fig11.png")
-    pre = [r for r in rows if r["kind"] == "preload" and r["value"] >= 0]
+    pre = [r for r in rows if r["kind"] == "preload" and r["value"] >= 0
+           and opts["rpm_from"] < r["hb_resonance_rpm"] < opts["rpm_to"]]      # peaks inside the range only
     best = min(pre, key=lambda r: r["hb_resonance_amplitude_m"]) if pre else None
     with open(out / "td_points_by_branch.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(points[0]))
@@ -107,7 +109,9 @@ def run(scene, out: Path) -> dict:
              "",
              (f"Optimal preload over {opts['rpm_from']:g}-{opts['rpm_to']:g} r/min (smallest resonant amplitude on "
               f"the branches): N0 = {best['value']:g} N, {best['hb_resonance_amplitude_m'] * 1e3:.4f} mm at "
-              f"{best['hb_resonance_rpm']:.0f} r/min." if best else ""),
+              f"{best['hb_resonance_rpm']:.0f} r/min." if best else
+              f"No preload has its resonance inside {opts['rpm_from']:g}-{opts['rpm_to']:g} r/min (every peak is at "
+              "the range's end): no optimal preload can be read off here (see the hb_optimal_preload study)."),
              "",
              f"Time-domain points not on a stable P1 branch within {100 * opts['match']:g} %: {len(off)} of "
              f"{len(points)}" + (":\n" if off else "."),
