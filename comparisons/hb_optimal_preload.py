@@ -65,6 +65,10 @@ def run(scene, out: Path) -> dict:
              (f"Optimal preload (smallest resonant amplitude among the peaks inside the range): N0 = "
               f"{best['N0']:g} N, {best['resonance_amplitude_m'] * 1e3:.4f} mm at {best['resonance_rpm']:.0f} r/min."
               if best else "Every preload's peak lies at the end of the range: no optimum inside it."),
+             *([f"Preloads N0 >= {min(r['N0'] for r in rows if r['at_range_end']):g} N have their largest amplitude "
+                f"at the range's end ({opts['rpm_to']:g} r/min): their resonance lies beyond it, so they are compared "
+                "only by the amplitude they reach there, and the optimum above is among the peaks the range holds."]
+               if any(r["at_range_end"] for r in rows) else []),
              "",
              markdown_table(["N0 (N)", "resonance (r/min)", "amplitude (mm)", "stable at the peak",
                              "peak at the range's end", "branch", "cost"],
