@@ -28,7 +28,7 @@ from shroud.core.results import HBResult
 from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
 
-DEFAULT_HARMONICS = 15
+DEFAULT_HARMONICS = 10
 MIN_POINTS = 30            # at least this many points on a branch (bounds the speed step)
 
 

@@ -59,9 +59,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", default="time",
                    help="time: run from rest at each speed (default); hb: harmonic balance with continuation")
     p.add_argument("--harmonics", type=int, default=None,
-                   help="harmonics kept by --method hb (default 15)")
+                   help="harmonics kept by --method hb (default 10)")
     p.add_argument("--samples", type=int, default=None,
-                   help="time samples per period of --method hb's contact evaluation (default 8 H, >= 64)")
+                   help="time samples per period of --method hb's contact evaluation (default 8 H as a power of 2, >= 512)")
 
     p = sub.add_parser("run", help="run a whole scene (a study), or a campaign of scenes, into a folder")
     p.add_argument("scene", help="scene file, or campaign file (it has campaign = [...])")
