@@ -67,3 +67,15 @@ def test_a_branch_that_stops_converging_is_kept_and_marked_incomplete():
     assert not part.complete and "did not converge beyond p =" in part.stopped
     assert 1 < len(part.rpm) < len(full.rpm)
     assert part.to_json()["complete"] is False and part.to_json()["stopped"] == part.stopped
+
+
+def test_harmonics_chosen_to_a_tail_of_the_contact_forces():
+    """H doubles until the contact forces' spectrum above H is within the tolerance; the peak amplitude then
+    agrees with a branch of twice the harmonics to 0.5 %."""
+    from shroud.analysis.hb import run_hb_to_tail
+    p = Parameters().updated({"contact.gap": 1e-4})
+    r = run_hb_to_tail(p, "reduced", 9000.0, 16000.0, tail=0.1)
+    tails = [t["spectral_tail"] for t in r.harmonics_tried]
+    assert tails[-1] <= 0.1 < min(tails[:-1]) and r.harmonics == r.harmonics_tried[-1]["harmonics"]
+    finer = run_hb(p, "reduced", 9000.0, 16000.0, harmonics=2 * r.harmonics)
+    assert r.resonance["amplitude"] == pytest.approx(finer.resonance["amplitude"], rel=5e-3)

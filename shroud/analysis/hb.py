@@ -14,6 +14,7 @@ derivative of the linear part is a central difference in the speed.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from typing import Callable
 
@@ -131,6 +132,24 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
                                 iterations=branch.iterations, complete=branch.complete,
                                 stopped=branch.stopped, dofs=system.dofs, condensed=lin.condensed,
                                 elapsed_s=time.perf_counter() - t0, X=branch.x)
+
+
+def run_hb_to_tail(params: Parameters, model: str, rpm_from: float, rpm_to: float, tail: float,
+                   first: int = 5, most: int = 40, min_points: int | None = None) -> HBResult:
+    """The branch with H chosen so that the contact forces' spectral tail above H is at most ``tail``.
+
+    H = first, 2 first, ... up to ``most``: the first branch whose tail (at its largest contact forces)
+    is within ``tail`` is returned, with every H tried and its tail recorded; if none is, the last.
+    """
+    if not 0 < tail < 1:
+        raise InputError("--tail", f"{tail!r} is out of range; allowed: a share in (0, 1)")
+    tried, H = [], first
+    while True:
+        result = run_hb(params, model, rpm_from, rpm_to, harmonics=H, min_points=min_points)
+        tried.append({"harmonics": H, "spectral_tail": result.spectral_tail})
+        if result.spectral_tail <= tail or 2 * H > most:
+            return dataclasses.replace(result, harmonics_tried=tuple(tried))
+        H *= 2
 
 
 def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,

@@ -60,6 +60,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="time: run from rest at each speed (default); hb: harmonic balance with continuation")
     p.add_argument("--harmonics", type=int, default=None,
                    help="harmonics kept by --method hb (default 10)")
+    p.add_argument("--tail", type=float, default=None,
+                   help="--method hb without --harmonics: choose H (5, 10, 20, 40) until the contact forces' "
+                        "spectral tail above H is at most this share")
     p.add_argument("--samples", type=int, default=None,
                    help="time samples per period of --method hb's contact evaluation (default 8 H as a power of 2, >= 512)")
 
@@ -136,7 +139,11 @@ def cmd_sweep(args) -> None:
 
 
 def _sweep_hb(args) -> None:
-    from shroud.analysis.hb import DEFAULT_HARMONICS, check_inputs, run_hb
+    from shroud.analysis.hb import DEFAULT_HARMONICS, check_inputs, run_hb, run_hb_to_tail
+    if args.tail is not None and args.harmonics is not None:
+        raise InputError("--tail", "give --harmonics or --tail, not both")
+    if args.tail is not None and args.samples is not None:
+        raise InputError("--tail", "--samples is chosen with H when --tail chooses H; give one of them")
     H = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
     check_inputs(H, args.samples, args.rpm_from, args.rpm_to)
     if args.rpm_count is not None and args.rpm_count < 2:
@@ -146,8 +153,12 @@ def _sweep_hb(args) -> None:
     if params.speed.rpm_per_s != 0:
         raise InputError("speed.rpm_per_s", "harmonic balance seeks periodic states at constant speed; "
                                             "allowed: 0 with --method hb")
-    result = run_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
-                    min_points=args.rpm_count)
+    if args.tail is not None:
+        result = run_hb_to_tail(params, args.model, args.rpm_from, args.rpm_to, args.tail,
+                                min_points=args.rpm_count)
+    else:
+        result = run_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
+                        min_points=args.rpm_count)
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
     if not result.complete:

@@ -71,6 +71,7 @@ class HBResult:
     condensed: bool
     elapsed_s: float
     X: np.ndarray | None = None        # (points, nh nx) harmonic coefficients of the unknowns, per point
+    harmonics_tried: tuple[dict, ...] = ()   # {"harmonics", "spectral_tail"} when H was chosen to a tail
 
     @classmethod
     def from_points(cls, model, harmonics, samples, rpm, details, iterations, complete, stopped, dofs,
@@ -107,7 +108,8 @@ class HBResult:
                 "stable": [bool(s) for s in self.stable],
                 "max_multiplier": [float(m) for m in self.max_multiplier],
                 "bifurcations": list(self.bifurcations), "resonance": self.resonance,
-                "spectral_tail": self.spectral_tail, "complete": self.complete, "stopped": self.stopped,
+                "spectral_tail": self.spectral_tail, "harmonics_tried": list(self.harmonics_tried),
+                "complete": self.complete, "stopped": self.stopped,
                 "dofs": self.dofs, "condensed": self.condensed, "newton_iterations": self.iterations,
                 "elapsed_s": round(self.elapsed_s, 6)}
 
