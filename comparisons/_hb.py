@@ -17,12 +17,14 @@ def crossings(branch, rpm: float, stable: bool) -> list[float]:
     return sorted(out)
 
 
-def states_at(branch, params, model: str, rpm: float) -> list[tuple[float, bool]]:
+def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) -> list[tuple[float, bool]]:
     """Every P1 state of ``branch`` at ``rpm``: (amplitude m, stable), solved there by harmonic balance.
 
     Each crossing of the branch with the speed is interpolated and then
     converged at exactly that speed (Newton from the interpolated
     coefficients), so a sparse stretch of the branch reads as exactly as a dense one.
+    ``multipliers=False`` takes the stability of the two branch points around
+    the crossing instead of computing the state's own (large models).
     """
     from shroud.analysis.hb import solve_at
     out = []
@@ -31,9 +33,10 @@ def states_at(branch, params, model: str, rpm: float) -> list[tuple[float, bool]
         if r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1):
             t = (rpm - r0) / (r1 - r0)
             sol, info = solve_at(params, model, rpm, harmonics=branch.harmonics, samples=branch.samples,
-                                 X0=(1 - t) * branch.X[i] + t * branch.X[i + 1])
+                                 X0=(1 - t) * branch.X[i] + t * branch.X[i + 1], multipliers=multipliers)
             if sol.converged:
-                out.append((sol.amplitude_v_L, info["stable"]))
+                out.append((sol.amplitude_v_L, info["stable"] if multipliers else
+                            bool(branch.stable[i] and branch.stable[i + 1])))
     return out
 
 

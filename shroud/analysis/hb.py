@@ -153,14 +153,16 @@ def run_hb_to_tail(params: Parameters, model: str, rpm_from: float, rpm_to: floa
 
 
 def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-             samples: int | None = None, X0: np.ndarray | None = None) -> tuple[hb.HarmonicSolution, dict]:
+             samples: int | None = None, X0: np.ndarray | None = None,
+             multipliers: bool = True) -> tuple[hb.HarmonicSolution, dict]:
     """One speed: the harmonic-balance solution reached from ``X0`` (default: the linear one, then a load
-    homotopy if Newton fails from it) and its details (amplitudes, multipliers, stability)."""
+    homotopy if Newton fails from it) and its details (amplitudes, multipliers, stability; with
+    ``multipliers=False`` no stability, an empty dict)."""
     n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm)
     law = contact_law_for(system, params.contact)
     sol = hb.solve(system, law, harmonics, n, X0=X0, condense=lin.condensed)
-    return sol, point_details(speeds, law, basis, sol.X, rpm)
+    return sol, point_details(speeds, law, basis, sol.X, rpm) if multipliers else {}
 

@@ -121,21 +121,24 @@ class HBResult:
                    header=f"model {self.model}, harmonic balance H = {self.harmonics}\n"
                           "rpm,amplitude_v_L_m,amplitude_w_L_m,stable,max_multiplier")
 
-    def plot(self, ax=None, label: str | None = None, colour=None, scale: float = 1e3):
-        """v_L amplitude (mm) over speed: stable stretches solid, unstable dashed; bifurcations marked."""
+    def plot(self, ax=None, label: str | None = None, colour=None, scale: float = 1e3, **line):
+        """v_L amplitude (mm) over speed: stable stretches solid, unstable dashed; bifurcations marked.
+
+        ``line``: further matplotlib line properties (e.g. linewidth).
+        """
         if ax is None:
             from shroud.core.plotting import figure
             _, axes = figure(1, 1)
             ax = axes[0][0]
-        line = None
+        drawn = None
         start = 0
         for i in range(1, len(self.rpm) + 1):
             if i == len(self.rpm) or self.stable[i] != self.stable[start]:
                 sl = slice(start, min(i + 1, len(self.rpm)))
-                line, = ax.plot(self.rpm[sl], self.amplitude_v_L[sl] * scale,
+                drawn, = ax.plot(self.rpm[sl], self.amplitude_v_L[sl] * scale,
                                 "-" if self.stable[start] else "--",
-                                color=colour if colour is not None else (line.get_color() if line else None),
-                                label=label if start == 0 else None)
+                                color=colour if colour is not None else (drawn.get_color() if drawn else None),
+                                label=label if start == 0 else None, **line)
                 start = i
         marks = {"fold": "o", "period-doubling": "s", "Neimark-Sacker": "^"}
         for b in self.bifurcations:
