@@ -69,7 +69,7 @@ def run(scene, out: Path) -> dict:
                      "complete": line.complete and solid.complete})
         curves[c.label] = {LINE: line.to_json(), POINTS: solid.to_json()}
     for ax, title in zip(axes[0], ("(a) initial gaps", "(b) small gap and initial preloads")):
-        ax.set_title(f"{title}: beam thick, solid thin, solid time domain o")
+        ax.set_title(f"{title} (beam thick, solid thin, o solid TD)")
         ax.legend(fontsize=6, ncol=2)
     save(fig, out / "hb_fig7.png")
     with open(out / "td_points_by_branch.csv", "w", newline="") as fh:
