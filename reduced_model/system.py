@@ -102,11 +102,20 @@ def output_rows(params: Parameters, beam: BeamMatrices) -> np.ndarray:
 
 def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
     """The beam at ``params.speed.rpm``: full (5N or 6N DOF) or reduced to ``params.reduced.nr`` modes."""
-    t0 = time.perf_counter()
-    beam = for_parameters(params)
-    omega = params.speed.omega
     omega_dot = 2.0 * math.pi * params.speed.rpm_per_s / 60.0
+    return _system(params, for_parameters(params), params.speed.omega, omega_dot, reduced)
 
+
+def at_speed(params: Parameters, reduced: bool):
+    """rpm -> the beam's system at that constant speed (what build_system makes there, without
+    revalidating the parameters: continuation in speed asks for many speeds)."""
+    beam = for_parameters(params)
+    return lambda rpm: _system(params, beam, 2.0 * math.pi * rpm / 60.0, 0.0, reduced)
+
+
+def _system(params: Parameters, beam: BeamMatrices, omega: float, omega_dot: float,
+            reduced: bool) -> StructuralSystem:
+    t0 = time.perf_counter()
     K = beam.stiffness(omega)
     modes = undamped_modes(beam.M, K)
     alpha, beta = rayleigh(modes.f_hz[0], modes.f_hz[1], params.damping.xi1, params.damping.xi2)

@@ -4,7 +4,8 @@ Importing the package registers its models with the core without loading
 DOLFINx (that happens when one is built):
 
 * ``fe``: the full solid, quadratic cells, one contact element per face node;
-* ``fe-reduced``: its free-interface component-mode-synthesis reduction.
+* ``fe-reduced``: its free-interface component-mode-synthesis reduction, which
+  also offers one basis for a speed range (``at_speed``, reference_fe.frequency).
 """
 
 from shroud.core.registry import ModelEntry, lazy, register
@@ -13,4 +14,5 @@ register(ModelEntry("fe", build_system=lazy("reference_fe.system", "build_system
                     modal=lazy("reference_fe.modal", "modal_analysis"), sweepable=False,
                     description="full solid, quadratic cells"))
 register(ModelEntry("fe-reduced", build_system=lazy("reference_fe.system", "build_system", reduced=True),
+                    at_speed=lazy("reference_fe.frequency", "at_speed"),
                     description="solid reduced by free-interface CMS"))

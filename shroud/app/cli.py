@@ -57,7 +57,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--model", choices=registry.names("sweep"), default="reduced")
     p.add_argument("--rpm-from", type=float, required=True)
     p.add_argument("--rpm-to", type=float, required=True)
-    p.add_argument("--rpm-count", type=int, required=True)
+    p.add_argument("--rpm-count", type=int,
+                   help="speeds of the time-domain sweep (required there); with --method hb the least "
+                        "number of points on the branch")
+    p.add_argument("--method", default="time",
+                   help="time: run from rest at each speed (default); hb: harmonic balance with continuation")
+    p.add_argument("--harmonics", type=int, default=None,
+                   help="harmonics kept by --method hb (default 10)")
+    p.add_argument("--tail", type=float, default=None,
+                   help="--method hb without --harmonics: choose H (5, 10, 20, 40) until the contact forces' "
+                        "spectral tail above H is at most this share")
+    p.add_argument("--samples", type=int, default=None,
+                   help="time samples per period of --method hb's contact evaluation (default 8 H as a power of 2, >= 512)")
 
     p = sub.add_parser("run", help="run a whole scene (a study), or a campaign of scenes, into a folder")
     p.add_argument("scene", help="scene file, or campaign file (it has campaign = [...])")
@@ -126,7 +137,14 @@ def cmd_transient(args) -> None:
 
 
 def cmd_sweep(args) -> None:
+    if args.method not in ("time", "hb"):
+        raise InputError("--method", f"{args.method!r} is unknown; allowed: time, hb")
+    if args.method == "hb":
+        return _sweep_hb(args)
     from shroud.analysis.api import sweep
+    if args.rpm_count is None:
+        raise InputError("command line", "the following arguments are required: --rpm-count "
+                                         "(with --method time)")
     params = _params(args)
     if args.rpm_count < 1:
         raise InputError("--rpm-count", f"{args.rpm_count} is out of range; allowed: an integer >= 1")
@@ -135,6 +153,34 @@ def cmd_sweep(args) -> None:
     result = sweep(params, args.model, np.linspace(args.rpm_from, args.rpm_to, args.rpm_count))
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
+
+
+def _sweep_hb(args) -> None:
+    from shroud.analysis.hb import DEFAULT_HARMONICS, check_inputs, run_hb, run_hb_to_tail
+    if args.tail is not None and args.harmonics is not None:
+        raise InputError("--tail", "give --harmonics or --tail, not both")
+    if args.tail is not None and args.samples is not None:
+        raise InputError("--tail", "--samples is chosen with H when --tail chooses H; give one of them")
+    H = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
+    check_inputs(H, args.samples, args.rpm_from, args.rpm_to)
+    if args.rpm_count is not None and args.rpm_count < 2:
+        raise InputError("--rpm-count", f"{args.rpm_count} is out of range; allowed: an integer >= 2 "
+                                        "(the least number of points on the branch)")
+    params = _params(args)
+    if params.speed.rpm_per_s != 0:
+        raise InputError("speed.rpm_per_s", "harmonic balance seeks periodic states at constant speed; "
+                                            "allowed: 0 with --method hb")
+    if args.tail is not None:
+        result = run_hb_to_tail(params, args.model, args.rpm_from, args.rpm_to, args.tail,
+                                min_points=args.rpm_count)
+    else:
+        result = run_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
+                        min_points=args.rpm_count)
+    payload = result.to_json()
+    _emit(args, payload, json.dumps(payload, indent=1))
+    if not result.complete:
+        from shroud.base.log import warn
+        warn(f"the branch is incomplete: {result.stopped}")
 
 
 def cmd_run(args) -> int:

@@ -31,6 +31,10 @@ class ModelEntry:
     modal: Callable[..., Any] | None = None           # (params, rpm, n_modes, coriolis) -> ModalResult
     sweepable: bool = True                            # cheap enough to rebuild at every speed of a sweep
     description: str = ""
+    # params -> (rpm -> StructuralSystem): the system at any speed without a
+    # rebuild per speed (e.g. operators as polynomials in Omega on one basis),
+    # for continuation in speed; None: build_system at each speed.
+    at_speed: Callable[[Any], Callable[[float], StructuralSystem]] | None = None
 
 
 _MODELS: dict[str, ModelEntry] = {}

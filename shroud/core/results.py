@@ -9,7 +9,9 @@ study is compute -> plot -> report.
   kinematics (flap, chord, torsion, axial);
 * :class:`TransientResult`: one Newmark run and its steady-state measures;
 * :class:`SweepResult`: steady-state tip amplitude over speed;
-* :class:`CampbellResult`: frequencies tracked over speed.
+* :class:`CampbellResult`: frequencies tracked over speed;
+* :class:`HBResult`: a steady-state branch over speed by harmonic balance,
+  with the stability of every point.
 
 Units: SI (m, N, s, Hz); speeds in r/min.
 """
@@ -306,4 +308,108 @@ class CampbellResult:
             ax.plot(self.rpm, k * self.rpm / 60.0, color="grey", lw=0.8, ls="--")
         ax.set_xlabel("speed (r/min)")
         ax.set_ylabel("frequency (Hz)")
+        return ax
+
+
+# ----------------------------------------------------------------------------- harmonic balance
+
+@dataclass(frozen=True)
+class HBResult:
+    """A steady-state branch over speed by harmonic balance, points in continuation order.
+
+    rpm may go back at a fold; ``stable`` from the Floquet multipliers;
+    amplitudes are (max - min)/2 over one period, m. ``bifurcations``: where
+    stability changes ({"rpm", "amplitude", "kind"}: fold, period-doubling,
+    Neimark-Sacker). ``spectral_tail``: the share (RMS) of the contact
+    forces' spectrum above H at the point of the largest contact forces
+    (grazing points, whose brief touches are all tail, would say nothing).
+    """
+
+    model: str
+    harmonics: int
+    samples: int
+    rpm: np.ndarray
+    amplitude_v_L: np.ndarray
+    amplitude_w_L: np.ndarray
+    stable: np.ndarray
+    max_multiplier: np.ndarray
+    bifurcations: tuple[dict, ...]
+    spectral_tail: float
+    iterations: int
+    complete: bool
+    stopped: str | None
+    dofs: int
+    condensed: bool
+    elapsed_s: float
+    X: np.ndarray | None = None        # (points, nh nx) harmonic coefficients of the unknowns, per point
+    harmonics_tried: tuple[dict, ...] = ()   # {"harmonics", "spectral_tail"} when H was chosen to a tail
+
+    @classmethod
+    def from_points(cls, model, harmonics, samples, rpm, details, iterations, complete, stopped, dofs,
+                    condensed, elapsed_s, X=None) -> "HBResult":
+        from shroud.core.floquet import bifurcation
+        amp = np.array([d["amplitude_v_L"] for d in details])
+        bif = []
+        for i in range(1, len(details)):
+            kind = bifurcation(details[i - 1]["multipliers"], details[i]["multipliers"])
+            if kind:
+                bif.append({"rpm": 0.5 * (rpm[i - 1] + rpm[i]), "amplitude": 0.5 * (amp[i - 1] + amp[i]),
+                            "kind": kind})
+        return cls(model=model, harmonics=harmonics, samples=samples, rpm=np.asarray(rpm, float),
+                   amplitude_v_L=amp, amplitude_w_L=np.array([d["amplitude_w_L"] for d in details]),
+                   stable=np.array([d["stable"] for d in details], bool),
+                   max_multiplier=np.array([float(np.abs(d["multipliers"]).max(initial=0.0)) for d in details]),
+                   bifurcations=tuple(bif),
+                   spectral_tail=max(details, key=lambda d: d["force_rms"])["tail"] if details else 0.0,
+                   iterations=int(sum(iterations)), complete=complete, stopped=stopped, dofs=dofs,
+                   condensed=condensed, elapsed_s=elapsed_s, X=None if X is None else np.array(X))
+
+    @property
+    def resonance(self) -> dict[str, float]:
+        """Speed and amplitude of the largest v_L amplitude on the branch."""
+        if self.amplitude_v_L.size == 0:
+            return {"rpm": float("nan"), "amplitude": float("nan")}
+        i = int(np.argmax(self.amplitude_v_L))
+        return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i])}
+
+    def to_json(self) -> dict[str, Any]:
+        return {"model": self.model, "method": "hb", "harmonics": self.harmonics, "samples": self.samples,
+                "rpm": [float(r) for r in self.rpm], "amplitude_v_L": [float(a) for a in self.amplitude_v_L],
+                "amplitude_w_L": [float(a) for a in self.amplitude_w_L],
+                "stable": [bool(s) for s in self.stable],
+                "max_multiplier": [float(m) for m in self.max_multiplier],
+                "bifurcations": list(self.bifurcations), "resonance": self.resonance,
+                "spectral_tail": self.spectral_tail, "harmonics_tried": list(self.harmonics_tried),
+                "complete": self.complete, "stopped": self.stopped,
+                "dofs": self.dofs, "condensed": self.condensed, "newton_iterations": self.iterations,
+                "elapsed_s": round(self.elapsed_s, 6)}
+
+    def to_csv(self, path: Path) -> Path:
+        """One row per branch point: rpm, amplitudes (m), stable (0/1), largest |multiplier|."""
+        rows = [(f"{r:.6f}", f"{a:.9e}", f"{b:.9e}", int(s), f"{m:.6f}") for r, a, b, s, m in
+                zip(self.rpm, self.amplitude_v_L, self.amplitude_w_L, self.stable, self.max_multiplier)]
+        return _write_rows(path, ["rpm", "amplitude_v_L_m", "amplitude_w_L_m", "stable", "max_multiplier"],
+                           rows, f"model {self.model}, harmonic balance H = {self.harmonics}")
+
+    def plot(self, ax=None, label: str | None = None, colour=None, scale: float = 1e3, **line):
+        """v_L amplitude (mm) over speed: stable stretches solid, unstable dashed; bifurcations marked.
+
+        ``line``: further matplotlib line properties (e.g. linewidth).
+        """
+        ax = _axes(ax)
+        drawn = None
+        start = 0
+        for i in range(1, len(self.rpm) + 1):
+            if i == len(self.rpm) or self.stable[i] != self.stable[start]:
+                sl = slice(start, min(i + 1, len(self.rpm)))
+                drawn, = ax.plot(self.rpm[sl], self.amplitude_v_L[sl] * scale,
+                                "-" if self.stable[start] else "--",
+                                color=colour if colour is not None else (drawn.get_color() if drawn else None),
+                                label=label if start == 0 else None, **line)
+                start = i
+        marks = {"fold": "o", "period-doubling": "s", "Neimark-Sacker": "^"}
+        for b in self.bifurcations:
+            ax.plot(b["rpm"], b["amplitude"] * scale, marks[b["kind"]], color="k", ms=4, mfc="none")
+        ax.set_xlabel("speed (r/min)")
+        ax.set_ylabel("amplitude of v_L (mm)")
         return ax

@@ -1,0 +1,66 @@
+"""Reading time-domain points against harmonic-balance branches (shared by the hb_* studies)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def crossings(branch, rpm: float, stable: bool) -> list[float]:
+    """Amplitudes (m) where stretches of ``branch`` with the given stability cross ``rpm`` (interpolated)."""
+    out = []
+    for i in range(len(branch.rpm) - 1):
+        r0, r1 = branch.rpm[i], branch.rpm[i + 1]
+        if (r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1) and branch.stable[i] == stable
+                and branch.stable[i + 1] == stable):
+            t = (rpm - r0) / (r1 - r0)
+            out.append(float((1 - t) * branch.amplitude_v_L[i] + t * branch.amplitude_v_L[i + 1]))
+    return sorted(out)
+
+
+def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) -> list[tuple[float, bool]]:
+    """Every P1 state of ``branch`` at ``rpm``: (amplitude m, stable), solved there by harmonic balance.
+
+    Each crossing of the branch with the speed is interpolated and then
+    converged at exactly that speed (Newton from the interpolated
+    coefficients), so a sparse stretch of the branch reads as exactly as a dense one.
+    ``multipliers=False`` takes the stability of the two branch points around
+    the crossing instead of computing the state's own (large models).
+    """
+    from shroud.analysis.hb import solve_at
+    out = []
+    for i in range(len(branch.rpm) - 1):
+        r0, r1 = branch.rpm[i], branch.rpm[i + 1]
+        if r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1):
+            t = (rpm - r0) / (r1 - r0)
+            sol, info = solve_at(params, model, rpm, harmonics=branch.harmonics, samples=branch.samples,
+                                 X0=(1 - t) * branch.X[i] + t * branch.X[i + 1], multipliers=multipliers)
+            if sol.converged:
+                out.append((sol.amplitude_v_L, info["stable"] if multipliers else
+                            bool(branch.stable[i] and branch.stable[i + 1])))
+    return out
+
+
+def landed_on(states: list[tuple[float, bool]], amplitude: float, period, match: float) -> str:
+    """Name of the P1 state (from :func:`states_at`) a time-domain point landed on."""
+    if not np.isfinite(amplitude):
+        return "diverged"
+    stable = sorted(a for a, s in states if s)
+    names = (["lower stable", "upper stable"] if len(stable) == 2 else
+             [f"stable {i + 1} of {len(stable)}" for i in range(len(stable))] if len(stable) > 2 else
+             ["stable"])
+    if stable:
+        i = int(np.argmin([abs(a / amplitude - 1) for a in stable]))
+        if abs(stable[i] / amplitude - 1) <= match:
+            return names[i]
+    if period is None:
+        return "no steady state within the run (no period detected: still drifting, or quasi-periodic)"
+    if period != 1:
+        return f"P{period} (no P1 branch holds it)"
+    if any(not s for _, s in states) and not stable:
+        return "beside an unstable P1 branch"
+    return "off the P1 branches"
+
+
+def on_stable(name: str) -> bool:
+    """Whether a name from :func:`landed_on` is a stable P1 branch."""
+    return name.endswith("stable") or name.startswith("stable")

@@ -1,0 +1,125 @@
+"""Fig. 11 by harmonic balance: every steady-state branch over speed, with its stability, for gaps and preloads.
+
+The paper's Fig. 11 (a: initial gaps, b: a 1 um gap and initial normal
+preloads) is a set of from-rest time-domain sweeps. Here each curve is a
+harmonic-balance branch followed by continuation (shroud.analysis.hb):
+stable stretches solid, unstable dashed, folds (o), period doublings (s)
+and Neimark-Sacker points (^) marked. The time-domain sweep of the same
+cases is overlaid as dots, and each of its points is named by the branch it
+landed on: a stable P1 branch (the lower or upper one where several
+coexist), or none (a run still drifting, or a P3/P5/... state the P1
+curves cannot hold; the Neimark-Sacker and period-doubling marks say
+where those begin). The resonance of each case (largest P1 amplitude on
+the branch, stable or not) and the optimal preload are read off the
+branches; both methods' costs are reported side by side.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from comparisons._hb import landed_on, on_stable, states_at
+from shroud.analysis.hb import run_hb
+from shroud.analysis.sweep import run_sweeps
+from shroud.base.markdown import markdown_table, seconds
+from shroud.core.plotting import figure, save
+
+OPTIONS = {
+    "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
+    "small_gap_um": 1.0,
+    "preloads_N": [10.0, 25.0, 50.0, 100.0, 200.0],
+    "rpm_from": 4000.0, "rpm_to": 30000.0,
+    "td_rpm_count": 53,            # speeds of the overlaid time-domain sweep
+    "harmonics": 10, "samples": 512,
+    "model": "reduced",
+    "match": 0.01,                 # a time-domain point is on a branch within this relative difference
+}
+
+
+def cases(params, opts) -> list[tuple[str, str, float, object]]:
+    """(label, kind, value, params): the gap panel, then the small gap and the preload panel."""
+    out = [(f"gap {g:g} um", "gap", g, params.updated({"contact.gap": g * 1e-6})) for g in opts["gaps_um"]]
+    g = opts["small_gap_um"]
+    out.append((f"gap {g:g} um", "preload", -params.contact.kn * g * 1e-6,
+                params.updated({"contact.gap": g * 1e-6})))
+    out += [(f"N0 {n:g} N", "preload", n, params.updated({"contact.N0": n})) for n in opts["preloads_N"]]
+    return out
+
+
+def run(scene, out: Path) -> dict:
+    opts, params = scene.options, scene.params
+    cs = cases(params, opts)
+    branches = [run_hb(p, opts["model"], opts["rpm_from"], opts["rpm_to"], harmonics=int(opts["harmonics"]),
+                       samples=int(opts["samples"])) for _, _, _, p in cs]
+    rpms = np.linspace(opts["rpm_from"], opts["rpm_to"], int(opts["td_rpm_count"]))
+    sweeps = run_sweeps([p for _, _, _, p in cs], opts["model"], rpms)
+    fig, axes = figure(1, 2, width=10.0, height=4.2)
+    rows, points, curves = [], [], {}
+    for i, ((label, kind, value, p), br, sw) in enumerate(zip(cs, branches, sweeps)):
+        ax = axes[0][0 if kind == "gap" else 1]
+        colour = f"C{i % 10}"
+        br.plot(ax, label=label, colour=colour)
+        ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, ".", color=colour, ms=4)
+        names = [landed_on(states_at(br, p, opts["model"], r), a, per, opts["match"])
+                 for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
+        on = sum(on_stable(n) for n in names)
+        for r, a, per, n in zip(sw.rpm, sw.amplitude_v_L, sw.period, names):
+            points.append({"case": label, "rpm": float(r), "amplitude_m": float(a), "period": per, "branch": n})
+        rows.append({"case": label, "kind": kind, "value": value,
+                     "hb_resonance_rpm": br.resonance["rpm"], "hb_resonance_amplitude_m": br.resonance["amplitude"],
+                     "td_resonance_rpm": sw.resonance["rpm"], "td_resonance_amplitude_m": sw.resonance["amplitude"],
+                     "td_points_on_a_stable_branch": on, "td_points": len(names),
+                     "stability_changes": [dict(b, rpm=float(b["rpm"]), amplitude=float(b["amplitude"]))
+                                           for b in br.bifurcations],
+                     "hb_points": len(br.rpm), "hb_complete": br.complete, "hb_stopped": br.stopped,
+                     "hb_s": br.elapsed_s, "td_cpu_s": sw.cpu_s, "td_wall_s": sw.elapsed_s,
+                     "spectral_tail": br.spectral_tail})
+        curves[label] = br.to_json()
+    for j, title in enumerate(("(a) initial gaps", "(b) 1 um gap and initial preloads")):
+        ax = axes[0][j]
+        ax.set_title(f"{title}: HB stable -, unstable --; time domain .")
+        ax.legend(ncol=2)
+    save(fig, out / "hb_fig11.png")
+    pre = [r for r in rows if r["kind"] == "preload" and r["value"] >= 0
+           and opts["rpm_from"] < r["hb_resonance_rpm"] < opts["rpm_to"]]      # peaks inside the range only
+    best = min(pre, key=lambda r: r["hb_resonance_amplitude_m"]) if pre else None
+    with open(out / "td_points_by_branch.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(points[0]))
+        w.writeheader()
+        w.writerows(points)
+    hb_total, td_total = sum(r["hb_s"] for r in rows), sum(r["td_cpu_s"] for r in rows)
+    off = [p for p in points if not on_stable(p["branch"])]
+    lines = [f"# {scene.title}\n",
+             f"Model {opts['model']}; harmonic balance H = {opts['harmonics']}, {opts['samples']} samples per "
+             f"period, continuation from {opts['rpm_from']:g} to {opts['rpm_to']:g} r/min with the Floquet "
+             f"multipliers of every point; time domain {len(rpms)} speeds x {params.time.periods} periods from rest.\n",
+             f"Cost: harmonic balance {seconds(hb_total)} wall for all branches (one process) against "
+             f"{seconds(td_total)} CPU for the time-domain sweeps.\n",
+             markdown_table(["case", "HB resonance (r/min)", "HB amplitude (mm)", "TD resonance (r/min)",
+                             "TD amplitude (mm)", "TD points on a stable HB branch", "stability changes",
+                             "HB cost", "TD cost (CPU)"],
+                            [(r["case"], f"{r['hb_resonance_rpm']:.0f}", r["hb_resonance_amplitude_m"] * 1e3,
+                              f"{r['td_resonance_rpm']:.0f}", r["td_resonance_amplitude_m"] * 1e3,
+                              f"{r['td_points_on_a_stable_branch']}/{r['td_points']}",
+                              ", ".join(f"{b['kind']} {b['rpm']:.0f}" for b in r["stability_changes"]) or "none",
+                              seconds(r["hb_s"]), seconds(r["td_cpu_s"])) for r in rows]),
+             "",
+             (f"Optimal preload over {opts['rpm_from']:g}-{opts['rpm_to']:g} r/min (smallest resonant amplitude on "
+              f"the branches): N0 = {best['value']:g} N, {best['hb_resonance_amplitude_m'] * 1e3:.4f} mm at "
+              f"{best['hb_resonance_rpm']:.0f} r/min." if best else
+              f"No preload has its resonance inside {opts['rpm_from']:g}-{opts['rpm_to']:g} r/min (every peak is at "
+              "the range's end): no optimal preload can be read off here (see the hb_optimal_preload study)."),
+             "",
+             f"Time-domain points not on a stable P1 branch within {100 * opts['match']:g} %: {len(off)} of "
+             f"{len(points)}" + (":\n" if off else "."),
+             *(markdown_table(["case", "rpm", "amplitude (mm)", "period", "landed on"],
+                              [(p["case"], f"{p['rpm']:.0f}", p["amplitude_m"] * 1e3, p["period"] or "-",
+                                p["branch"]) for p in off]).splitlines() if off else []),
+             "", "![hb_fig11.png](hb_fig11.png)"]
+    (out / "report.md").write_text("\n".join(lines) + "\n")
+    return {"cases": rows, "branches": curves, "time_domain_points": points,
+            "optimal_preload_N": best["value"] if best else None,
+            "cost_s": {"harmonic_balance_wall": hb_total, "time_domain_cpu": td_total}}

@@ -1,0 +1,168 @@
+"""Steady-state amplitude over speed by harmonic balance with continuation (paper Figs. 4, 7, 11-17).
+
+The frequency-domain counterpart of shroud.analysis.sweep: the periodic
+steady state of a registered model is followed in the rotation speed by
+pseudo-arclength continuation (shroud.core.continuation) of the harmonic
+balance (shroud.core.harmonic_balance), and each point gets its Floquet
+multipliers (shroud.core.floquet). Every speed-dependent term is the
+model's own: at each speed the corrector asks for the system the model's
+builder makes there (K_c, K_s in Omega^2, G in Omega, Rayleigh damping
+from the frequencies at that speed, the excitation ke Omega, the
+centrifugal load), exactly as the time-domain sweep does; the parameter
+derivative of the linear part is a central difference in the speed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from typing import Callable
+
+import numpy as np
+
+from shroud.analysis.transient import contact_law_for
+from shroud.base.errors import InputError
+from shroud.core import floquet, registry
+from shroud.core import harmonic_balance as hb
+from shroud.core.continuation import continue_branch
+from shroud.core.results import HBResult
+from shroud.core.system import StructuralSystem
+from shroud.params import Parameters
+
+DEFAULT_HARMONICS = 10
+MIN_POINTS = 30            # at least this many points on a branch (bounds the speed step)
+
+
+def check_inputs(H: int, samples: int | None, rpm_from: float, rpm_to: float) -> int:
+    """Validate the harmonic-balance options; returns the number of time samples to use."""
+    if H < 1:
+        raise InputError("--harmonics", f"{H} is out of range; allowed: an integer >= 1")
+    n = hb.default_samples(H) if samples is None else samples
+    if n < 2 * H + 1:
+        raise InputError("--samples", f"{n} time samples cannot resolve {H} harmonics; "
+                                      f"allowed: at least 2 H + 1 = {2 * H + 1}")
+    if not 0 < rpm_from < rpm_to:
+        raise InputError("--rpm-from", f"{rpm_from:g} .. {rpm_to:g}: allowed: 0 < rpm-from < rpm-to")
+    return n
+
+
+class SpeedModel:
+    """The model's linear part at any speed, with its harmonic-balance operators (memoized by speed)."""
+
+    def __init__(self, build: Callable[[float], StructuralSystem], H: int, condense: bool | None = None):
+        self.build, self.H, self.condense = build, H, condense
+        self._memo: dict[float, tuple] = {}
+
+    def at(self, rpm: float):
+        """(system, LinearHarmonics, L, F flat) at ``rpm``."""
+        got = self._memo.get(rpm)
+        if got is None:
+            if len(self._memo) > 64:
+                self._memo.clear()
+            system = self.build(rpm)
+            lin = hb.linear_harmonics(system, self.H, self.condense)
+            got = (system, lin, lin.matrix(), lin.load().ravel())
+            self._memo[rpm] = got
+        return got
+
+
+def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 1e-6):
+    """R(X, rpm), dR/dX (analytic through the law) and, on demand, dR/drpm (a forward difference of the
+    linear part over ``step`` times the speed; the law does not depend on the speed)."""
+    def residual(X, rpm):
+        _, lin, L, F = speeds.at(rpm)
+        b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx))
+
+        def d_rpm():
+            h = step * rpm
+            _, _, Lp, Fp = speeds.at(rpm + h)
+            return ((Lp - L) @ X - (Fp - F)) / h
+        return b.R, b.J, d_rpm
+    return residual
+
+
+def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float) -> dict:
+    """Amplitudes, spectral tail and Floquet multipliers of a converged point."""
+    system, lin, L, F = speeds.at(rpm)
+    b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx))
+    tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
+    amp = hb.amplitude_over_period(tip)
+    W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))
+    Phi = floquet.monodromy(system.M, system.C, system.K, W, law, b.contact.state, b.contact.F, lin.omega)
+    mult = floquet.multipliers(Phi)
+    return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
+            "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
+            "multipliers": mult,
+            "stable": floquet.is_stable(mult)}
+
+
+def model_at_speed(params: Parameters, model: str) -> Callable[[float], StructuralSystem]:
+    """rpm -> the registered model's system at that speed (its own builder, or its ``at_speed`` hook)."""
+    entry = registry.model(model)
+    if entry.at_speed is not None:
+        return entry.at_speed(params)
+    return lambda rpm: entry.build_system(params.updated({"speed.rpm": float(rpm)}))
+
+
+def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmonics: int = DEFAULT_HARMONICS,
+           samples: int | None = None, min_points: int | None = None,
+           build: Callable[[float], StructuralSystem] | None = None) -> HBResult:
+    """The steady-state branch of ``model`` from ``rpm_from`` to ``rpm_to`` (r/min) by harmonic balance.
+
+    ``min_points``: the least number of points on the branch (bounds the
+    speed step to (rpm_to - rpm_from) / (min_points - 1)). ``build(rpm)``
+    replaces the registered model's system at a speed (raw systems, tests).
+    """
+    t0 = time.perf_counter()
+    n = check_inputs(harmonics, samples, rpm_from, rpm_to)
+    basis = hb.fourier(harmonics, n)
+    speeds = SpeedModel(build or model_at_speed(params, model), harmonics)
+    system, lin, _, _ = speeds.at(rpm_from)
+    law = contact_law_for(system, params.contact)
+    residual = residual_in_speed(speeds, law, basis)
+    X0 = hb.solve(system, law, harmonics, n).X           # the first point, by a load homotopy if need be
+    gap = abs(params.contact.N0) / params.contact.kn if params.contact.enabled else 0.0
+    x_scale = max(float(np.abs(hb.linear_solution(lin)).max()), gap, 1e-7)
+    count = max(min_points or MIN_POINTS, 2)
+    details: list[dict] = []
+    branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
+                             dp_max=(rpm_to - rpm_from) / (count - 1),
+                             on_point=lambda X, rpm: details.append(point_details(speeds, law, basis, X, rpm)))
+    return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
+                                iterations=branch.iterations, complete=branch.complete,
+                                stopped=branch.stopped, dofs=system.dofs, condensed=lin.condensed,
+                                elapsed_s=time.perf_counter() - t0, X=branch.x)
+
+
+def run_hb_to_tail(params: Parameters, model: str, rpm_from: float, rpm_to: float, tail: float,
+                   first: int = 5, most: int = 40, min_points: int | None = None) -> HBResult:
+    """The branch with H chosen so that the contact forces' spectral tail above H is at most ``tail``.
+
+    H = first, 2 first, ... up to ``most``: the first branch whose tail (at its largest contact forces)
+    is within ``tail`` is returned, with every H tried and its tail recorded; if none is, the last.
+    """
+    if not 0 < tail < 1:
+        raise InputError("--tail", f"{tail!r} is out of range; allowed: a share in (0, 1)")
+    tried, H = [], first
+    while True:
+        result = run_hb(params, model, rpm_from, rpm_to, harmonics=H, min_points=min_points)
+        tried.append({"harmonics": H, "spectral_tail": result.spectral_tail})
+        if result.spectral_tail <= tail or 2 * H > most:
+            return dataclasses.replace(result, harmonics_tried=tuple(tried))
+        H *= 2
+
+
+def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
+             samples: int | None = None, X0: np.ndarray | None = None,
+             multipliers: bool = True) -> tuple[hb.HarmonicSolution, dict]:
+    """One speed: the harmonic-balance solution reached from ``X0`` (default: the linear one, then a load
+    homotopy if Newton fails from it) and its details (amplitudes, multipliers, stability; with
+    ``multipliers=False`` no stability, an empty dict)."""
+    n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
+    basis = hb.fourier(harmonics, n)
+    speeds = SpeedModel(model_at_speed(params, model), harmonics)
+    system, lin, _, _ = speeds.at(rpm)
+    law = contact_law_for(system, params.contact)
+    sol = hb.solve(system, law, harmonics, n, X0=X0, condense=lin.condensed)
+    return sol, point_details(speeds, law, basis, sol.X, rpm) if multipliers else {}
+

@@ -1,0 +1,161 @@
+"""Pseudo-arclength continuation of R(x, p) = 0 in one parameter p (predictor-corrector, step control).
+
+The branch is followed in the scaled unknowns u = (x / x_scale, p / p_scale):
+a tangent predictor u + ds t, then Newton on the extended system
+
+    R(x, p) = 0,    t . (u - u_pred) = 0
+
+(Keller's pseudo-arclength condition), so a fold in p is passed like any
+other point: p may go back, it is never jumped. The step grows after an
+easy corrector (few iterations) and shrinks after a hard one, and a step
+whose tangent turns by more than ``max_turn`` is retried shorter, so that
+folds are resolved. When the corrector fails at the smallest step the
+branch so far is returned, marked incomplete with where and why.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+GROW_ITERATIONS = 4      # a corrector this quick lets the next step grow
+
+# residual(x, p) -> (R, dR/dx, () -> dR/dp): the parameter derivative is asked for only where it is used
+Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, Callable[[], np.ndarray]]]
+
+
+@dataclass
+class Branch:
+    """Points of a continued branch in continuation order."""
+
+    x: list[np.ndarray] = field(default_factory=list)
+    p: list[float] = field(default_factory=list)
+    iterations: list[int] = field(default_factory=list)
+    complete: bool = True
+    stopped: str | None = None          # where and why an incomplete branch stopped
+
+
+def _tangent(J: np.ndarray, Rp: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
+    """Unit tangent of the branch: null vector of [J, R_p] (oriented along ``previous``)."""
+    n = J.shape[0]
+    A = np.zeros((n + 1, n + 1))
+    A[:n, :n], A[:n, n] = J, Rp
+    A[n] = previous if previous is not None else np.r_[np.zeros(n), 1.0]
+    rhs = np.zeros(n + 1)
+    rhs[n] = 1.0
+    t = np.linalg.solve(A, rhs)
+    t /= np.linalg.norm(t)
+    if previous is not None and t @ previous < 0:
+        t = -t
+    return t
+
+
+def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float, x_scale: float,
+                    ds: float = 0.02, ds_min: float = 1e-5, ds_max: float = 0.1, max_points: int = 2000,
+                    dp_max: float | None = None, max_turn: float = 0.5, ds_kink: float = 2e-3,
+                    on_point: Callable[[np.ndarray, float], None] | None = None) -> Branch:
+    """Follow R(x, p) = 0 from (x0, p0) until p passes ``p_end`` (p0 < p_end).
+
+    ``x0`` needs only be near the solution at p0 (Newton at fixed p first).
+    ``ds`` is the arclength step in the scaled unknowns (x / x_scale, p / p0);
+    ``dp_max`` bounds the parameter's advance per step. A step whose tangent
+    turns by more than ``max_turn`` (rad) is retried shorter, down to
+    ``ds_kink``: below it the turn is a kink of the branch (the contact law
+    is piecewise linear: grazing, the onset of stick) and is stepped over.
+    The last point is
+    put exactly at p_end. ``on_point(x, p)`` is called for every accepted point.
+    """
+    p_scale = abs(p0)
+    branch = Branch()
+
+    def scaled(x, p):
+        return np.r_[x / x_scale, p / p_scale]
+
+    def newton_fixed_p(x, p):
+        for it in range(1, 41):
+            R, J, Rp = residual(x, p)
+            dx = np.linalg.solve(J, -R)
+            x = x + dx
+            if np.linalg.norm(dx) <= 1e-10 * x_scale * (1.0 + np.linalg.norm(x) / x_scale):
+                R, J, Rp = residual(x, p)
+                return x, it, True, (J, Rp())
+        return x, 40, False, (J, Rp())
+
+    x, it, ok, (J, Rp) = newton_fixed_p(np.asarray(x0, float), p0)
+    if not ok:
+        branch.complete, branch.stopped = False, f"no solution found at the first speed p = {p0:g}"
+        return branch
+    branch.x.append(x), branch.p.append(p0), branch.iterations.append(it)
+    if on_point:
+        on_point(x, p0)
+    t = _tangent(J * x_scale, Rp * p_scale, None)
+    if t[-1] < 0:
+        t = -t
+    u = scaled(x, p0)
+    while len(branch.p) < max_points:
+        if dp_max is not None and abs(t[-1]) * ds * p_scale > dp_max:
+            ds = dp_max / (abs(t[-1]) * p_scale)
+        u_pred = u + ds * t
+        u_new, it, ok, R, J, Rp = _corrector(residual, u_pred, t, x_scale, p_scale)
+        if ok:
+            t_new = _tangent(J * x_scale, Rp() * p_scale, t)
+            turn = math.acos(min(1.0, max(-1.0, float(t_new @ t))))
+            ok = turn <= max_turn or ds <= ds_kink     # a kink (grazing, stick onset) is passed, not resolved
+        if not ok:
+            ds *= 0.5
+            if ds < ds_min:
+                branch.complete = False
+                branch.stopped = (f"the corrector did not converge beyond p = {u[-1] * p_scale:g} "
+                                  f"(step below {ds_min:g} in scaled arclength)")
+                return branch
+            continue
+        p_new = u_new[-1] * p_scale
+        if p_new < p0 - 0.05 * (p_end - p0):
+            branch.complete = False
+            branch.stopped = f"the branch turned back below the first parameter value p = {p0:g}"
+            return branch
+        if p_new >= p_end:                     # last point exactly at p_end
+            s = (p_end / p_scale - u[-1]) / (u_new[-1] - u[-1])
+            xe, it_e, ok_e, _ = newton_fixed_p((u[:-1] + s * (u_new[:-1] - u[:-1])) * x_scale, p_end)
+            if ok_e:
+                branch.x.append(xe), branch.p.append(p_end), branch.iterations.append(it_e)
+                if on_point:
+                    on_point(xe, p_end)
+            return branch
+        u, t = u_new, t_new
+        x = u[:-1] * x_scale
+        branch.x.append(x), branch.p.append(p_new), branch.iterations.append(it)
+        if on_point:
+            on_point(x, p_new)
+        ds = min(ds_max, ds * (1.5 if it <= GROW_ITERATIONS else 1.0 if it <= 6 else 0.6))
+    branch.complete = False
+    branch.stopped = f"{max_points} points reached at p = {branch.p[-1]:g} before p = {p_end:g}"
+    return branch
+
+
+def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: float, p_scale: float,
+               max_iterations: int = 10):
+    """Newton on [R(u); t . (u - u_pred)] = 0 from the predictor: (u, iterations, converged, R, J, R_p).
+
+    Converged when a
+    Newton step moves u by less than 1e-10 (scaled); the law is piecewise
+    linear, so once the contact states settle one more step lands on the
+    solution to round-off. The returned R, J, R_p (a callable) are at u.
+    """
+    u = u_pred.copy()
+    n = u.size - 1
+    A = np.zeros((n + 1, n + 1))
+    R, J, Rp = residual(u[:-1] * x_scale, u[-1] * p_scale)
+    for it in range(1, max_iterations + 1):
+        if not np.all(np.isfinite(R)):
+            return u, it, False, R, J, Rp
+        A[:n, :n], A[:n, n], A[n] = J * x_scale, Rp() * p_scale, t
+        du = np.linalg.solve(A, -np.r_[R, t @ (u - u_pred)])
+        u = u + du
+        R, J, Rp = residual(u[:-1] * x_scale, u[-1] * p_scale)
+        if np.linalg.norm(du) <= 1e-10 * (1.0 + np.linalg.norm(u)):
+            return u, it, True, R, J, Rp
+    return u, max_iterations, False, R, J, Rp

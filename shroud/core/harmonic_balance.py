@@ -1,0 +1,509 @@
+"""Multi-harmonic balance with alternating frequency-time (AFT) evaluation of the contact law.
+
+The periodic steady state of paper Eq. 9,
+
+    M q'' + C q' + K q = f_const + f_aero sin(omega t) + W^T lam(W q),
+
+is sought as a truncated Fourier series in tau = omega t (omega the
+excitation frequency ke Omega, one period T = 2 pi / omega):
+
+    x(tau) = a_0 + sum_{k=1..H} a_k cos(k tau) + b_k sin(k tau).
+
+The coefficients of every coordinate are stacked harmonic-major,
+X[(c_k, i)] with c_0 = a_0, c_{2k-1} = a_k, c_{2k} = b_k (``nh = 2H + 1``
+coefficients per coordinate). Harmonic k of the linear part is the complex
+dynamic stiffness Z_k = K - (k omega)^2 M + i k omega C acting on
+a_k - i b_k; written in real numbers the residual is
+
+    R(X) = L X - F - Wx^T Lam(Wx X) = 0.
+
+The unknown coordinates x are either all of q, or, where there are fewer
+contact coordinates than DOFs (the beams), the contact coordinates y = W q
+themselves: the linear part is then condensed exactly per harmonic,
+Z_k -> (W Z_k^-1 W^T)^-1 (the dynamic stiffness seen by the contact,
+Petrov & Ewins 2003), and Wx = I.
+
+AFT: the coefficients of y are sampled at ``samples`` equidistant instants,
+the contact law of shroud.core.contact (the one law: ``normal_force`` and
+``friction_return_map``) is evaluated sample by sample with each friction
+slider marched around the period until it is periodic, and the forces are
+projected back on the harmonics. The Jacobian is analytic: the law is
+piecewise linear, and the derivative of the slider is carried through its
+history (stick: z held from the start of the stick, dz = 0; slip: z = w +
+F / kt; separated: z = w), so dF/dX in a stick phase is kt (dz/dX - dw/dX)
+with dz/dX that of the instant the stick began.
+
+Units: SI (m, N, rad/s).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from shroud.core.contact import (KN, KT, MU, N0, SEPARATE, SIGN, SLIP, STICK, ContactLaw,
+                                 friction_return_map, normal_force)
+from shroud.core.system import StructuralSystem
+
+MAX_PASSES = 3          # periods the sliders are marched at most (2 make any slider periodic)
+
+
+@dataclass(frozen=True)
+class Fourier:
+    """Real Fourier basis of H harmonics sampled at ``samples`` instants of one period.
+
+    E (samples, nh): coefficients -> samples; A (nh, samples): samples ->
+    coefficients (exact for trigonometric polynomials of degree < samples / 2).
+    """
+
+    H: int
+    samples: int
+    E: np.ndarray
+    A: np.ndarray
+
+    @property
+    def nh(self) -> int:
+        return 2 * self.H + 1
+
+    @property
+    def tau(self) -> np.ndarray:
+        return 2 * np.pi * np.arange(self.samples) / self.samples
+
+
+def fourier(H: int, samples: int) -> Fourier:
+    """The basis for harmonics 0..H from ``samples`` instants (at least 2 H + 1 of them)."""
+    if H < 1:
+        raise ValueError(f"harmonic balance needs H >= 1 harmonics, got {H}")
+    if samples < 2 * H + 1:
+        raise ValueError(f"{samples} time samples cannot resolve {H} harmonics; at least {2 * H + 1} needed")
+    tau = 2 * np.pi * np.arange(samples) / samples
+    k = np.arange(1, H + 1)
+    E = np.ones((samples, 2 * H + 1))
+    E[:, 1::2] = np.cos(np.outer(tau, k))
+    E[:, 2::2] = np.sin(np.outer(tau, k))
+    A = E.T * (2.0 / samples)
+    A[0] /= 2.0
+    return Fourier(H=H, samples=samples, E=E, A=A)
+
+
+def default_samples(H: int) -> int:
+    """Time samples per period for H harmonics: 8 per harmonic rounded up to a power of two, at least 512.
+
+    Impacts and stick-slip switch inside a sample interval: the residual is
+    piecewise smooth with a kink wherever a switch crosses a sample, and a
+    coarse sampling turns a smooth branch into a saw-tooth of tiny folds
+    that the continuation would have to follow (0.1 mm gap case: 128
+    samples give a jagged upper fold, 512 a smooth one).
+    """
+    return max(512, 1 << math.ceil(math.log2(8 * H)))
+
+
+# --- AFT: the contact law along one period, with its derivative -------------------
+
+@njit(cache=True)
+def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
+    """March every element's law around the period (shroud.core.contact's functions).
+
+    Yc (nh, m): coefficients of y; E (samples, nh) synthesis, A (nh, samples)
+    analysis. Fills per element j and sample i N, F, state, and the
+    harmonics' derivatives Bn[j] = d(N harmonics)/d(normal coefficients)
+    (nh, nh) and Bt[j] = d(F harmonics)/d([normal, tangent] coefficients)
+    (nh, 2 nh), and the forces lam (samples, m) on the projected
+    coordinates (-s N on the normal row, F on the tangent row). The slider starts at the mean of w and is marched until it
+    closes (after a slip or a separation z no longer depends on its start,
+    so two periods suffice); the last period is recorded. The derivative
+    of the slider is carried from the period's last release (slip or
+    separation), which is where the periodic slider was last set, or is
+    that of the mean of w when the element sticks all period.
+    Returns the most periods marched.
+    """
+    nt, nh = E.shape
+    k = rows.shape[0]
+    most = 0
+    v = np.zeros(nt)
+    w = np.zeros(nt)
+    dz = np.zeros(2 * nh)
+    dN = np.zeros(nh)
+    dF = np.zeros(2 * nh)
+    for j in range(k):
+        nr, tr = rows[j, 0], rows[j, 1]
+        s, kn, kt, mu, n0 = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU], props[j, N0]
+        wmax = 0.0
+        for i in range(nt):
+            a, b = 0.0, 0.0
+            for c in range(nh):
+                a += E[i, c] * Yc[c, nr]
+                b += E[i, c] * Yc[c, tr]
+            v[i], w[i] = a, b
+            wmax = max(wmax, abs(b))
+        z = Yc[0, tr]                       # the mean of w: a neutral start for a stuck slider
+        passes = 0
+        for p in range(passes_max):
+            z_start = z
+            for i in range(nt):
+                Nj = normal_force(v[i], n0, kn, s)
+                Fj, z, st = friction_return_map(w[i], z, Nj, kt, mu)
+                N[j, i], F[j, i], state[j, i] = Nj, Fj, st
+            passes = p + 1
+            if p > 0 and abs(z - z_start) <= 1e-13 * (abs(z) + wmax + 1e-300):
+                break
+        most = max(most, passes)
+        for i in range(nt):
+            lam[i, nr] -= s * N[j, i]
+            lam[i, tr] += F[j, i]
+        # the slider's derivative at the period's start: from its last release, if any
+        for c in range(2 * nh):
+            dz[c] = 0.0
+        dz[nh] = 1.0
+        for i in range(nt - 1, -1, -1):
+            if state[j, i] != STICK:
+                for c in range(nh):
+                    dz[nh + c] = E[i, c]
+                    dz[c] = 0.0
+                    if state[j, i] == SLIP:
+                        sigma = 1.0 if F[j, i] > 0.0 else -1.0
+                        dz[c] = sigma * mu * s * kn * E[i, c] / kt
+                break
+        for c in range(nh):
+            for d in range(nh):
+                Bn[j, c, d] = 0.0
+            for d in range(2 * nh):
+                Bt[j, c, d] = 0.0
+        for i in range(nt):
+            st = state[j, i]
+            if st == SEPARATE:
+                for c in range(nh):
+                    dz[c] = 0.0
+                    dz[nh + c] = E[i, c]
+                continue
+            for c in range(nh):
+                dN[c] = s * kn * E[i, c] if N[j, i] > 0.0 else 0.0
+            if st == STICK:
+                for c in range(nh):
+                    dF[c] = kt * dz[c]
+                    dF[nh + c] = kt * (dz[nh + c] - E[i, c])
+            else:
+                sigma = 1.0 if F[j, i] > 0.0 else -1.0
+                for c in range(nh):
+                    dF[c] = sigma * mu * dN[c]
+                    dF[nh + c] = 0.0
+                    dz[c] = dF[c] / kt
+                    dz[nh + c] = E[i, c]
+            for r in range(nh):
+                ar = A[r, i]
+                for c in range(nh):
+                    Bn[j, r, c] += ar * dN[c]
+                for c in range(2 * nh):
+                    Bt[j, r, c] += ar * dF[c]
+    return most
+
+
+@dataclass(frozen=True)
+class ContactHarmonics:
+    """The law along one period: forces, their harmonics and derivatives."""
+
+    lam: np.ndarray          # (samples, m) forces on the projected coordinates, N
+    Lam: np.ndarray          # (nh, m) their harmonics
+    dLam_x: np.ndarray | None   # (nh*nx, nh*nx) d(Wx^T Lam)/dX
+    N: np.ndarray            # (k, samples) normal force per element
+    F: np.ndarray            # (k, samples) friction per element
+    state: np.ndarray        # (k, samples) 0 separate, 1 stick, 2 slip
+    passes: int              # periods the sliders were marched
+
+
+def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fourier,
+                      jacobian: bool = True) -> ContactHarmonics:
+    """AFT of ``law`` at the coefficients X (nh, nx) of the unknown coordinates, y = Wx x.
+
+    The Jacobian is projected on x element by element, over the elements
+    that touch at some instant (the others contribute nothing); ``jacobian=False``
+    skips it (dLam_x is then None).
+    """
+    nh, nt, k, m = basis.nh, basis.samples, law.count, law.m
+    Yc = np.ascontiguousarray(X @ Wx.T)
+    N, F = np.zeros((k, nt)), np.zeros((k, nt))
+    state = np.zeros((k, nt), np.int64)
+    Bn, Bt = np.zeros((k, nh, nh)), np.zeros((k, nh, 2 * nh))
+    lam = np.zeros((nt, m))
+    passes = _aft_kernel(Yc, basis.E, basis.A, law.rows, law.props, MAX_PASSES, N, F, state, Bn, Bt,
+                         lam) if k else 0
+    s = law.props[:, SIGN]
+    Lam = basis.A @ lam
+    nx = Wx.shape[1]
+    if not jacobian:
+        return ContactHarmonics(lam=lam, Lam=Lam, dLam_x=None, N=N, F=F, state=state, passes=int(passes))
+    dLam = np.zeros((nh, nx, nh, nx))
+    act = np.flatnonzero(N.any(axis=1))
+    if act.size:
+        Bn = -s[act, None, None] * Bn[act]                # the normal force acts as -s N
+        Bt = Bt[act]
+        Wn, Wt = Wx[law.rows[act, 0]], Wx[law.rows[act, 1]]   # (touching elements, nx)
+        for B, Wa, Wb in ((Bn, Wn, Wn), (Bt[:, :, :nh], Wt, Wn), (Bt[:, :, nh:], Wt, Wt)):
+            outer = (Wa[:, :, None] * Wb[:, None, :]).reshape(act.size, nx * nx)
+            dLam += np.tensordot(B, outer, axes=(0, 0)).reshape(nh, nh, nx, nx).transpose(0, 2, 1, 3)
+    return ContactHarmonics(lam=lam, Lam=Lam, dLam_x=dLam.reshape(nh * nx, nh * nx), N=N, F=F,
+                            state=state, passes=int(passes))
+
+
+# --- the linear part per harmonic ---------------------------------------------------
+
+@dataclass(frozen=True)
+class LinearHarmonics:
+    """The linear part of one system at one speed on the unknown coordinates x.
+
+    Z (H+1, nx, nx) complex dynamic stiffness per harmonic; F (H+1, nx)
+    complex load (a_k - i b_k convention); y = Wx x. The tip outputs are
+    tip_k = tip_x[k] X_k + tip_lam[k] Lam_k + tip_f[k] (complex, per harmonic).
+    """
+
+    omega: float
+    Z: np.ndarray
+    F: np.ndarray
+    Wx: np.ndarray
+    tip_x: np.ndarray
+    tip_lam: np.ndarray
+    tip_f: np.ndarray
+    condensed: bool
+
+    @property
+    def nx(self) -> int:
+        return self.Wx.shape[1]
+
+    def matrix(self) -> np.ndarray:
+        """Real (nh nx, nh nx) matrix L of the residual."""
+        return _real_blocks(self.Z)
+
+    def load(self) -> np.ndarray:
+        """Real (nh, nx) coefficients of the load."""
+        return _real_coefficients(self.F)
+
+    def tip(self, X: np.ndarray, Lam: np.ndarray) -> np.ndarray:
+        """(nh, 2) coefficients of v_L, w_L."""
+        Xc = _complex_coefficients(X)
+        Lc = _complex_coefficients(Lam)
+        out = (np.einsum("kij,kj->ki", self.tip_x, Xc) + np.einsum("kij,kj->ki", self.tip_lam, Lc)
+               + self.tip_f)
+        return _real_coefficients(out)
+
+
+def _real_coefficients(Xc: np.ndarray) -> np.ndarray:
+    """(H+1, n) complex a_k - i b_k -> (2H+1, n) real [a_0, a_1, b_1, ...]."""
+    out = np.empty((2 * Xc.shape[0] - 1, Xc.shape[1]))
+    out[0] = Xc[0].real
+    out[1::2] = Xc[1:].real
+    out[2::2] = -Xc[1:].imag
+    return out
+
+
+def _complex_coefficients(X: np.ndarray) -> np.ndarray:
+    """(2H+1, n) real -> (H+1, n) complex a_k - i b_k."""
+    out = np.empty(((X.shape[0] + 1) // 2, X.shape[1]), complex)
+    out[0] = X[0]
+    out[1:] = X[1::2] - 1j * X[2::2]
+    return out
+
+
+def _real_blocks(Z: np.ndarray) -> np.ndarray:
+    """Block-diagonal real matrix of the complex Z_k on [a_k; b_k]: [[Zr, Zi], [-Zi, Zr]]."""
+    H1, n = Z.shape[0], Z.shape[1]
+    nh = 2 * H1 - 1
+    L = np.zeros((nh, n, nh, n))
+    k = np.arange(1, H1)
+    a, b = 2 * k - 1, 2 * k
+    L[0, :, 0, :] = Z[0].real
+    L[a, :, a, :] = L[b, :, b, :] = Z[1:].real
+    L[a, :, b, :] = Z[1:].imag
+    L[b, :, a, :] = -Z[1:].imag
+    return L.reshape(nh * n, nh * n)
+
+
+def _dense(A) -> np.ndarray:
+    return A.toarray() if hasattr(A, "toarray") else np.asarray(A, dtype=float)
+
+
+def dynamic_stiffness(system: StructuralSystem, H: int, omega: float | None = None) -> np.ndarray:
+    """Z_k = K - (k omega)^2 M + i k omega C for k = 0..H, complex (H+1, n, n)."""
+    w = system.omega_e if omega is None else omega
+    M, C, K = _dense(system.M), _dense(system.C), _dense(system.K)
+    k = np.arange(H + 1)[:, None, None]
+    return K[None] - (k * w) ** 2 * M[None] + 1j * k * w * C[None]
+
+
+def _load_harmonics(system: StructuralSystem, H: int) -> np.ndarray:
+    """f_const at k = 0 and f_aero sin(tau) (b_1 = f_aero, i.e. -i f_aero) at k = 1."""
+    F = np.zeros((H + 1, system.dofs), complex)
+    F[0] = system.f_const
+    F[1] = -1j * np.asarray(system.f_aero, float)
+    return F
+
+
+def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = None) -> LinearHarmonics:
+    """The linear part of ``system`` at its speed, on all DOFs or condensed on y = W q.
+
+    ``condense=None`` condenses when there are fewer contact coordinates than
+    DOFs (W Z_k^-1 W^T per harmonic, exact).
+    """
+    n = system.dofs
+    W = _dense(system.contact.W) if system.contact is not None else np.zeros((0, n))
+    tip = _dense(system.tip)
+    m = W.shape[0]
+    condense = (0 < m < n) if condense is None else condense
+    Z = dynamic_stiffness(system, H)
+    F = _load_harmonics(system, H)
+    if not condense:
+        return LinearHarmonics(omega=system.omega_e, Z=Z, F=F, Wx=W,
+                               tip_x=np.broadcast_to(tip.astype(complex), (H + 1, 2, n)),
+                               tip_lam=np.zeros((H + 1, 2, m), complex), tip_f=np.zeros((H + 1, 2), complex),
+                               condensed=False)
+    rhs = np.concatenate([np.broadcast_to(W.T, (H + 1, n, m)), F[:, :, None]], axis=2)
+    S = np.linalg.solve(Z, rhs)                       # Z_k^-1 [W^T, F_k]
+    Hc = W @ S[:, :, :m]                              # receptance on the contact coordinates
+    Zc = np.linalg.inv(Hc)
+    Fc = np.einsum("kij,kj->ki", Zc, S[:, :, m] @ W.T)
+    tipS = tip @ S
+    return LinearHarmonics(omega=system.omega_e, Z=Zc, F=Fc, Wx=np.eye(m),
+                           tip_x=np.zeros((H + 1, 2, m), complex), tip_lam=tipS[:, :, :m],
+                           tip_f=tipS[:, :, m], condensed=True)
+
+
+# --- residual, Newton at one speed ---------------------------------------------------
+
+@dataclass(frozen=True)
+class Balance:
+    """Residual of the harmonic balance at one speed and its pieces."""
+
+    R: np.ndarray                # (nh nx,) N
+    J: np.ndarray | None         # (nh nx, nh nx) dR/dX
+    contact: ContactHarmonics
+
+
+def balance(X: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier,
+            L: np.ndarray | None = None, Fr: np.ndarray | None = None, jacobian: bool = True) -> Balance:
+    """R(X) = L X - F - Wx^T Lam(Wx X) and its analytic Jacobian (X flat, harmonic-major; None if not asked)."""
+    nh, nx = basis.nh, lin.nx
+    L = lin.matrix() if L is None else L
+    Fr = lin.load() if Fr is None else Fr
+    Xm = X.reshape(nh, nx)
+    ch = contact_harmonics(Xm, lin.Wx, law, basis, jacobian)
+    R = L @ X - Fr.ravel() - (ch.Lam @ lin.Wx).ravel()
+    return Balance(R=R, J=L - ch.dLam_x if jacobian else None, contact=ch)
+
+
+def linear_solution(lin: LinearHarmonics) -> np.ndarray:
+    """X of the contact-free linear part, L X = F (flat)."""
+    Xc = np.linalg.solve(lin.Z, lin.F[:, :, None])[:, :, 0]
+    return _real_coefficients(Xc).ravel()
+
+
+@dataclass(frozen=True)
+class HarmonicSolution:
+    """A periodic steady state found by harmonic balance (one speed)."""
+
+    X: np.ndarray               # (nh nx,) coefficients of the unknown coordinates
+    tip: np.ndarray             # (nh, 2) coefficients of v_L, w_L, m
+    amplitude_v_L: float        # (max - min)/2 of v_L over the period, m
+    amplitude_w_L: float
+    residual: float             # |R| / |F| at the solution
+    iterations: int
+    converged: bool
+    spectral_tail: float        # share of the contact forces' spectrum above H
+    contact: ContactHarmonics
+    basis: Fourier
+
+
+def newton(X0: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier, tol: float = 1e-10,
+           max_iterations: int = 50) -> tuple[np.ndarray, Balance, int, bool]:
+    """Newton on R(X) = 0 at one speed, halving a step that does not lower |R|."""
+    L, Fr = lin.matrix(), lin.load()
+    scale = np.linalg.norm(Fr) + 1e-300
+    X = X0.copy()
+    b = balance(X, lin, law, basis, L, Fr)
+    r = np.linalg.norm(b.R)
+    for it in range(1, max_iterations + 1):
+        dX = np.linalg.solve(b.J, -b.R)
+        t = 1.0
+        while True:
+            Xt = X + t * dX
+            bt = balance(Xt, lin, law, basis, L, Fr, jacobian=False)
+            rt = np.linalg.norm(bt.R)
+            if rt < r or t < 1e-3:
+                break
+            t *= 0.5
+        X, r = Xt, rt
+        b = balance(X, lin, law, basis, L, Fr)
+        if r <= tol * scale or np.linalg.norm(t * dX) <= 1e-12 * (np.linalg.norm(X) + 1e-300):
+            return X, b, it, r <= 1e-6 * scale
+    return X, b, max_iterations, False
+
+
+def spectral_tail(lam: np.ndarray, H: int) -> float:
+    """Share of the contact forces' oscillating spectrum above harmonic H (RMS ratio, 0 without force)."""
+    spec = np.abs(np.fft.rfft(lam, axis=0)) ** 2
+    total = spec[1:].sum()
+    return float(np.sqrt(spec[H + 1:].sum() / total)) if total > 0 else 0.0
+
+
+def amplitude_over_period(coefficients: np.ndarray, samples: int = 512) -> np.ndarray:
+    """(max - min)/2 over one period of each column of real coefficients (nh, c), finely sampled."""
+    H = (coefficients.shape[0] - 1) // 2
+    E = fourier(H, max(samples, 2 * H + 1)).E
+    x = E @ coefficients
+    return 0.5 * (x.max(axis=0) - x.min(axis=0))
+
+
+def solution(X: np.ndarray, b: Balance, lin: LinearHarmonics, basis: Fourier, iterations: int,
+             converged: bool) -> HarmonicSolution:
+    """Package a converged point with its tip amplitudes and the contact forces' tail."""
+    tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
+    amp = amplitude_over_period(tip)
+    return HarmonicSolution(X=X, tip=tip, amplitude_v_L=float(amp[0]), amplitude_w_L=float(amp[1]),
+                            residual=float(np.linalg.norm(b.R) / (np.linalg.norm(lin.load()) + 1e-300)),
+                            iterations=iterations, converged=converged,
+                            spectral_tail=spectral_tail(b.contact.lam, basis.H), contact=b.contact,
+                            basis=basis)
+
+
+def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None = None,
+          X0: np.ndarray | None = None, condense: bool | None = None, load_steps: int = 20) -> HarmonicSolution:
+    """The periodic steady state of ``system`` with contact ``law`` by harmonic balance (one speed).
+
+    Newton from ``X0`` (default: the contact-free linear solution); when that
+    fails, the loads are raised from 1/``load_steps`` of their value in
+    ``load_steps`` Newton solves (a homotopy from the small, contact-free
+    motion).
+    """
+    basis = fourier(H, samples or default_samples(H))
+    lin = linear_harmonics(system, H, condense)
+    start = linear_solution(lin) if X0 is None else X0
+    X, b, it, ok = newton(start, lin, law, basis)
+    if not ok and X0 is None:
+        X, total = linear_solution(lin) / load_steps, 0
+        for step in range(1, load_steps + 1):
+            scaled = dataclasses.replace(lin, F=lin.F * (step / load_steps))
+            X, b, it, ok = newton(X, scaled, law, basis)
+            total += it
+        it = total
+    return solution(X, b, lin, basis, it, ok)
+
+
+def state_vector(system: StructuralSystem, sol: HarmonicSolution, lin: LinearHarmonics) -> tuple:
+    """(q, q') at tau = 0 of a solution (for starting a time run on it), full DOFs.
+
+    Condensed solutions are expanded with q_k = Z_k^-1 (F_k + W^T Lam_k).
+    """
+    nh, H = sol.basis.nh, sol.basis.H
+    if lin.condensed:
+        W = _dense(system.contact.W)
+        Z = dynamic_stiffness(system, H)
+        rhs = _load_harmonics(system, H) + _complex_coefficients(sol.contact.Lam) @ W
+        Q = _real_coefficients(np.linalg.solve(Z, rhs[:, :, None])[:, :, 0])
+    else:
+        Q = sol.X.reshape(nh, lin.nx)
+    k = np.arange(1, H + 1)
+    q0 = Q[0] + Q[1::2].sum(axis=0)
+    v0 = lin.omega * (k[:, None] * Q[2::2]).sum(axis=0)
+    return q0, v0, Q

@@ -1,0 +1,227 @@
+"""Harmonic balance against exact solutions, the linear limits, a second method and the time domain."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.optimize
+
+import reduced_model  # noqa: F401  (registers the beam models)
+from comparisons._hb import crossings
+from shroud.analysis.hb import run_hb, solve_at
+from shroud.analysis.transient import contact_law_for
+from shroud.analysis.api import build_system
+from shroud.core import floquet
+from shroud.core import harmonic_balance as hb
+from shroud.core.contact import contact_law
+from shroud.core.newmark import NewmarkScheme, integrate, stuck_stiffness
+from shroud.core.signals import amplitude
+from shroud.core.system import ContactElements, StructuralSystem
+from shroud.params import Parameters
+
+# --- Den Hartog (1931): one DOF with Coulomb friction, continuous sliding -----------------
+
+MASS, STIFF, P0, FRICTION = 1.0, 1e4, 10.0, 2.0         # kg, N/m, N, mu N in N (w_n = 100 rad/s)
+
+
+def den_hartog(w: float):
+    """Exact steady state of m x'' + k x + F sign(x') = P0 sin(w t) without stops.
+
+    Over the half period in which x' > 0 the motion is linear with the force
+    -F: it starts at x = -X, x' = 0 at the forcing phase phi and ends at
+    x = +X, x' = 0 half a period later (symmetry). The two end conditions
+    give X and phi (Den Hartog's construction; solved here to round-off).
+    Returns (X, phi, x(s)) with s the time since the start of the half.
+    """
+    wn, h, Pd = math.sqrt(STIFF / MASS), math.pi / w, P0 / (STIFF - MASS * w * w)
+
+    def motion(s, X, phi):
+        A, B = -X - Pd * math.sin(phi) + FRICTION / STIFF, -Pd * w * math.cos(phi) / wn
+        x = A * np.cos(wn * s) + B * np.sin(wn * s) + Pd * np.sin(w * s + phi) - FRICTION / STIFF
+        v = -A * wn * np.sin(wn * s) + B * wn * np.cos(wn * s) + Pd * w * np.cos(w * s + phi)
+        return x, v
+
+    def ends(u):
+        x, v = motion(h, *u)
+        return [x - u[0], v]
+
+    X, phi = scipy.optimize.fsolve(ends, [abs(Pd), -math.pi / 2 if w < wn else math.pi / 2], xtol=1e-14)
+    s = np.linspace(0, h, 2001)
+    assert motion(s, X, phi)[1][1:-1].min() > 0          # it slides all the half period
+    return X, phi, lambda s: motion(s, X, phi)[0]
+
+
+def exact_fundamental(w: float) -> complex:
+    """First harmonic a_1 - i b_1 of the exact motion (x = a_1 cos w t + b_1 sin w t + ...)."""
+    X, phi, x_half = den_hartog(w)
+    n, T = 8192, 2 * math.pi / w
+    s = (np.arange(n) / n * T - phi / w) % T              # time since x was -X
+    x = np.where(s < T / 2, x_half(np.minimum(s, T / 2)), -x_half(np.maximum(s - T / 2, 0.0)))
+    return complex(np.fft.rfft(x)[1] / n * 2)
+
+
+def friction_oscillator(w: float) -> tuple[StructuralSystem, object]:
+    """The oscillator as a raw StructuralSystem: a preloaded contact whose normal coordinate never moves
+    (W's normal row is zero) and a very stiff tangential spring (kt = 10^4 k): Coulomb friction mu N0."""
+    contact = ContactElements(W=np.array([[0.0], [1.0]]), normal_row=np.array([0]), tangent_row=np.array([1]),
+                              side=np.array([1]), weight=np.array([1.0]))
+    system = StructuralSystem(model="sdof", M=np.eye(1) * MASS, C=np.zeros((1, 1)), K=np.array([[STIFF]]),
+                              f_const=np.zeros(1), f_aero=np.array([P0]), omega_e=w, tip=np.array([[1.0], [0.0]]),
+                              contact=contact)
+    return system, contact_law(contact, kn=1e6, kt=1e8, mu=0.2, N0=FRICTION / 0.2)
+
+
+@pytest.mark.parametrize("w", [70.0, 150.0])
+def test_den_hartog_steady_state(w):
+    X, _, _ = den_hartog(w)
+    c1 = exact_fundamental(w)
+    system, law = friction_oscillator(w)
+    sol = hb.solve(system, law, H=25, samples=1024)
+    assert sol.converged
+    h1 = sol.tip[1, 0] - 1j * sol.tip[2, 0]
+    assert sol.amplitude_v_L == pytest.approx(X, rel=5e-3)
+    assert abs(h1) == pytest.approx(abs(c1), rel=5e-3)
+    assert abs(np.angle(h1 / c1)) < 5e-3 * math.pi
+    spp = 1024                                            # the time domain on the same system
+    tr = integrate(system, law, NewmarkScheme(2 * math.pi / w / spp), 150 * spp)
+    assert amplitude(tr.tip[:, 0], spp) == pytest.approx(X, rel=5e-3)
+
+
+# --- the analytic Jacobian ----------------------------------------------------------------
+
+def test_jacobian_through_the_law_matches_finite_differences():
+    """Impact, stick and slip on both sides of the reduced beam near its resonance (condensed form)."""
+    p = Parameters().updated({"contact.gap": 2e-5, "speed.rpm": 9000.0})
+    system = build_system(p, "reduced")
+    law = contact_law_for(system, p.contact)
+    basis = hb.fourier(4, 64)
+    lin = hb.linear_harmonics(system, 4)
+    X = hb.linear_solution(lin) * 3.0
+    b = hb.balance(X, lin, law, basis)
+    states = set(np.unique(b.contact.state))
+    assert states == {0, 1, 2}                           # every branch of the law is exercised
+    h = 1e-12
+    J = np.column_stack([(hb.balance(X + h * e, lin, law, basis).R - hb.balance(X - h * e, lin, law, basis).R)
+                         / (2 * h) for e in np.eye(X.size)])
+    assert np.abs(J - b.J).max() <= 1e-5 * np.abs(b.J).max()
+
+
+# --- the linear limits ----------------------------------------------------------------------
+
+def test_a_gap_never_reached_gives_the_linear_solution():
+    p = Parameters().updated({"contact.gap": 5e-3, "speed.rpm": 8000.0})
+    system = build_system(p, "full")
+    sol = hb.solve(system, contact_law_for(system, p.contact), H=5)
+    assert not np.any(sol.contact.N)
+    Z = system.K - system.omega_e ** 2 * system.M + 1j * system.omega_e * system.C
+    q1 = np.linalg.solve(Z, -1j * system.f_aero)          # the linear harmonic response
+    tip1 = system.tip @ q1
+    v = sol.tip[1, 0] - 1j * sol.tip[2, 0]
+    assert abs(v - tip1[0]) <= 1e-8 * abs(tip1[0])
+    assert np.abs(sol.tip[3:]).max() <= 1e-8 * abs(tip1[0])   # no higher harmonics
+
+
+def test_a_fully_stuck_contact_is_the_linear_blade_with_contact_springs():
+    """A large preload and friction keep both shroud contacts stuck all period: harmonic 1 of the tip is
+    that of K + W^T diag(kn, kt) W."""
+    p = Parameters().updated({"contact.N0": 5e4, "contact.mu": 5.0, "speed.rpm": 12000.0})
+    system = build_system(p, "reduced")
+    law = contact_law_for(system, p.contact)
+    sol = hb.solve(system, law, H=5)
+    assert np.all(sol.contact.state == 1)
+    W = np.asarray(system.contact.W)
+    K = system.K + W.T @ stuck_stiffness(law) @ W
+    w = system.omega_e
+    tip1 = system.tip @ np.linalg.solve(K - w * w * system.M + 1j * w * system.C, -1j * system.f_aero)
+    v = sol.tip[1:3, :].T @ np.array([1.0, -1j])
+    assert np.abs(v - tip1).max() <= 1e-9 * np.abs(tip1).max()
+
+
+# --- stability: monodromy against Hill's method ------------------------------------------------
+
+@pytest.mark.parametrize("rpm, mu", [(9000.0, 0.0), (8000.0, 0.3)])
+def test_floquet_multipliers_by_monodromy_and_by_hill_agree(rpm, mu):
+    p = Parameters().updated({"contact.gap": 1e-4, "contact.mu": mu, "speed.rpm": rpm})
+    system = build_system(p, "reduced")
+    law = contact_law_for(system, p.contact)
+    H = 12
+    sol = hb.solve(system, law, H=H, samples=1024)
+    lin_full = hb.linear_harmonics(system, H, condense=False)
+    _, _, Q = hb.state_vector(system, sol, hb.linear_harmonics(system, H))
+    b = hb.balance(Q.ravel(), lin_full, law, sol.basis)
+    assert np.linalg.norm(b.R) <= 1e-8 * np.linalg.norm(lin_full.load())   # the same solution on all DOFs
+    assert np.any(b.contact.N > 0)
+    Phi = floquet.monodromy(system.M, system.C, system.K, system.contact.W, law, b.contact.state,
+                            b.contact.F, system.omega_e)
+    mono = floquet.multipliers(Phi)
+    s = floquet.hill_exponents(b.J, system.M, system.C, system.omega_e, H)
+    hill = np.exp(s * 2 * math.pi / system.omega_e)
+    # Hill's method takes the sliders' history derivative at s = 0 (the HB Jacobian's): a small
+    # difference with friction, none without
+    assert np.abs(hill).max() == pytest.approx(np.abs(mono).max(), abs=0.01 if mu == 0 else 0.03)
+
+
+# --- against the time domain ----------------------------------------------------------------
+
+def _time_domain(p: Parameters, model: str, rpm: float, periods: int = 150, q0=None, v0=None):
+    q = p.updated({"speed.rpm": rpm})
+    system = build_system(q, model)
+    spp = q.time.steps_per_period
+    tr = integrate(system, contact_law_for(system, q.contact), NewmarkScheme(q.time_step), spp * periods,
+                   q0=q0, v0=v0)
+    return tr, spp
+
+
+@pytest.mark.parametrize("model", ["reduced", "full"])
+def test_every_p1_time_domain_point_lies_on_a_stable_hb_branch(model):
+    """Fig. 11a cases: where a run from rest settles on P1, a stable HB point is within 1 %."""
+    from shroud.core.signals import detect_period
+    p = Parameters().updated({"contact.gap": 1e-4})
+    branch = run_hb(p, model, 6000.0, 18000.0, harmonics=12, samples=512)
+    assert branch.complete
+    checked = 0
+    for rpm in (7000.0, 9000.0, 11000.0, 16000.0):
+        tr, spp = _time_domain(p, model, rpm)
+        if detect_period(tr.tip[:, 0], spp) != 1:
+            continue
+        a = amplitude(tr.tip[:, 0], spp)
+        near = crossings(branch, rpm, stable=True)
+        assert near and min(abs(x / a - 1) for x in near) < 0.01, (rpm, a, near)
+        checked += 1
+    assert checked >= 3
+
+
+def test_a_time_run_leaves_an_unstable_hb_state_and_stays_on_a_stable_one():
+    """At 12500 r/min (gap 0.1 mm) three P1 states coexist; a run started on the unstable one ends on a
+    stable one, a run started on a stable one stays there."""
+    p = Parameters().updated({"contact.gap": 1e-4})
+    branch = run_hb(p, "reduced", 9000.0, 16000.0, harmonics=12, samples=512)
+    rpm = 12500.0
+    stable_amplitudes = crossings(branch, rpm, stable=True)
+    assert len(stable_amplitudes) == 2 and len(crossings(branch, rpm, stable=False)) == 1
+    for stable_wanted in (True, False):
+        sol, info = _hb_state_at(p, rpm, branch, stable_wanted)
+        assert info["stable"] == stable_wanted
+        system = build_system(p.updated({"speed.rpm": rpm}), "reduced")
+        q0, v0, _ = hb.state_vector(system, sol, hb.linear_harmonics(system, 12))
+        tr, spp = _time_domain(p, "reduced", rpm, periods=200, q0=q0, v0=v0)
+        a_end = amplitude(tr.tip[:, 0], spp)
+        if stable_wanted:
+            assert a_end == pytest.approx(sol.amplitude_v_L, rel=0.01)
+        else:
+            assert abs(a_end / sol.amplitude_v_L - 1) > 0.02
+            assert min(abs(a_end / a - 1) for a in stable_amplitudes) < 0.01
+
+
+def _hb_state_at(p, rpm, branch, stable):
+    """An HB solution at ``rpm`` on a stretch of the branch with the wanted stability (Newton from it)."""
+    for i in range(len(branch.rpm) - 1):
+        r0, r1 = branch.rpm[i], branch.rpm[i + 1]
+        if (min(r0, r1) <= rpm <= max(r0, r1) and r0 != r1 and branch.stable[i] == stable
+                and branch.stable[i + 1] == stable):
+            t = (rpm - r0) / (r1 - r0)
+            X0 = (1 - t) * branch.X[i] + t * branch.X[i + 1]
+            return solve_at(p, "reduced", rpm, harmonics=12, samples=512, X0=X0)
+    raise AssertionError(f"no {'stable' if stable else 'unstable'} stretch at {rpm}")
