@@ -1,6 +1,6 @@
 """Speed of the harmonic-balance curve against the time-domain sweep of the same range (one run).
 
-Goal (issue 12): the 0.1 mm gap curve of the reduced beam from 5000 to
+Goal: the 0.1 mm gap curve of the reduced beam from 5000 to
 20000 r/min, with the stability of every point, at least 10x faster than
 the time-domain sweep of that range at 100 r/min resolution (151 speeds,
 ``time.periods`` each, run from rest on every core). Both are timed here,
