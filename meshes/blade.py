@@ -10,8 +10,9 @@ interface (conforming mesh, one connected body).
 
 Physical groups (tags below): the clamped root face X = R_d, the two shroud
 contact faces (side 1 at v_s = -b_s/2, side 2 at v_s = +b_s/2), the blade
-and the shroud volumes. Meshes are quadratic tetrahedra (gmsh order
-``fe.order``) and are cached on disk by a hash of exactly the inputs that
+and the shroud volumes. Meshes are tetrahedra of gmsh order ``fe.order``
+(``fe.cell = "tet"``, built here) or swept hexahedra (``"hex"``,
+meshes.hexa) with the same tags, and are cached on disk by a hash of exactly the inputs that
 shape them (:func:`mesh_file`).
 
 Example
@@ -67,6 +68,8 @@ class MeshSpec:
     alpha: float              # shroud inclination, rad
     size: float               # target element size, m
     order: int                # gmsh element order (geometry), 1 or 2
+    cell: str = "tet"         # "tet" (free tetrahedra) or "hex" (swept hexahedra, meshes.hexa)
+    span_ratio: float = 1.0   # hex: cell length along the span / size
 
     @classmethod
     def from_params(cls, params: Parameters) -> "MeshSpec":
@@ -76,7 +79,8 @@ class MeshSpec:
                    twist=math.radians(b.twist_deg), shroud_length=s.length,
                    shroud_width=s.width, shroud_thickness=s.thickness,
                    alpha=math.radians(params.contact.alpha_deg), size=fe.mesh_size,
-                   order=fe.order)
+                   order=fe.order, cell=fe.cell,
+                   span_ratio=fe.hex_span_ratio if fe.cell == "hex" else 1.0)
 
     @property
     def has_shroud(self) -> bool:
@@ -121,6 +125,10 @@ def check_geometry(spec: MeshSpec) -> None:
         raise InputError("blade.twist_deg", f"{math.degrees(spec.twist):g} folds the blade: its chord edges "
                          f"wind at {spec.helix_deg:.0f} deg; allowed: atan(b/2 * twist / L) <= "
                          f"{MAX_HELIX_DEG:g} deg")
+    if spec.cell == "hex":
+        from meshes.hexa import check_hex_geometry
+        check_hex_geometry(spec)
+        return
     if spec.elements_through_thickness < MIN_ELEMENTS_THROUGH_THICKNESS:
         raise InputError("fe.mesh_size", f"{spec.size!r} leaves {spec.elements_through_thickness:.2f} "
                          f"elements through blade.thickness {spec.thickness!r}; allowed: a size <= "
@@ -252,4 +260,8 @@ def mesh_file(spec: MeshSpec) -> Path:
     check_geometry(spec)
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
     inputs["builder"] = BUILDER_VERSION
-    return cached("mesh", inputs, ".msh", lambda tmp: write_mesh(spec, tmp), what="blade mesh")
+    if spec.cell == "hex":
+        from meshes.hexa import write_hex_mesh as write
+    else:
+        write = write_mesh
+    return cached("mesh", inputs, ".msh", lambda tmp: write(spec, tmp), what="blade mesh")
