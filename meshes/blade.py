@@ -261,7 +261,8 @@ def mesh_file(spec: MeshSpec) -> Path:
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
     inputs["builder"] = BUILDER_VERSION
     if spec.cell == "hex":
-        from meshes.hexa import write_hex_mesh as write
+        from meshes.hexa import BUILDER_VERSION as HEX_BUILDER, write_hex_mesh as write
+        inputs["builder"] = f"hex{HEX_BUILDER}"
     else:
         write = write_mesh
     return cached("mesh", inputs, ".msh", lambda tmp: write(spec, tmp), what="blade mesh")

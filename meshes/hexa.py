@@ -37,6 +37,8 @@ from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, Mes
                           tip_points)
 from shroud.base.errors import InputError
 
+# Bump when the construction below changes what a given MeshSpec produces.
+BUILDER_VERSION = 2
 # gmsh element types: hexahedra and quadrilaterals of order 1 and 2.
 HEX = {1: 5, 2: 12}
 QUAD = {1: 3, 2: 10}
@@ -113,7 +115,18 @@ def check_hex_geometry(spec: MeshSpec) -> None:
 
 
 def _plane_mesh(gmsh, spec: MeshSpec):
-    """Quadrilaterals of the tip plane: (points (n, 2) in (v, w), quads (m, 4), in_T (m,), in_S (m,))."""
+    """Quadrilaterals of the tip plane: (points (n, 2) in (v, w), quads (m, 4) counter-clockwise,
+    in_T (m,), in_S (m,)): the structured tip grid if the footprint allows it, else gmsh's."""
+    found = _structured_plane(gmsh, spec)
+    if found is None:
+        gmsh.model.remove()
+        gmsh.model.add("tip_plane")
+        found = _free_plane(gmsh, spec)
+    return found
+
+
+def _free_plane(gmsh, spec: MeshSpec):
+    """The tip plane meshed by gmsh: a structured middle block of T, the rest free quadrilaterals."""
     n_v, n_w, n_end, _, _ = grid(spec)
     occ = gmsh.model.occ
     h, b = spec.thickness, spec.width
@@ -169,20 +182,204 @@ def _plane_mesh(gmsh, spec: MeshSpec):
         quads.append(q)
         in_T.append(np.full(len(q), abs(centre[0]) < 0.5 * h and abs(centre[1]) < 0.5 * b))
         in_S.append(np.full(len(q), spec.has_shroud and all(centre @ n < d for n, d, _ in _half_planes(spec))))
-    quads = np.vstack(quads)
-
-    def cross(a, b):
-        return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-
-    P = points[quads]
-    area = 0.5 * cross(P[:, 2] - P[:, 0], P[:, 3] - P[:, 1])
-    quads[area < 0] = quads[area < 0][:, ::-1]        # counter-clockwise in (v, w): +X out of the plane
-    P = points[quads]
-    corner = [cross(P[:, (i + 1) % 4] - P[:, i], P[:, (i + 3) % 4] - P[:, i]) for i in range(4)]
     union = sum(occ.getMass(2, t) for _, t in model.getEntities(2))
-    if min(np.min(c) for c in corner) <= 0 or abs(np.abs(area).sum() - union) > 1e-9 * union:
+    quads = _valid_cover(points, np.vstack(quads), union)
+    if quads is None:
         raise RuntimeError("the quadrilaterals of the tip plane are not a valid cover of it")
     return points, quads, np.concatenate(in_T), np.concatenate(in_S)
+
+
+def _cross(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _valid_cover(points: np.ndarray, quads: np.ndarray, area: float):
+    """``quads`` turned counter-clockwise in (v, w) (+X out of the plane), or None unless every
+    corner is convex and they cover ``area`` (m^2) exactly once."""
+    P = points[quads]
+    signed = 0.5 * _cross(P[:, 2] - P[:, 0], P[:, 3] - P[:, 1])
+    quads = np.where((signed < 0)[:, None], quads[:, ::-1], quads)
+    P = points[quads]
+    corner = min(np.min(_cross(P[:, (i + 1) % 4] - P[:, i], P[:, (i + 3) % 4] - P[:, i])) for i in range(4))
+    if corner <= 0 or abs(np.abs(signed).sum() - area) > 1e-9 * area:
+        return None
+    return quads
+
+
+def _structured_plane(gmsh, spec: MeshSpec):
+    """The tip rectangle T as an n_v x n_w grid, the shroud footprint's rest S \\ T from gmsh.
+
+    A corner of T outside the footprint is cut off by one side of it within
+    its corner cell: the cell becomes the cut triangle (3 quads about its
+    centroid, blade only) and the pentagon left (2 quads). S \\ T is
+    triangulated by gmsh with T's outline at half resolution, and each
+    triangle split into 3 quadrilaterals whose points on T's outline are
+    T's nodes. None when a cut does not fit in its corner cell (then the
+    free mesher serves).
+    """
+    n_v, n_w, _, _, _ = grid(spec)
+    h, b = spec.thickness, spec.width
+    tol = 1e-9 * h
+    planes = _half_planes(spec) if spec.has_shroud else []
+    points = [np.array([v, w]) for v in np.linspace(-0.5 * h, 0.5 * h, n_v + 1)
+              for w in np.linspace(-0.5 * b, 0.5 * b, n_w + 1)]
+
+    def nid(i: int, j: int) -> int:
+        return i * (n_w + 1) + j
+
+    def add(p) -> int:
+        points.append(np.asarray(p, dtype=float))
+        return len(points) - 1
+
+    def outside(p) -> list[int]:
+        return [k for k, (n, d, _) in enumerate(planes) if p @ n > d + tol]
+
+    corners = [(0, 0), (0, n_w), (n_v, n_w), (n_v, 0)]
+    if any(outside(points[nid(i, j)]) for i in range(n_v + 1) for j in range(n_w + 1)
+           if (i, j) not in corners):
+        return None
+    quads, in_S = [], []
+    cut = {}                      # corner node -> (point on its w-edge, point on its v-edge)
+    for i, j in corners:
+        C = nid(i, j)
+        A = nid(i, j + (1 if j == 0 else -1))           # along the chord
+        D = nid(i + (1 if i == 0 else -1), j)           # through the thickness
+        B = nid(i + (1 if i == 0 else -1), j + (1 if j == 0 else -1))
+        sides = outside(points[C])
+        if not sides:
+            continue
+        if len(sides) > 1:
+            return None
+        n, d, _ = planes[sides[0]]
+        t_A = (d - points[C] @ n) / ((points[A] - points[C]) @ n)
+        t_D = (d - points[C] @ n) / ((points[D] - points[C]) @ n)
+        if not (0 < t_A < 0.9 and 0 < t_D < 0.9):
+            return None
+        P_A = add(points[C] + t_A * (points[A] - points[C]))
+        P_D = add(points[C] + t_D * (points[D] - points[C]))
+        m = add(0.5 * (points[P_A] + points[P_D]))
+        G = add((points[C] + points[P_A] + points[P_D]) / 3.0)
+        m_A, m_D = add(0.5 * (points[C] + points[P_A])), add(0.5 * (points[C] + points[P_D]))
+        quads += [[C, m_A, G, m_D], [m_A, P_A, m, G], [m_D, G, m, P_D], [P_A, A, B, m], [m, B, D, P_D]]
+        in_S += [False, False, False, True, True]
+        cut[C] = (P_A, m_A, P_D, m_D)
+    cut_cells = {(0 if nid(0, 0) <= C < nid(1, 0) else n_v - 1, 0 if C % (n_w + 1) == 0 else n_w - 1)
+                 for C in cut}
+    for i in range(n_v):
+        for j in range(n_w):
+            if (i, j) not in cut_cells:
+                quads.append([nid(i, j), nid(i, j + 1), nid(i + 1, j + 1), nid(i + 1, j)])
+                in_S.append(bool(planes))
+    n_T = len(quads)
+    # T's outline, counter-clockwise in (v, w), cut corners replaced by their cut points.
+    ring = ([nid(0, j) for j in range(n_w)] + [nid(i, n_w) for i in range(n_v)]
+            + [nid(n_v, j) for j in range(n_w, 0, -1)] + [nid(i, 0) for i in range(n_v, 0, -1)])
+    outline, anchors = [], set()
+    for C in ring:
+        if C in cut:
+            P_A, m_A, P_D, m_D = cut[C]
+            i_prev = ring[ring.index(C) - 1]
+            along_chord_first = abs(points[i_prev][0] - points[C][0]) < tol   # arriving along the chord
+            seq = [P_A, m_A, C, m_D, P_D] if along_chord_first else [P_D, m_D, C, m_A, P_A]
+            outline += seq
+            anchors |= {seq[0], C, seq[-1]}
+        else:
+            outline.append(C)
+            if C in {nid(*c) for c in corners}:
+                anchors.add(C)
+    if not planes:
+        quads = _valid_cover(np.array(points), np.array(quads), h * b)
+        return (np.array(points), quads, np.ones(n_T, bool), np.zeros(n_T, bool)) if quads is not None else None
+    # Half resolution along the outline: every other node from each anchor (chains are even).
+    start = next(k for k, p in enumerate(outline) if p in anchors)
+    outline = outline[start:] + outline[:start]
+    half, between, chain = [], {}, []
+    for p in outline + [outline[0]]:
+        chain.append(p)
+        if p in anchors and len(chain) > 1:
+            if (len(chain) - 1) % 2:
+                return None
+            half += chain[:-1:2]
+            for a, mid, c in zip(chain[:-2:2], chain[1::2], chain[2::2]):
+                between[frozenset((a, c))] = mid
+            chain = [p]
+    ring_S = _shroud_ring(gmsh, spec, points, half, between)
+    if ring_S is None:
+        return None
+    points = np.array(points)
+    quads = np.vstack([np.array(quads), ring_S[0]])
+    quads = _valid_cover(points, quads, h * b + ring_S[1])
+    if quads is None:
+        return None
+    n_S = len(quads) - n_T
+    return (points, quads, np.concatenate([np.ones(n_T, bool), np.zeros(n_S, bool)]),
+            np.concatenate([np.array(in_S, bool), np.ones(n_S, bool)]))
+
+
+def _shroud_ring(gmsh, spec: MeshSpec, pts: list, half: list[int], between: dict):
+    """Quadrilaterals of S \\ T (the footprint outside the tip rectangle) and its area, or None.
+
+    gmsh triangulates S minus the polygon of T's outline nodes ``half``
+    (every other node, each segment one mesh edge) at twice the cell size;
+    every triangle is split into 3 quadrilaterals about its centroid, with
+    the outline node ``between`` two half-resolution nodes as the point on
+    that edge (so the quads meet T's cells node to node). New points are
+    appended to ``pts``.
+    """
+    occ, model = gmsh.model.occ, gmsh.model
+    tol = 1e-9 * spec.thickness
+    S = occ.addRectangle(-0.5 * spec.shroud_width, -0.5 * spec.shroud_length, 0,
+                         spec.shroud_width, spec.shroud_length)
+    occ.rotate([(2, S)], 0, 0, 0, 0, 0, 1, spec.alpha)
+    tags = [occ.addPoint(*pts[p], 0.0) for p in half]
+    lines = [occ.addLine(tags[k], tags[(k + 1) % len(tags)]) for k in range(len(tags))]
+    T = occ.addPlaneSurface([occ.addCurveLoop(lines)])
+    ring, _ = occ.cut([(2, S)], [(2, T)])
+    occ.synchronize()
+    if not ring:
+        return None
+    area = sum(occ.getMass(2, t) for _, t in ring)
+
+    def outline_node(x) -> int | None:
+        return next((p for p in half if np.linalg.norm(pts[p] - x[:2]) < tol), None)
+
+    for _, c in model.getEntities(1):
+        ends = [outline_node(np.asarray(model.getValue(0, v, []))) for _, v in model.getBoundary([(1, c)])]
+        if None not in ends and frozenset(ends) in between:
+            model.mesh.setTransfiniteCurve(c, 2)             # one segment: T's outline at half resolution
+    gmsh.option.setNumber("Mesh.Algorithm", 6)               # frontal-Delaunay triangles
+    gmsh.option.setNumber("Mesh.MeshSizeMax", 2 * spec.size)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    model.mesh.generate(2)
+    node_tags, x, _ = model.mesh.getNodes()
+    mine = {}
+    for tag, p in zip(node_tags.astype(int), x.reshape(-1, 3)):
+        hit = outline_node(p)
+        if hit is None:
+            pts.append(p[:2].copy())
+            hit = len(pts) - 1
+        mine[tag] = hit
+    edge_point = dict(between)
+
+    def on_edge(a: int, c: int) -> int:
+        key = frozenset((a, c))
+        if key not in edge_point:
+            pts.append(0.5 * (pts[a] + pts[c]))
+            edge_point[key] = len(pts) - 1
+        return edge_point[key]
+
+    quads = []
+    for _, t in ring:
+        types, _, nodes = model.mesh.getElements(2, t)
+        if any(ty != 2 for ty in types):
+            return None
+        for a, c, e in np.array([mine[n] for n in nodes[0].astype(int)]).reshape(-1, 3):
+            pts.append((pts[a] + pts[c] + pts[e]) / 3.0)
+            g = len(pts) - 1
+            ac, ce, ea = on_edge(a, c), on_edge(c, e), on_edge(e, a)
+            quads += [[a, ac, g, ea], [c, ce, g, ac], [e, ea, g, ce]]
+    return np.array(quads), area
 
 
 def _plane_nodes(points: np.ndarray, quads: np.ndarray, order: int):
@@ -190,20 +387,31 @@ def _plane_nodes(points: np.ndarray, quads: np.ndarray, order: int):
 
     (i, j) count along the quad's local axes xi (corner 0 -> 1) and eta
     (corner 0 -> 3); bilinear placement (the plane's edges are straight).
+    Quads share a node when they share the vertex, the edge or the cell it
+    belongs to (by index, not by position).
     """
     k = order
     keys, pos = {}, []
     lattice = np.empty((len(quads), k + 1, k + 1), dtype=np.int64)
+    corner_of = {(0, 0): 0, (k, 0): 1, (k, k): 2, (0, k): 3}
     for q, corners in enumerate(quads):
         P = points[corners]
         for i in range(k + 1):
             for j in range(k + 1):
-                s, t = i / k, j / k
-                p = (1 - s) * (1 - t) * P[0] + s * (1 - t) * P[1] + s * t * P[2] + (1 - s) * t * P[3]
-                key = tuple(np.round(p / 1e-9).astype(np.int64))     # 1 nm: shared edges meet exactly
+                if (i, j) in corner_of:                      # a vertex: shared by its index
+                    key = ("v", int(corners[corner_of[(i, j)]]))
+                elif 0 < i < k and 0 < j < k:                # inside the quad
+                    key = ("c", q, i, j)
+                else:                                        # on an edge: shared by its two vertices
+                    a, b = ((corners[0], corners[1]) if j == 0 else (corners[3], corners[2]) if j == k
+                            else (corners[0], corners[3]) if i == 0 else (corners[1], corners[2]))
+                    along = i if j in (0, k) else j
+                    key = ("e", int(a), int(b), along) if a < b else ("e", int(b), int(a), k - along)
                 if key not in keys:
+                    s_, t_ = i / k, j / k
                     keys[key] = len(pos)
-                    pos.append(p)
+                    pos.append((1 - s_) * (1 - t_) * P[0] + s_ * (1 - t_) * P[1] + s_ * t_ * P[2]
+                               + (1 - s_) * t_ * P[3])
                 lattice[q, i, j] = keys[key]
     return np.array(pos), lattice
 
