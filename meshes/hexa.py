@@ -38,10 +38,22 @@ from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, Mes
 from shroud.base.errors import InputError
 
 # Bump when the construction below changes what a given MeshSpec produces.
-BUILDER_VERSION = 2
+BUILDER_VERSION = 3
+# Shroud cells (ring around the blade tip, layers through t_s) are this many times
+# fe.mesh_size: a compact block, it moves nearly rigidly.
+SHROUD_CELL = 1.5
+# Span layers are graded towards the clamped root and the blade/shroud junction, where
+# the stresses vary fastest: x / L = t - SPAN_BUMP sin(2 pi t) / (2 pi), so end layers
+# are (1 - SPAN_BUMP) and mid-span layers (1 + SPAN_BUMP) times the mean.
+SPAN_BUMP = 0.5
 # gmsh element types: hexahedra and quadrilaterals of order 1 and 2.
 HEX = {1: 5, 2: 12}
 QUAD = {1: 3, 2: 10}
+
+
+def span_position(t: float) -> float:
+    """x / L of the span coordinate t in [0, 1] (graded layers, SPAN_BUMP)."""
+    return t - SPAN_BUMP * math.sin(2.0 * math.pi * t) / (2.0 * math.pi)
 
 
 def _half_planes(spec: MeshSpec) -> list[tuple[np.ndarray, float, str]]:
@@ -99,7 +111,7 @@ def grid(spec: MeshSpec) -> tuple[int, int, int, int, int]:
     depth = cut_depth(spec) if spec.has_shroud else 0.0
     n_end = math.ceil(depth / cell - 1e-9) if depth > 1e-9 * spec.width else 0
     n_x = max(1, math.ceil(spec.length / (spec.span_ratio * s) - 1e-9))
-    n_t = max(1, math.ceil(spec.shroud_thickness / s - 1e-9)) if spec.has_shroud else 0
+    n_t = max(1, math.ceil(spec.shroud_thickness / (SHROUD_CELL * s) - 1e-9)) if spec.has_shroud else 0
     return n_v, n_w, n_end, n_x, n_t
 
 
@@ -348,7 +360,7 @@ def _shroud_ring(gmsh, spec: MeshSpec, pts: list, half: list[int], between: dict
         if None not in ends and frozenset(ends) in between:
             model.mesh.setTransfiniteCurve(c, 2)             # one segment: T's outline at half resolution
     gmsh.option.setNumber("Mesh.Algorithm", 6)               # frontal-Delaunay triangles
-    gmsh.option.setNumber("Mesh.MeshSizeMax", 2 * spec.size)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", 2 * SHROUD_CELL * spec.size)
     gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
     model.mesh.generate(2)
@@ -437,7 +449,7 @@ def _solid(spec: MeshSpec, points, quads, in_T, in_S, gmsh):
         if node_id[level, p] < 0:
             v, w = pos2[p]
             if level <= levels_blade:                  # blade section at x, turned by beta(x)
-                x = spec.length * level / levels_blade
+                x = spec.length * span_position(level / levels_blade)
                 X0 = spec.disk_radius + x
                 e_v, e_w = section_frame(spec.stagger + spec.twist * x / spec.length)
             else:                                      # shroud, in the tip frame

@@ -54,7 +54,8 @@ def ccx() -> str | None:
     return shutil.which("ccx") or shutil.which("ccx_2.20")
 
 
-def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, coriolis: bool = True) -> dict:
+def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, coriolis: bool = True,
+               nlgeom: bool = True) -> dict:
     """Write ``path`` (.inp) for the solid of ``params`` at ``rpm``; return mesh facts."""
     import meshio
     spec = MeshSpec.from_params(params)
@@ -86,7 +87,7 @@ def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, corioli
               "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL"]
     centrif = f"EALL, CENTRIF, {omega**2:.12e}, 0., 0., 0., 0., 0., 1."   # ccx reads <= 20 characters a number
     if omega > 0:
-        lines += ["*STEP, NLGEOM", "*STATIC", "1., 1.", "*DLOAD", centrif, "*END STEP",
+        lines += ["*STEP, NLGEOM" if nlgeom else "*STEP", "*STATIC", "1., 1.", "*DLOAD", centrif, "*END STEP",
                   "*STEP, PERTURBATION"]
     else:
         lines += ["*STEP"]
@@ -141,13 +142,13 @@ def tip_kinematics(spec: MeshSpec, shapes: np.ndarray) -> np.ndarray:
 
 
 def run_calculix(params: Parameters, rpm: float, n_modes: int, workdir: Path,
-                 coriolis: bool = True) -> CalculixModes:
+                 coriolis: bool = True, nlgeom: bool = True) -> CalculixModes:
     """Write the deck in ``workdir``, run ccx (one thread), read its frequencies and name the modes."""
     exe = ccx()
     if exe is None:
         raise FileNotFoundError("ccx (CalculiX) is not installed")
     workdir.mkdir(parents=True, exist_ok=True)
-    facts = write_deck(params, rpm, n_modes, workdir / "blade.inp", coriolis)
+    facts = write_deck(params, rpm, n_modes, workdir / "blade.inp", coriolis, nlgeom)
     env = {"OMP_NUM_THREADS": "1", "CCX_NPROC_EQUATION_SOLVER": "1", "PATH": "/usr/bin:/bin"}
     t0 = time.perf_counter()
     done = subprocess.run([exe, "-i", "blade"], cwd=workdir, capture_output=True, text=True, env=env)
