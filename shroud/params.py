@@ -126,9 +126,9 @@ class Reduced:
 
 @dataclass(frozen=True)
 class FE:
-    mesh_size: float = 0.0035  # m; chosen by the mesh-convergence scene (scenes/convergence.toml)
+    mesh_size: float = 0.0065  # m; chosen by the mesh-convergence scene (scenes/convergence.toml)
     order: int = 2             # polynomial degree of the displacement
-    cell: str = "tet"          # "tet" (free tetrahedra) or "hex" (swept hexahedra: meshes.hexa)
+    cell: str = "hex"          # "hex" (swept hexahedra: meshes.hexa) or "tet" (free tetrahedra)
     hex_span_ratio: float = 1.0  # hex cells: length along the span / fe.mesh_size
     cms_modes: int = 24        # kept modes of the reduced FE model
     interface_modes: int = 8   # kept contact-face patterns of fe-reduced (0 = all); see bench_fe_transient
