@@ -2,29 +2,32 @@
 
 The blade is a rectangle swept along X while it turns (geometry.md), the
 shroud a box on its tip turned by alpha further: both are extrusions of one
-plane mesh, the tip plane X = R_d + L in the tip-section coordinates
-(v along e_v(L), w along e_w(L)):
+quadrilateral mesh of the tip plane X = R_d + L, in the tip-section
+coordinates (v along e_v(L), w along e_w(L)):
 
-* the plane holds the tip rectangle T = [-h/2, h/2] x [-b/2, b/2] and the
-  shroud footprint S (b_s along e_vs, l_s along e_ws, paper Eq. 7);
-  gmsh fragments them, so every edge of either is a mesh line, and meshes
-  the plane with quadrilaterals: the middle of T as a structured grid
-  (n_v through the thickness, uniform chord cells), the rest all-quad;
-* the blade is the quads of T swept from the root to the tip, each layer
-  turned by beta(x) (ruled, linearly twisted prism: nodes exactly on the
-  helicoidal faces), the shroud the quads of S extruded by t_s along X;
-  the two share the nodes of T and S's common part at the tip plane (one
-  conforming body).
+* the tip rectangle T = [-h/2, h/2] x [-b/2, b/2] is an n_v x n_w grid
+  (:func:`grid`); a corner of T outside the shroud footprint S (b_s along
+  e_vs, l_s along e_ws, paper Eq. 7) is cut off along S's edge inside its
+  corner cell, which becomes 5 quads (the cut triangle: blade only);
+* the ring S minus T is triangulated by gmsh with T's outline at half
+  resolution and every triangle split into 3 quads, so that it meets T's
+  cells node to node (:func:`_structured_plane`);
+* the blade is T's quads swept from the root to the tip, each layer turned
+  by beta(x) (ruled, linearly twisted prism: nodes exactly on the
+  helicoidal faces; layers graded towards root and junction), the shroud
+  S's quads extruded by t_s along X; the two share the tip-plane nodes of
+  T and S's common part (one conforming body).
 
-Where the tip rectangle leaves the shroud footprint (alpha = 15 deg: two
-corners 0.2 mm past the shroud ends; 30 deg: 3 mm past its contact faces)
-the cut lines sit in the end blocks of T, which are meshed freely and swept
-like the rest. A footprint that cuts T within a quarter chord of its centre
-(where the tip nodes sit) is refused: sweep a tetrahedral mesh instead.
+With alpha = 15 deg two tip corners stand 0.2 mm past the shroud ends: two
+cut corner cells. Where a cut does not fit in a corner cell (alpha = 30 deg:
+3 mm past the contact faces) gmsh meshes the whole plane with quads instead
+(:func:`_free_plane`: a structured middle block, free end blocks). A
+footprint that cuts T within a quarter chord of its centre (where the tip
+nodes sit) is refused: sweep a tetrahedral mesh instead.
 
 Cells are Lagrange hexahedra of order ``fe.order`` (order 2: 27 nodes,
-tensor-product Q2, the element DOLFINx builds from gmsh's hex27); the
-quadrature of the forms is DOLFINx's default for them.
+tensor-product Q2, the element DOLFINx builds from gmsh's hex27), written
+to a .msh with the physical groups of meshes.blade.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ from meshes.blade import MeshSpec, mesh_file
 
 
 def mesh_picture(spec: MeshSpec, path: Path) -> Path:
-    """Surface of the quadratic tetrahedral mesh with its edges, seen from the suction side and above."""
+    """Surface of the solid mesh (tetrahedra or hexahedra) with its edges, seen from the suction side and above."""
     import meshio
     import pyvista as pv
     pv.OFF_SCREEN = True
