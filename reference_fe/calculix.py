@@ -12,7 +12,10 @@ isotropic steel; a geometrically nonlinear static step under the centrifugal
 load (*DLOAD CENTRIF, rho Omega^2 r about +Z through the origin), then a
 perturbation *FREQUENCY step about that state (stress stiffening and spin
 softening), then *COMPLEX FREQUENCY, CORIOLIS for the gyroscopic
-frequencies. The tip nodes (meshes.blade.tip_points) are printed per mode
+frequencies (CalculiX projects them onto the modes of the *FREQUENCY step:
+without the blade's axial modes in that basis, the Coriolis coupling of
+flap and axial motion, which DOLFINx's full gyroscopic problem holds, is
+lost). The tip nodes (meshes.blade.tip_points) are printed per mode
 so that modes are named by the same tip kinematics (shroud.core.modes).
 DOLFINx uses the linear prestress (K_e u0 = f_c); the nonlinear static
 state differs from it by O(strain) ~ 1e-3 in the stress.
