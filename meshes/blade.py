@@ -8,40 +8,27 @@ Eq. 13 for the section corners). The shroud is a box l_s (along e_ws) x b_s
 (paper Eq. 7 frame). Blade and shroud are two volumes sharing their
 interface (conforming mesh, one connected body).
 
-Physical groups (tags below): the clamped root face X = R_d, the two shroud
+Physical groups (tags in meshes.spec): the clamped root face X = R_d, the two shroud
 contact faces (side 1 at v_s = -b_s/2, side 2 at v_s = +b_s/2), the blade
 and the shroud volumes. Meshes are tetrahedra of gmsh order ``fe.order``
 (``fe.cell = "tet"``, built here) or swept hexahedra (``"hex"``,
-meshes.hexa) with the same tags, and are cached on disk by a hash of exactly the inputs that
-shape them (:func:`mesh_file`).
-
-Example
--------
->>> from shroud.params import Parameters
->>> spec = MeshSpec.from_params(Parameters())
->>> round(spec.elements_through_thickness, 2)
-1.17
+meshes.hexa) with the same tags, and are cached on disk by a hash of
+exactly the inputs that shape them (:func:`mesh_file`).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from meshes.hexa import BUILDER_VERSION as HEX_BUILDER, check_hex_geometry, write_hex_mesh
+from meshes.spec import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec,  # noqa: F401
+                         section_frame, shroud_frame, tip_points)
 from shroud.base.cache import cached
 from shroud.base.errors import InputError
-from shroud.params import Parameters
-
-# Physical group tags (facets dim 2, cells dim 3).
-ROOT = 1
-CONTACT_SIDE1 = 2      # shroud face at v_s = -b_s/2 (outward normal -e_vs)
-CONTACT_SIDE2 = 3      # shroud face at v_s = +b_s/2 (outward normal +e_vs)
-BLADE = 1
-SHROUD = 2
 
 # Edge fibres of a twisted blade run along a helix of angle atan(b/2 * beta_t / L).
 # Beyond this the sections overlap each other along X within one chord: the
@@ -50,70 +37,6 @@ MAX_HELIX_DEG = 45.0
 MIN_ELEMENTS_THROUGH_THICKNESS = 2.0
 # Bump when the construction below changes what a given MeshSpec produces.
 BUILDER_VERSION = 1
-
-
-@dataclass(frozen=True)
-class MeshSpec:
-    """Everything that shapes the mesh, SI units (m, rad)."""
-
-    disk_radius: float
-    length: float
-    width: float
-    thickness: float
-    stagger: float            # beta_1, rad
-    twist: float              # beta_t, rad
-    shroud_length: float      # l_s (along e_ws)
-    shroud_width: float       # b_s (along e_vs)
-    shroud_thickness: float   # t_s (along X); 0 = no shroud
-    alpha: float              # shroud inclination, rad
-    size: float               # target element size, m
-    order: int                # gmsh element order (geometry), 1 or 2
-    cell: str = "tet"         # "tet" (free tetrahedra) or "hex" (swept hexahedra, meshes.hexa)
-    span_ratio: float = 1.0   # hex: cell length along the span / size
-
-    @classmethod
-    def from_params(cls, params: Parameters) -> "MeshSpec":
-        b, s, fe = params.blade, params.shroud, params.fe
-        return cls(disk_radius=b.disk_radius, length=b.length, width=b.width,
-                   thickness=b.thickness, stagger=math.radians(b.stagger_deg),
-                   twist=math.radians(b.twist_deg), shroud_length=s.length,
-                   shroud_width=s.width, shroud_thickness=s.thickness,
-                   alpha=math.radians(params.contact.alpha_deg), size=fe.mesh_size,
-                   order=fe.order, cell=fe.cell,
-                   span_ratio=fe.hex_span_ratio if fe.cell == "hex" else 1.0)
-
-    @property
-    def has_shroud(self) -> bool:
-        return self.shroud_thickness > 0
-
-    @property
-    def beta_tip(self) -> float:
-        return self.stagger + self.twist
-
-    @property
-    def tip_x(self) -> float:
-        """X of the blade tip section (blade/shroud interface), m."""
-        return self.disk_radius + self.length
-
-    @property
-    def elements_through_thickness(self) -> float:
-        return self.thickness / self.size
-
-    @property
-    def helix_deg(self) -> float:
-        """Helix angle of the chord-edge fibres, deg."""
-        return math.degrees(math.atan(0.5 * self.width * abs(self.twist) / self.length))
-
-
-def section_frame(beta: float) -> tuple[np.ndarray, np.ndarray]:
-    """e_v, e_w of a section turned by ``beta`` about +X (geometry.md)."""
-    c, s = math.cos(beta), math.sin(beta)
-    return np.array([0.0, c, s]), np.array([0.0, -s, c])
-
-
-def shroud_frame(spec: MeshSpec) -> tuple[np.ndarray, np.ndarray]:
-    """e_vs (contact normal), e_ws (friction direction): the tip frame turned by alpha (Eq. 7)."""
-    return section_frame(spec.beta_tip + spec.alpha)
 
 
 def check_geometry(spec: MeshSpec) -> None:
@@ -126,7 +49,6 @@ def check_geometry(spec: MeshSpec) -> None:
                          f"wind at {spec.helix_deg:.0f} deg; allowed: atan(b/2 * twist / L) <= "
                          f"{MAX_HELIX_DEG:g} deg")
     if spec.cell == "hex":
-        from meshes.hexa import check_hex_geometry
         check_hex_geometry(spec)
         return
     if spec.elements_through_thickness < MIN_ELEMENTS_THROUGH_THICKNESS:
@@ -202,18 +124,6 @@ def _build_model(gmsh, spec: MeshSpec) -> None:
     _embed_tip_points(model, spec)
 
 
-def tip_points(spec: MeshSpec) -> np.ndarray:
-    """(3, 3) points of the tip section x = L: its centre, then centre -/+ (b/4) e_w(L).
-
-    They are mesh nodes (embedded in the tip face), so the tip kinematics
-    v_L, w_L (centre) and the twist (from the two chord points) are nodal
-    values: exact, and the same on any number of MPI ranks.
-    """
-    _, e_w = section_frame(spec.beta_tip)
-    centre = np.array([spec.tip_x, 0.0, 0.0])
-    return np.array([centre, centre - 0.25 * spec.width * e_w, centre + 0.25 * spec.width * e_w])
-
-
 def _embed_tip_points(model, spec: MeshSpec) -> None:
     tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
     faces = [tag for _, tag in model.getEntities(2)
@@ -261,7 +171,7 @@ def mesh_file(spec: MeshSpec) -> Path:
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
     inputs["builder"] = BUILDER_VERSION
     if spec.cell == "hex":
-        from meshes.hexa import BUILDER_VERSION as HEX_BUILDER, write_hex_mesh as write
+        write = write_hex_mesh
         inputs["builder"] = f"hex{HEX_BUILDER}"
     else:
         write = write_mesh

@@ -36,8 +36,8 @@ import math
 
 import numpy as np
 
-from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec, section_frame,
-                          tip_points)
+from meshes.spec import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec, section_frame,
+                         tip_points)
 from shroud.base.errors import InputError
 
 # Bump when the construction below changes what a given MeshSpec produces.
