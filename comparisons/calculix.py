@@ -30,6 +30,7 @@ OPTIONS = {
     "cells": ["tet", "hex"],          # one mesh per entry ...
     "mesh_sizes": [0.0035, 0.007],    # ... with this fe.mesh_size, m
     "coriolis": True,
+    "nlgeom": True,         # CalculiX's static step geometrically nonlinear (false: linear, as DOLFINx's)
 }
 
 
@@ -48,7 +49,8 @@ def run(scene, out: Path) -> dict:
     for cell, size in zip(opts["cells"], opts["mesh_sizes"]):
         params = scene.params.updated({"fe.cell": cell, "fe.mesh_size": float(size)})
         ours = solve_modes(params, rpm, k + 2, bool(opts["coriolis"]))
-        theirs = run_calculix(params, rpm, k + 2, out / f"ccx_{cell}", bool(opts["coriolis"]))
+        theirs = run_calculix(params, rpm, k + 2, out / f"ccx_{cell}", bool(opts["coriolis"]),
+                              bool(opts["nlgeom"]))
         worst = 0.0
         for i, label in enumerate(ours.labels[:k]):
             j = theirs.labels.index(label) if label in theirs.labels else None
@@ -80,7 +82,8 @@ def _write_report(path: Path, scene, rows, summary) -> None:
     lines = [f"# {scene.title}", "",
              f"{opts['rpm']:g} r/min; the same mesh in both codes; modes paired by tip-kinematics label. "
              "DOLFINx: linear prestress (K_e u0 = f_c), Lagrange elements (P2 tetrahedra, Q2 27-node "
-             "hexahedra). CalculiX: NLGEOM centrifugal static step, perturbation *FREQUENCY, "
+             "hexahedra). CalculiX: " + ("NLGEOM" if opts["nlgeom"] else "linear")
+             + " centrifugal static step, perturbation *FREQUENCY, "
              "*COMPLEX FREQUENCY, CORIOLIS; C3D10 (the same element as P2) or C3D20 (serendipity: the "
              "27-node brick without its face and centre nodes, a smaller space on the same mesh).", ""]
     lines.append(markdown_table(
