@@ -126,7 +126,7 @@ class Reduced:
 
 @dataclass(frozen=True)
 class FE:
-    mesh_size: float = 0.0065  # m; chosen by the mesh-convergence scene (scenes/convergence.toml)
+    mesh_size: float = 0.005   # m; chosen by the mesh-convergence scene (scenes/convergence.toml)
     order: int = 2             # polynomial degree of the displacement
     cell: str = "hex"          # "hex" (swept hexahedra: meshes.hexa) or "tet" (free tetrahedra)
     hex_span_ratio: float = 1.0  # hex cells: length along the span / fe.mesh_size
