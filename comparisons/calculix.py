@@ -100,8 +100,9 @@ def _write_report(path: Path, scene, rows, summary) -> None:
           f"{r['f_calculix_hz']:.3f}", f"{r['diff_pct']:+.3f}", f"{r['f_coriolis_dolfinx_hz']:.3f}",
           f"{r['f_coriolis_calculix_hz']:.3f}", f"{r['coriolis_diff_pct']:+.3f}"] for r in rows]))
     lines += ["", "CalculiX's complex frequencies are a projection onto the modes of its *FREQUENCY step "
-              f"({int(opts['n_modes']) + 2} here); the axial modes through which Coriolis softens the flap "
-              "modes (DOLFINx: flap1 about -0.07 %) are not among them, so its Coriolis shifts are "
-              "nearly zero: compare the Coriolis columns with that in mind.", "",
+              f"({int(opts['n_modes']) + 2} here): it holds the Coriolis coupling among those modes "
+              "(chord1 and flap2 move) but not through the axial modes, which are not among them and "
+              "through which Coriolis softens flap1 (DOLFINx: about -0.07 %; CalculiX: none): compare "
+              "the Coriolis columns with that in mind.", "",
               "Decks, logs and CalculiX's .dat: ccx_<cell>/ beside this report."]
     path.write_text("\n".join(lines) + "\n")
