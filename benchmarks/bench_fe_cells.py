@@ -8,6 +8,11 @@ the Fig. 8 signals over the last ``--window`` periods, comparisons/_agreement).
 
     python benchmarks/bench_fe_cells.py                               # fe-reduced, 100 periods
     python benchmarks/bench_fe_cells.py --models fe --periods 4       # the full solid, per step
+    python benchmarks/bench_fe_cells.py --factor                      # factor size, back-substitution
+
+``--factor``: the MUMPS Cholesky factor of K + M at 10000 r/min on each mesh
+(entries) and the median time of 20 back-substitutions, the meshes
+alternated ``--repeats`` times: the object that bounds the full solid's step.
 """
 
 from __future__ import annotations
@@ -40,12 +45,43 @@ def run(params, model: str):
             "per_step_ms": round(1e3 * trajectory.elapsed_s / steps, 3)}, trajectory
 
 
+def factor(repeats: int) -> None:
+    import statistics
+    from reference_fe.solid import lu_solver, rotating_operators
+    times = {cell: [] for cell in CELLS}
+    for _ in range(repeats):
+        for cell, overrides in CELLS.items():
+            ops = rotating_operators(load_scene("scenes/fig8.toml", overrides).params, 10000.0)
+            A = ops.K.copy()
+            A.axpy(1.0, ops.M)
+            ksp = lu_solver(A, A.getComm(), "bench_cells_")
+            ksp.setUp()
+            entries = ksp.getPC().getFactorMatrix().getMumpsInfog(29)
+            b = A.createVecLeft()
+            b.set(1.0)
+            x = b.duplicate()
+            t0 = time.perf_counter()
+            for _ in range(20):
+                ksp.solve(b, x)
+            times[cell].append(1e3 * (time.perf_counter() - t0) / 20)
+            ksp.destroy()
+            print(json.dumps({"cell": cell, "dofs": A.getSize()[0], "factor_entries": entries,
+                              "solve_ms": round(times[cell][-1], 2)}), flush=True)
+    a, b = (statistics.median(times[c]) for c in ("hex", "tet"))
+    print(json.dumps({"median_solve_ms": {"hex": round(a, 2), "tet": round(b, 2)}, "ratio_tet_hex": round(b / a, 2)}))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--periods", type=int, default=100)
     parser.add_argument("--window", type=int, default=10)
     parser.add_argument("--models", nargs="+", default=["fe-reduced"])
+    parser.add_argument("--factor", action="store_true")
+    parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
+    if args.factor:
+        factor(args.repeats)
+        return
     for model in args.models:
         runs = {}
         for cell, overrides in CELLS.items():
