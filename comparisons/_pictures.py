@@ -18,12 +18,21 @@ from shroud.core.states import STATE_NAMES
 
 
 def mesh_picture(mesh_path: Path, size_m: float, path: Path) -> Path:
-    """Surface of the solid mesh with its edges, seen from the suction side and above."""
+    """Surface of the solid mesh (tetrahedra or hexahedra) with its edges, seen from the suction side and above."""
     import meshio
     pv = pyvista()
     mesh = meshio.read(mesh_path)
+    # The volume cells by their corners: the cell edges, not a tessellation of quadratic faces.
+    corners = {"tetra": (4, pv.CellType.TETRA), "tetra10": (4, pv.CellType.TETRA),
+               "hexahedron": (8, pv.CellType.HEXAHEDRON), "hexahedron27": (8, pv.CellType.HEXAHEDRON)}
+    cells = {}
+    for block in mesh.cells:
+        if block.type in corners:
+            n, kind = corners[block.type]
+            cells.setdefault(kind, []).append(block.data[:, :n])
+    grid = pv.UnstructuredGrid({k: np.vstack(v) for k, v in cells.items()}, mesh.points)
     plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
-    plotter.add_mesh(pv.from_meshio(mesh), show_edges=True, color="lightsteelblue")
+    plotter.add_mesh(grid, show_edges=True, color="lightsteelblue")
     plotter.view_vector((1.0, -1.0, 0.6), viewup=(1.0, 0.0, 0.0))
     plotter.add_text(f"{len(mesh.points)} nodes, size {size_m * 1e3:g} mm", font_size=10)
     plotter.screenshot(str(path))
@@ -66,9 +75,10 @@ def contact_map_picture(path: Path, faces, shares: list[np.ndarray], title: str)
     plotter = pv.Plotter(shape=(len(faces), len(STATE_NAMES)), off_screen=True,
                          window_size=(1500, 330 * len(faces)), border=False)
     for row, (face, s) in enumerate(zip(faces, shares)):
-        tri = _in_plane(face.triangles, face.e_ws)
-        cells = np.hstack([np.full((len(tri), 1), 3), np.arange(3 * len(tri)).reshape(-1, 3)]).ravel()
-        surface = pv.PolyData(tri.reshape(-1, 3), faces=cells)
+        poly = _in_plane(face.facets, face.e_ws)              # triangles or quadrilaterals
+        t, c = poly.shape[:2]
+        cells = np.hstack([np.full((t, 1), c), np.arange(c * t).reshape(-1, c)]).ravel()
+        surface = pv.PolyData(poly.reshape(-1, 3), faces=cells)
         for col, name in enumerate(STATE_NAMES):
             plotter.subplot(row, col)
             plotter.add_mesh(surface, color="lightgrey", show_edges=True, edge_color="grey", line_width=0.5)

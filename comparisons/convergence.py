@@ -1,32 +1,47 @@
-"""Mesh convergence of the solid FE frequencies, and the default mesh size it picks.
+"""Mesh convergence of the solid FE frequencies for both cell kinds, their cost, and the default mesh.
 
-The prestressed blade (default geometry, no Coriolis) is solved on a series
-of meshes; a Richardson extrapolation of the three finest gives the
-converged estimate and the observed order of convergence. The effective
-element size of an unstructured mesh is h = DOF^(-1/3) (refinement is not
-nested, so the nominal size ratio is only approximate). The default
-``fe.mesh_size`` is the coarsest mesh whose first four frequencies lie
-within ``tolerance_pct`` of the estimate.
+The prestressed blade (default geometry, no Coriolis) is solved at each
+speed of ``rpms`` on a series of tetrahedral (P2) and hexahedral (27-node
+Q2, meshes.hexa) meshes. Per cell kind, a Richardson extrapolation of the
+three finest meshes gives a converged estimate and the observed order; the
+effective element size is h = DOF^(-1/3) (refinement is not nested). The
+converged values are those of the ``reference`` kind (the other kind's
+estimate is reported beside them: two discretizations of one solid).
+
+The default mesh is the cheapest (fewest DOF: the measured solve times are
+noisy on a shared machine and the first mesh also pays the forms' JIT
+compilation) whose first ``n_modes`` frequencies lie within
+``tolerance_pct`` of the converged values at every speed. The FE cost growth is fitted as time ~ DOF^a and
+factor memory ~ DOF^b (log-log least squares over each kind's meshes):
+time is the modal solve (operators and eigen-solves, mesh cached), memory
+the MUMPS Cholesky factor of K + M (entries x 8 bytes), the object that
+bounds the transient's step.
 """
 
 from __future__ import annotations
 
 import csv
+import time
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
 
 from comparisons import paper
+from shroud.base.errors import InputError
+from shroud.base.markdown import markdown_table
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 
 OPTIONS = {
-    "sizes": [0.0035, 0.0028, 0.0022],   # element sizes, m, coarse to fine
-    "rpm": 8500.0,
-    "n_modes": 4,
-    "tolerance_pct": 0.5,
-    "pictures": True,       # mesh and mode-shape PNGs, and the modes as VTK, of the coarsest mesh
+    "tet_sizes": [0.0035, 0.0028, 0.0022],          # fe.mesh_size of the tetrahedral meshes, m
+    "hex_sizes": [0.0065, 0.005, 0.0035, 0.0025],   # ... of the hexahedral meshes, m
+    "rpms": [8500.0, 10000.0],
+    "n_modes": 5,
+    "tolerance_pct": 0.15,
+    "reference": "hex",     # whose Richardson estimate is the converged value
+    "pictures": True,       # mesh and mode-shape PNGs, and the modes as VTK, of the chosen mesh
 }
+KINDS = ("tet", "hex")
 
 # Paper Table 1, FE column (ANSYS Beam188, torsion restrained), 8500 r/min, Hz.
 PAPER_FE = paper.TABLE1_FE
@@ -56,70 +71,142 @@ def richardson(h: np.ndarray, f: np.ndarray) -> tuple[float, float | None]:
     return float(f3 - d23 / ((h2 / h3) ** p - 1.0)), float(p)
 
 
-def _check_sizes(params, sizes: list[float]) -> None:
+def _check(params, opts) -> None:
     from meshes.blade import MeshSpec, check_geometry
-    from shroud.base.errors import InputError
-    if len(sizes) < 3 or sorted(sizes, reverse=True) != list(sizes):
-        raise InputError("options.sizes", f"{sizes!r}; allowed: at least three sizes, coarse to fine")
-    for size in sizes:
-        check_geometry(MeshSpec.from_params(params.updated({"fe.mesh_size": size})))
+    if opts["reference"] not in KINDS:
+        raise InputError("options.reference", f"{opts['reference']!r}; allowed: \"tet\" or \"hex\"")
+    for kind in KINDS:
+        sizes = opts[f"{kind}_sizes"]
+        if len(sizes) < 3 and kind == opts["reference"]:
+            raise InputError(f"options.{kind}_sizes", "the reference kind needs at least 3 sizes (Richardson)")
+        if any(b >= a for a, b in zip(sizes, sizes[1:])):
+            raise InputError(f"options.{kind}_sizes", f"{sizes}; allowed: sizes decreasing (coarse to fine)")
+        for size in sizes:
+            check_geometry(MeshSpec.from_params(params.updated({"fe.cell": kind, "fe.mesh_size": size})))
+
+
+def factor_bytes(params) -> float:
+    """Memory of the MUMPS Cholesky factor of K + M at the operators' speed, bytes (entries x 8)."""
+    from reference_fe.solid import lu_solver, rotating_operators
+    ops = rotating_operators(params)
+    A = ops.K.copy()
+    A.axpy(1.0, ops.M)
+    ksp = lu_solver(A, A.getComm(), "shroud_convergence_")
+    ksp.setUp()
+    entries = ksp.getPC().getFactorMatrix().getMumpsInfog(29)
+    ksp.destroy()
+    A.destroy()
+    return 8.0 * float(entries)
+
+
+def slope(dofs, values) -> float:
+    """Exponent a of values ~ dofs^a (log-log least squares)."""
+    return float(np.polyfit(np.log(dofs), np.log(values), 1)[0])
 
 
 def run(scene, out: Path) -> dict:
     from reference_fe.modal import solve_modes
     opts = scene.options
-    sizes = [float(s) for s in opts["sizes"]]
-    k = int(opts["n_modes"])
-    _check_sizes(scene.params, sizes)
+    _check(scene.params, opts)
+    k, rpms = int(opts["n_modes"]), [float(r) for r in opts["rpms"]]
     rows = []
-    for i, size in enumerate(sizes):
-        # The coarsest mesh also gets the gyroscopic solve: how far Coriolis moves each mode.
-        modes = solve_modes(scene.params.updated({"fe.mesh_size": size}), opts["rpm"], k + 2, i == 0)
-        if i == 0:
-            coarse = modes
-            if opts["pictures"]:
-                _pictures(modes, out)
-        rows.append({"size": size, "dofs": modes.dofs, "solve_s": modes.solve_s,
-                     "labels": list(modes.labels[:k]), "f": modes.f_undamped[:k].tolist()})
-    f = np.array([r["f"] for r in rows])
-    h = np.array([r["dofs"] for r in rows], dtype=float) ** (-1.0 / 3.0)
-    estimates, orders = zip(*(richardson(h[-3:], f[-3:, j]) for j in range(k)))
-    estimate = np.array(estimates)
-    error_pct = 100 * (f / estimate - 1.0)
-    within = np.all(np.abs(error_pct) <= opts["tolerance_pct"], axis=1)
-    chosen = next((sizes[i] for i in range(len(sizes)) if within[i:].all()), None)
+    for kind in KINDS:
+        for size in opts[f"{kind}_sizes"]:
+            params = scene.params.updated({"fe.cell": kind, "fe.mesh_size": float(size)})
+            f, labels, t0 = [], None, time.perf_counter()
+            for rpm in rpms:
+                modes = solve_modes(params, rpm, k + 2, coriolis=False)
+                labels = labels or list(modes.labels[:k])
+                if list(modes.labels[:k]) != labels:
+                    raise RuntimeError(f"{kind} {size}: modes change order between speeds ({modes.labels})")
+                f.append(modes.f_undamped[:k])
+            rows.append({"kind": kind, "size": float(size), "dofs": modes.dofs, "labels": labels,
+                         "solve_s": time.perf_counter() - t0, "f": np.array(f),
+                         "factor_bytes": factor_bytes(params.updated({"speed.rpm": rpms[-1]})),
+                         "params": params})
+    estimates = {}
+    for kind in KINDS:
+        mine = [r for r in rows if r["kind"] == kind]
+        if len(mine) < 3:
+            continue
+        h = np.array([r["dofs"] for r in mine[-3:]], dtype=float) ** (-1.0 / 3.0)
+        f = np.array([r["f"] for r in mine[-3:]])              # (3, speeds, k)
+        est = [[richardson(h, f[:, i, j]) for j in range(k)] for i in range(len(rpms))]
+        estimates[kind] = (np.array([[e for e, _ in s] for s in est]), [[p for _, p in s] for s in est])
+    reference = estimates[opts["reference"]][0]
+    labels = rows[0]["labels"]
+    for r in rows:
+        if r["labels"] != labels:
+            raise RuntimeError(f"{r['kind']} {r['size']}: modes {r['labels']} differ from {labels}")
+        r["error_pct"] = 100 * (r["f"] / reference - 1.0)
+        r["worst_pct"] = float(np.max(np.abs(r["error_pct"])))
+    fit = [r for r in rows if r["worst_pct"] <= opts["tolerance_pct"]]
+    chosen = min(fit, key=lambda r: r["dofs"]) if fit else None
+    growth = {kind: {"time_slope": slope([r["dofs"] for r in rows if r["kind"] == kind],
+                                         [r["solve_s"] for r in rows if r["kind"] == kind]),
+                     "memory_slope": slope([r["dofs"] for r in rows if r["kind"] == kind],
+                                           [r["factor_bytes"] for r in rows if r["kind"] == kind])}
+              for kind in KINDS if sum(r["kind"] == kind for r in rows) >= 2}
 
     with open(out / "convergence.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["mesh_size_m", "dofs", "solve_s"] + [f"f{j + 1}_hz" for j in range(k)]
-                   + [f"err{j + 1}_pct" for j in range(k)])
-        for r, e in zip(rows, error_pct):
-            w.writerow([r["size"], r["dofs"], f"{r['solve_s']:.2f}"] + [f"{x:.4f}" for x in r["f"]]
-                       + [f"{x:.4f}" for x in e])
+        w.writerow(["cell", "mesh_size_m", "dofs", "solve_s", "factor_MB", "rpm"]
+                   + [f"{lab}_hz" for lab in labels] + [f"{lab}_err_pct" for lab in labels])
+        for r in rows:
+            for i, rpm in enumerate(rpms):
+                w.writerow([r["kind"], r["size"], r["dofs"], f"{r['solve_s']:.2f}", f"{r['factor_bytes'] / 1e6:.1f}",
+                            rpm] + [f"{x:.4f}" for x in r["f"][i]] + [f"{x:.4f}" for x in r["error_pct"][i]])
+    _figure(rows, growth, opts, out / "convergence.png")
+    if opts["pictures"] and chosen is not None:
+        _pictures(solve_modes(chosen["params"], rpms[0], k, coriolis=False), out)
+    _write_report(out / "report.md", scene, rows, labels, rpms, estimates, growth, chosen)
+    return {"labels": labels, "rpms": rpms,
+            "meshes": [{"cell": r["kind"], "mesh_size_m": r["size"], "dofs": r["dofs"], "solve_s": r["solve_s"],
+                        "factor_MB": r["factor_bytes"] / 1e6, "frequencies_hz": r["f"].tolist(),
+                        "error_pct": r["error_pct"].tolist(), "worst_error_pct": r["worst_pct"]} for r in rows],
+            "converged_hz": reference.tolist(), "reference": opts["reference"],
+            "richardson_hz": {kind: e[0].tolist() for kind, e in estimates.items()},
+            "observed_order": {kind: e[1] for kind, e in estimates.items()},
+            "cost_growth": growth,
+            "chosen": None if chosen is None else {"cell": chosen["kind"], "mesh_size_m": chosen["size"],
+                                                    "dofs": chosen["dofs"], "worst_error_pct": chosen["worst_pct"]},
+            "paper_fe_hz": list(PAPER_FE)}
 
-    fig, axes = figure(1, 1)
-    ax = axes[0, 0]
-    dofs = np.array([r["dofs"] for r in rows])
-    for j in range(k):
-        ax.loglog(dofs, np.maximum(np.abs(error_pct[:, j]), 1e-6), "o-",
-                  label=f"{rows[-1]['labels'][j]} ({estimate[j]:.1f} Hz)")
-    ax.axhline(opts["tolerance_pct"], color=MODEL_COLOURS["paper"], ls="--", label="tolerance")
-    ax.set_xlabel("degrees of freedom")
-    ax.set_ylabel("|f - f_Richardson| / f_Richardson (%)")
-    ax.set_title(f"Solid FE mesh convergence at {opts['rpm']:g} r/min (P{scene.params.fe.order} tetrahedra)")
-    ax.legend()
-    save(fig, out / "convergence.png")
 
-    _write_report(out / "report.md", scene, rows, estimate, orders, error_pct, chosen, coarse)
-    return {"coarsest_mesh": {"labels": list(coarse.labels), "f_undamped_hz": coarse.f_undamped.tolist(),
-                              "f_coriolis_hz": coarse.f_coriolis.tolist(),
-                              "coriolis_shift_pct": (100 * coarse.coriolis_shift).tolist(),
-                              "participation": list(coarse.participation)},
-            "mesh_size_m": sizes, "dofs": dofs.tolist(), "solve_s": [r["solve_s"] for r in rows],
-            "labels": rows[-1]["labels"], "frequencies_hz": f.tolist(),
-            "richardson_hz": estimate.tolist(), "observed_order": list(orders),
-            "error_pct": error_pct.tolist(), "chosen_mesh_size_m": chosen,
-            "paper_fe_hz": list(PAPER_FE[:k])}
+def _figure(rows, growth, opts, path: Path) -> None:
+    fig, axes = figure(1, 3, width=13.0, height=4.0)
+    marks = {"tet": "o", "hex": "s"}
+    for kind in KINDS:
+        mine = [r for r in rows if r["kind"] == kind]
+        if not mine:
+            continue
+        dofs = np.array([r["dofs"] for r in mine])
+        worst = np.maximum([r["worst_pct"] for r in mine], 1e-4)
+        secs = np.array([r["solve_s"] for r in mine])
+        colour = MODEL_COLOURS["fe"] if kind == "hex" else MODEL_COLOURS["full"]
+        name = "27-node hexahedra" if kind == "hex" else "P2 tetrahedra"
+        axes[0, 0].loglog(dofs, worst, marks[kind] + "-", color=colour, label=name)
+        axes[0, 1].loglog(secs, worst, marks[kind] + "-", color=colour, label=name)
+        if kind in growth:
+            g = growth[kind]
+            axes[0, 2].loglog(dofs, secs, marks[kind] + "-", color=colour,
+                              label=f"{name}: time ~ DOF^{g['time_slope']:.2f}")
+            axes[0, 2].loglog(dofs, [r["factor_bytes"] / 1e9 for r in mine], marks[kind] + "--", color=colour,
+                              mfc="none", label=f"{name}: factor memory ~ DOF^{g['memory_slope']:.2f}")
+    for ax in axes[0, :2]:
+        ax.axhline(opts["tolerance_pct"], color=MODEL_COLOURS["paper"], ls="--", label="tolerance")
+        ax.set_ylabel("worst |f - f_converged| / f_converged (%)")
+        ax.legend()
+    axes[0, 0].set_xlabel("degrees of freedom")
+    axes[0, 1].set_xlabel("modal solve time (s), mesh cached")
+    axes[0, 0].set_title(f"error against DOF (first {opts['n_modes']} modes, "
+                         + ", ".join(f"{r:g}" for r in opts["rpms"]) + " r/min)")
+    axes[0, 1].set_title("error against time")
+    axes[0, 2].set_xlabel("degrees of freedom")
+    axes[0, 2].set_ylabel("solve time (s, solid) / factor memory (GB, dashed)")
+    axes[0, 2].set_title("FE cost growth")
+    axes[0, 2].legend(fontsize=7)
+    save(fig, path)
 
 
 def _pictures(modes, out: Path) -> None:
@@ -132,39 +219,43 @@ def _pictures(modes, out: Path) -> None:
     write_modes_vtk(modes, out / "modes" / "modes.pvd")
 
 
-def _write_report(path: Path, scene, rows, estimate, orders, error_pct, chosen, coarse) -> None:
+def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chosen) -> None:
     opts = scene.options
-    k = len(estimate)
+    ref = estimates[opts["reference"]][0]
     lines = [f"# {scene.title}", "",
-             f"Prestressed solid blade at {opts['rpm']:g} r/min, no Coriolis, quadratic tetrahedra. "
-             "Effective size h = DOF^(-1/3); Richardson on the three finest meshes.", "",
-             "| size (m) | DOF | solve (s) | " + " | ".join(f"f{j + 1} (Hz)" for j in range(k))
-             + " | " + " | ".join(f"err{j + 1} (%)" for j in range(k)) + " |",
-             "|" + " --- |" * (3 + 2 * k)]
-    for r, e in zip(rows, error_pct):
-        lines.append(f"| {r['size']:g} | {r['dofs']} | {r['solve_s']:.1f} | "
-                     + " | ".join(f"{x:.2f}" for x in r["f"]) + " | "
-                     + " | ".join(f"{x:+.3f}" for x in e) + " |")
-    lines.append("| Richardson | | | " + " | ".join(f"{x:.2f}" for x in estimate) + " |" + " |" * k)
-    lines.append("| paper FE (beam, torsion restrained) | | | "
-                 + " | ".join(f"{x:.1f}" for x in PAPER_FE[:k]) + " |" + " |" * k)
-    lines += ["", "Modes (finest mesh): " + ", ".join(rows[-1]["labels"]) + ".",
-              "Observed orders: " + ", ".join("n/a" if p is None else f"{p:.2f}" for p in orders) + ".",
-              "",
-              (f"Chosen default fe.mesh_size = {chosen:g} m: the coarsest mesh whose first {k} "
-               f"frequencies are within {opts['tolerance_pct']:g} % of the estimate."
-               if chosen is not None else
-               f"No mesh is within {opts['tolerance_pct']:g} % on all {k} modes: refine further."),
-              "", f"## Coriolis and tip participation (coarsest mesh, {coarse.dofs} DOF)", "",
-              "Participation: shares of the squared tip motion (flap along e_v(L), chord along e_w(L), "
-              "torsion = twist x b/2, axial along X). The paper's beam restrains torsion, so its "
-              "four modes are flap1, chord1, flap2, flap3; the solid's torsion1 has no counterpart there.", "",
-              "| mode | f, no Coriolis (Hz) | f, Coriolis (Hz) | shift (%) | MAC | flap | chord | torsion | axial |",
-              "|" + " --- |" * 9]
-    for lab, f0, fc, sh, mac, part in zip(coarse.labels, coarse.f_undamped, coarse.f_coriolis,
-                                          coarse.coriolis_shift, coarse.mac_coriolis, coarse.participation):
-        lines.append(f"| {lab} | {f0:.2f} | {fc:.2f} | {100 * sh:+.3f} | {mac:.4f} | "
-                     + " | ".join(f"{part[kind]:.3f}" for kind in ("flap", "chord", "torsion", "axial")) + " |")
-    lines += ["", "Mesh (coarsest): mesh.png; its mode shapes: modes.png and modes/modes.pvd (ParaView).",
-              "", f"Total solve time {sum(r['solve_s'] for r in rows):.1f} s on this machine."]
+             "Prestressed solid blade, no Coriolis, at " + ", ".join(f"{r:g}" for r in rpms) + " r/min; "
+             "effective size h = DOF^(-1/3); Richardson on the three finest meshes of each cell kind. "
+             f"Converged values: the {opts['reference']} estimate. Time: the modal solve of both speeds "
+             "(operators and eigen-solves, mesh cached) on this machine; memory: the MUMPS Cholesky factor "
+             "of K + M.", ""]
+    table = []
+    for r in rows:
+        for i, rpm in enumerate(rpms):
+            table.append([r["kind"], f"{1e3 * r['size']:g}", r["dofs"], f"{r['solve_s']:.1f}",
+                          f"{r['factor_bytes'] / 1e6:.0f}", f"{rpm:g}"] + [f"{x:.2f}" for x in r["f"][i]]
+                         + [f"{x:+.3f}" for x in r["error_pct"][i]])
+    for kind, (est, orders) in estimates.items():
+        for i, rpm in enumerate(rpms):
+            table.append([f"Richardson {kind}", "", "", "", "", f"{rpm:g}"] + [f"{x:.2f}" for x in est[i]]
+                         + ["" if p is None else f"p = {p:.1f}" for p in orders[i]])
+    lines.append(markdown_table(["cell", "size (mm)", "DOF", "solve (s)", "factor (MB)", "r/min"]
+                                + [f"{lab} (Hz)" for lab in labels] + [f"{lab} err (%)" for lab in labels], table))
+    other = [k for k in estimates if k != opts["reference"]]
+    for kind in other:
+        diff = 100 * np.max(np.abs(estimates[kind][0] / ref - 1.0))
+        lines.append(f"The {kind} estimate differs from the converged values by at most {diff:.3f} %: "
+                     "how well the converged values are known (an observed order far from the "
+                     "element's, 3-4 here, marks a sequence that is not yet asymptotic).")
+    lines += ["", "FE cost growth (log-log fit over each kind's meshes): "
+              + "; ".join(f"{kind}: time ~ DOF^{g['time_slope']:.2f}, factor memory ~ DOF^{g['memory_slope']:.2f}"
+                          for kind, g in growth.items()) + ".", ""]
+    if chosen is not None:
+        lines.append(f"Chosen default: fe.cell = \"{chosen['kind']}\", fe.mesh_size = {chosen['size']:g} m "
+                     f"({chosen['dofs']} DOF, {chosen['solve_s']:.1f} s): the mesh with the fewest DOF whose first "
+                     f"{len(labels)} frequencies are within {opts['tolerance_pct']:g} % of the converged values "
+                     f"at every speed (worst {chosen['worst_pct']:.3f} %).")
+    else:
+        lines.append(f"No mesh is within {opts['tolerance_pct']:g} % on all modes at every speed: refine further.")
+    lines += ["", "Figure convergence.png: error against DOF, against time, and the cost growth. "
+              "Chosen mesh: mesh.png; its mode shapes: modes.png and modes/modes.pvd (ParaView)."]
     path.write_text("\n".join(lines) + "\n")

@@ -8,16 +8,18 @@ Eq. 13 for the section corners). The shroud is a box l_s (along e_ws) x b_s
 (paper Eq. 7 frame). Blade and shroud are two volumes sharing their
 interface (conforming mesh, one connected body).
 
-Physical groups (tags below): the clamped root face X = R_d, the two shroud
+Physical groups (tags in meshes.spec): the clamped root face X = R_d, the two shroud
 contact faces (side 1 at v_s = -b_s/2, side 2 at v_s = +b_s/2), the blade
-and the shroud volumes. Meshes are quadratic tetrahedra (gmsh order
-``fe.order``) and are cached on disk by a hash of exactly the inputs that
-shape them (:func:`mesh_file`).
+and the shroud volumes. Meshes are tetrahedra of gmsh order ``fe.order``
+(``fe.cell = "tet"``, built here) or swept hexahedra (``"hex"``,
+meshes.hexa) with the same tags, and are cached on disk by a hash of
+exactly the inputs that shape them and of the code that builds them
+(:func:`mesh_file`).
 
 Example
 -------
 >>> from shroud.params import Parameters
->>> spec = MeshSpec.from_params(Parameters())
+>>> spec = MeshSpec.from_params(Parameters().updated({"fe.cell": "tet", "fe.mesh_size": 0.0035}))
 >>> round(spec.elements_through_thickness, 2)
 2.0
 """
@@ -31,84 +33,18 @@ from pathlib import Path
 
 import numpy as np
 
+from meshes.hexa import check_hex_geometry, write_hex_mesh
+from meshes.spec import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec,  # noqa: F401
+                         section_frame, shroud_frame, tip_points)
 from shroud.base.cache import cached
 from shroud.base.errors import InputError
 from shroud.base.resources import in_words, physical_memory
-from shroud.params import Parameters
-
-# Physical group tags (facets dim 2, cells dim 3).
-ROOT = 1
-CONTACT_SIDE1 = 2      # shroud face at v_s = -b_s/2 (outward normal -e_vs)
-CONTACT_SIDE2 = 3      # shroud face at v_s = +b_s/2 (outward normal +e_vs)
-BLADE = 1
-SHROUD = 2
 
 # Edge fibres of a twisted blade run along a helix of angle atan(b/2 * beta_t / L).
 # Beyond this the sections overlap each other along X within one chord: the
 # "blade" has folded into a screw, which neither model describes.
 MAX_HELIX_DEG = 45.0
 MIN_ELEMENTS_THROUGH_THICKNESS = 2.0
-
-
-@dataclass(frozen=True)
-class MeshSpec:
-    """Everything that shapes the mesh, SI units (m, rad)."""
-
-    disk_radius: float
-    length: float
-    width: float
-    thickness: float
-    stagger: float            # beta_1, rad
-    twist: float              # beta_t, rad
-    shroud_length: float      # l_s (along e_ws)
-    shroud_width: float       # b_s (along e_vs)
-    shroud_thickness: float   # t_s (along X); 0 = no shroud
-    alpha: float              # shroud inclination, rad
-    size: float               # target element size, m
-    order: int                # gmsh element order (geometry), 1 or 2
-
-    @classmethod
-    def from_params(cls, params: Parameters) -> "MeshSpec":
-        b, s, fe = params.blade, params.shroud, params.fe
-        return cls(disk_radius=b.disk_radius, length=b.length, width=b.width,
-                   thickness=b.thickness, stagger=math.radians(b.stagger_deg),
-                   twist=math.radians(b.twist_deg), shroud_length=s.length,
-                   shroud_width=s.width, shroud_thickness=s.thickness,
-                   alpha=math.radians(params.contact.alpha_deg), size=fe.mesh_size,
-                   order=fe.order)
-
-    @property
-    def has_shroud(self) -> bool:
-        return self.shroud_thickness > 0
-
-    @property
-    def beta_tip(self) -> float:
-        return self.stagger + self.twist
-
-    @property
-    def tip_x(self) -> float:
-        """X of the blade tip section (blade/shroud interface), m."""
-        return self.disk_radius + self.length
-
-    @property
-    def elements_through_thickness(self) -> float:
-        return self.thickness / self.size
-
-    @property
-    def helix_deg(self) -> float:
-        """Helix angle of the chord-edge fibres, deg."""
-        return math.degrees(math.atan(0.5 * self.width * abs(self.twist) / self.length))
-
-
-def section_frame(beta: float) -> tuple[np.ndarray, np.ndarray]:
-    """e_v, e_w of a section turned by ``beta`` about +X (geometry.md)."""
-    c, s = math.cos(beta), math.sin(beta)
-    return np.array([0.0, c, s]), np.array([0.0, -s, c])
-
-
-def shroud_frame(spec: MeshSpec) -> tuple[np.ndarray, np.ndarray]:
-    """e_vs (contact normal), e_ws (friction direction): the tip frame turned by alpha (Eq. 7)."""
-    return section_frame(spec.beta_tip + spec.alpha)
 
 
 def check_geometry(spec: MeshSpec) -> None:
@@ -120,6 +56,10 @@ def check_geometry(spec: MeshSpec) -> None:
         raise InputError("blade.twist_deg", f"{math.degrees(spec.twist):g} folds the blade: its chord edges "
                          f"wind at {spec.helix_deg:.0f} deg; allowed: atan(b/2 * twist / L) <= "
                          f"{MAX_HELIX_DEG:g} deg")
+    check_mesh_size(spec)
+    if spec.cell == "hex":
+        check_hex_geometry(spec)
+        return
     if spec.elements_through_thickness < MIN_ELEMENTS_THROUGH_THICKNESS:
         raise InputError("fe.mesh_size", f"{spec.size!r} leaves {spec.elements_through_thickness:.2f} "
                          f"elements through blade.thickness {spec.thickness!r}; allowed: a size <= "
@@ -128,15 +68,17 @@ def check_geometry(spec: MeshSpec) -> None:
         raise InputError("fe.mesh_size", f"{spec.size!r} leaves fewer than two elements through "
                          f"shroud.thickness {spec.shroud_thickness!r}; allowed: a size <= "
                          f"{spec.shroud_thickness / MIN_ELEMENTS_THROUGH_THICKNESS:g} m")
-    check_mesh_size(spec)
 
 
-# What a mesh of size h costs, measured here on this blade (gmsh Frontal-Delaunay/Delaunay as in
-# write_mesh): 6807 / 25 518 / 71 413 tetrahedra at h = 3.5 / 2.2 / 1.5 mm, i.e. 6.1 / 5.7 / 5.1
+# What a mesh of size h costs, measured here on this blade. Tetrahedra (gmsh Frontal-Delaunay/
+# Delaunay as in write_mesh): 6807 / 25 518 / 71 413 at h = 3.5 / 2.2 / 1.5 mm, i.e. 6.1 / 5.7 / 5.1
 # per h^3 of volume; 1.83 / 1.67 / 1.57 nodes per tetrahedron at order 2, 0.30 / 0.25 at order 1.
+# Swept hexahedra (meshes.hexa): 882 / 4872 at h = 5 / 2.5 mm, 2.3 / 1.6 per h^3 (the layers
+# through the thickness do not grow as h^-1); 10.9 / 9.5 nodes per 27-node hexahedron, of which about
+# an eighth are vertices (the nodes of a linear hexahedral mesh).
 # The estimate takes the fine-mesh values, where refusing matters (it undercounts coarse meshes).
-TETRAHEDRA_PER_CUBE = 5.1
-NODES_PER_CELL = {1: 0.25, 2: 1.57}
+CELLS_PER_CUBE = {"tet": 5.1, "hex": 1.6}
+NODES_PER_CELL = {("tet", 1): 0.25, ("tet", 2): 1.57, ("hex", 1): 1.2, ("hex", 2): 9.5}
 # The full solid's transient on one process (operators, MUMPS factor of the step operator, contact
 # columns) held 1.44 GB at 37 419 DOF; a 3D direct factor fills as DOF^(4/3).
 REFERENCE_DOFS, REFERENCE_BYTES = 37_419, 1.44e9
@@ -157,16 +99,15 @@ class MeshEstimate:
         return self.size * (self.bytes / memory) ** 0.25
 
 
-def estimate_mesh(volume: float, size: float, order: int,
-                  cells_per_cube: float = TETRAHEDRA_PER_CUBE) -> MeshEstimate:
-    """Cells, DOF and memory of a mesh before it is made (a hexahedral mesh passes its cells per h^3).
+def estimate_mesh(volume: float, size: float, order: int, cell: str = "tet") -> MeshEstimate:
+    """Cells, DOF and memory of a mesh of ``cell`` kind before it is made.
 
-    >>> e = estimate_mesh(4.76e-5, 0.0035, 2)        # the default blade and mesh (measured: 6807 cells, 37 419 DOF)
+    >>> e = estimate_mesh(4.76e-5, 0.0035, 2)        # the P2-tet 3.5 mm blade (measured: 6807 cells, 37 419 DOF)
     >>> round(e.cells), round(e.dofs), round(e.bytes / 1e9, 2)
     (5662, 26668, 0.92)
     """
-    cells = cells_per_cube * volume / size**3
-    dofs = 3.0 * NODES_PER_CELL[order] * cells
+    cells = CELLS_PER_CUBE[cell] * volume / size**3
+    dofs = 3.0 * NODES_PER_CELL[(cell, order)] * cells
     return MeshEstimate(volume=volume, size=size, cells=cells, dofs=dofs,
                         bytes=REFERENCE_BYTES * (dofs / REFERENCE_DOFS) ** (4.0 / 3.0))
 
@@ -180,7 +121,7 @@ def solid_volume(spec: MeshSpec) -> float:
 def check_mesh_size(spec: MeshSpec, memory: float | None = None) -> MeshEstimate:
     """Refuse (InputError on fe.mesh_size) a mesh whose solve this machine cannot hold; else its estimate."""
     memory = physical_memory() if memory is None else memory
-    estimate = estimate_mesh(solid_volume(spec), spec.size, spec.order)
+    estimate = estimate_mesh(solid_volume(spec), spec.size, spec.order, spec.cell)
     if estimate.bytes > memory:
         raise InputError("fe.mesh_size", f"{spec.size!r} m would make about {estimate.cells:.2g} cells and "
                          f"{estimate.dofs:.2g} DOF, needing about {in_words(estimate.bytes)} to solve; this "
@@ -251,18 +192,6 @@ def _build_model(gmsh, spec: MeshSpec) -> None:
     _embed_tip_points(model, spec)
 
 
-def tip_points(spec: MeshSpec) -> np.ndarray:
-    """(3, 3) points of the tip section x = L: its centre, then centre -/+ (b/4) e_w(L).
-
-    They are mesh nodes (embedded in the tip face), so the tip kinematics
-    v_L, w_L (centre) and the twist (from the two chord points) are nodal
-    values: exact, and the same on any number of MPI ranks.
-    """
-    _, e_w = section_frame(spec.beta_tip)
-    centre = np.array([spec.tip_x, 0.0, 0.0])
-    return np.array([centre, centre - 0.25 * spec.width * e_w, centre + 0.25 * spec.width * e_w])
-
-
 def _embed_tip_points(model, spec: MeshSpec) -> None:
     tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
     faces = [tag for _, tag in model.getEntities(2)
@@ -308,12 +237,14 @@ def mesh_file(spec: MeshSpec) -> Path:
     """
     check_geometry(spec)
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
-    return cached("mesh", inputs, ".msh", lambda tmp: write_mesh(spec, tmp), what="blade mesh",
-                  sources=(__name__,), check=check_msh_complete)
+    write, sources = (write_hex_mesh, (__name__, "meshes.hexa", "meshes.spec")) if spec.cell == "hex" else \
+        (write_mesh, (__name__, "meshes.spec"))
+    return cached("mesh", inputs, ".msh", lambda tmp: write(spec, tmp), what="blade mesh",
+                  sources=sources, check=check_msh_complete)
 
 
 def check_msh_complete(path: Path) -> None:
-    """Raise ValueError unless ``path`` ends as write_mesh ends a file (its $Elements section closed)."""
+    """Raise ValueError unless ``path`` ends as a finished gmsh file ends (its $Elements section closed)."""
     with open(path, "rb") as fh:
         fh.seek(max(0, path.stat().st_size - 64))
         tail = fh.read()

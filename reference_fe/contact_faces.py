@@ -6,7 +6,9 @@ consistent nodal area ``a_i = int_face phi_i dA``: the nodal forces of a
 uniform contact pressure. These are exact for the face area and its first
 and second moments with quadratic elements (where the triangle corners
 get zero and the edge midpoints a third of each facet's area: the corners
-then carry no spring and are dropped). Each kept node becomes one contact
+then carry no spring and are dropped; the 9-node quadrilaterals of a
+hexahedral mesh give every node a positive share, 1/36, 4/36 and 16/36 of
+a rectangle's area at corners, edges and centre). Each kept node becomes one contact
 element with its own stick/slip state, acting on its displacement along the
 shroud normal e_vs and along the friction direction e_ws (paper Eq. 7).
 

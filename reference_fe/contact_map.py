@@ -38,7 +38,7 @@ class FaceGeometry:
     side: int                  # 1: face at v_s = -b_s/2; 2: at +b_s/2
     nodes: np.ndarray          # (k, 3) positions of the face's contact elements, m
     weight: np.ndarray         # (k,) area share of each node, sums to 1
-    triangles: np.ndarray      # (t, 3, 3) corner positions of the face's facets, m
+    facets: np.ndarray         # (t, c, 3) corner positions of the face's facets (c = 3 or 4), m
     e_ws: np.ndarray           # (3,) the friction direction (paper Eq. 7) in the face plane
 
 
@@ -54,14 +54,17 @@ def face_geometry(params: Parameters) -> tuple[FaceGeometry, FaceGeometry]:
     for tag in model.contact_tags:
         facets = model.facet_tags.find(tag)
         facets = facets[facets < owned]                                  # each facet from one rank
-        corners = dmesh.entities_to_geometry(msh, fdim, facets)[:, :3]   # vertices lead the P2 facet
+        c = 3 if msh.topology.cell_name() == "tetrahedron" else 4       # triangle or quadrilateral facets
+        corners = dmesh.entities_to_geometry(msh, fdim, facets)[:, :c]   # vertices lead the facet's nodes
+        if c == 4:
+            corners = corners[:, [0, 1, 3, 2]]        # DOLFINx quadrilaterals are tensor-ordered
         # Under mpirun every rank draws (rank 0 into the output): all of the face's facets.
-        by_tag[tag] = np.concatenate(msh.comm.allgather(msh.geometry.x[corners].reshape(-1, 3, 3)))
+        by_tag[tag] = np.concatenate(msh.comm.allgather(msh.geometry.x[corners].reshape(-1, c, 3)))
     out = []
     for face in faces:
         # the tag whose facets hold this face's nodes: nearest facet-centroid cloud
         tag = min(by_tag, key=lambda t: np.linalg.norm(by_tag[t].mean(axis=(0, 1)) - face.centroid))
-        out.append(FaceGeometry(side=face.side, nodes=face.coords, weight=face.weight, triangles=by_tag[tag],
+        out.append(FaceGeometry(side=face.side, nodes=face.coords, weight=face.weight, facets=by_tag[tag],
                                 e_ws=tip_frame(params).e_ws))
     return tuple(out)
 

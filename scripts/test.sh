@@ -3,5 +3,6 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$ROOT/scripts/env.sh"
+bash "$ROOT/scripts/install_calculix.sh"
 cd "$ROOT"
 exec python -m pytest "$@"

@@ -128,8 +128,10 @@ class Reduced:
 
 @dataclass(frozen=True)
 class FE:
-    mesh_size: float = 0.0035  # m; chosen by the mesh-convergence scene (scenes/convergence.toml)
+    mesh_size: float = 0.005   # m; chosen by the mesh-convergence scene (scenes/convergence.toml)
     order: int = 2             # polynomial degree of the displacement
+    cell: str = "hex"          # "hex" (swept hexahedra: meshes.hexa) or "tet" (free tetrahedra)
+    hex_span_ratio: float = 1.0  # hex cells: length along the span / fe.mesh_size
     cms_modes: int = 24        # kept modes of the reduced FE model
     interface_modes: int = 8   # kept contact-face patterns of fe-reduced (0 = all); see bench_fe_transient
 
@@ -179,6 +181,8 @@ _RULES: dict[str, tuple[Any, str]] = {
     "reduced.shroud": (lambda v: v in ("point", "rigid"), '"point" (the paper\'s tip mass) or "rigid" (a rigid body)'),
     "fe.mesh_size": (_positive, "an element size > 0 m"),
     "fe.order": (lambda v: v in (1, 2), "1 or 2"),
+    "fe.cell": (lambda v: v in ("tet", "hex"), '"tet" or "hex"'),
+    "fe.hex_span_ratio": (lambda v: 0.25 <= v <= 8, "a ratio in [0.25, 8]"),
     "fe.cms_modes": (lambda v: v >= 1, "an integer >= 1"),
     "fe.interface_modes": (lambda v: v >= 0, "an integer >= 0 (0 keeps every contact attachment mode)"),
 }

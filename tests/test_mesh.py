@@ -17,7 +17,9 @@ from shroud.params import Parameters
 
 
 def _spec(**changes) -> MeshSpec:
-    return dataclasses.replace(MeshSpec.from_params(Parameters()), **changes)
+    """The tetrahedral mesh of the default blade (the hexahedral one: tests/test_hex.py)."""
+    tets = Parameters().updated({"fe.cell": "tet", "fe.mesh_size": 0.0035})
+    return dataclasses.replace(MeshSpec.from_params(tets), **changes)
 
 
 @pytest.mark.parametrize("changes, key", [
@@ -35,7 +37,7 @@ def test_bad_geometry_is_refused_before_gmsh(changes, key, tmp_path, monkeypatch
 
 def test_bad_mesh_size_from_the_command_line_is_one_line_exit_2():
     run = subprocess.run([sys.executable, "-m", "shroud.app.cli", "modal", "--model", "fe",
-                          "--set", "fe.mesh_size=0.01"], capture_output=True, text=True)
+                          "--set", "fe.cell=tet", "--set", "fe.mesh_size=0.01"], capture_output=True, text=True)
     assert run.returncode == 2
     assert run.stderr.strip().startswith("error: fe.mesh_size:")
     assert len(run.stderr.strip().splitlines()) == 1

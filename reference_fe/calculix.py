@@ -1,0 +1,166 @@
+"""The same solid in CalculiX (``ccx``): input deck, run, and its frequencies read back.
+
+A second FE code on the same mesh (the cached .msh of meshes.blade):
+quadratic tetrahedra as C3D10 (the same 10-node element as DOLFINx's P2
+tetrahedron), 27-node hexahedra as C3D20 (CalculiX has no 27-node brick: its
+20 corner and edge nodes, the serendipity element, whose space lacks the 6
+face and the centre bubble of Lagrange Q2). Node order: meshio's (VTK)
+order of tetra10 and of the first 20 nodes of hexahedron27 is CalculiX's.
+
+Steps, as the DOLFINx model (reference_fe.solid): root nodes clamped,
+isotropic steel; a geometrically nonlinear static step under the centrifugal
+load (*DLOAD CENTRIF, rho Omega^2 r about +Z through the origin), then a
+perturbation *FREQUENCY step about that state (stress stiffening and spin
+softening), then *COMPLEX FREQUENCY, CORIOLIS for the gyroscopic
+frequencies (CalculiX projects them onto the modes of the *FREQUENCY step:
+without the blade's axial modes in that basis, the Coriolis coupling of
+flap and axial motion, which DOLFINx's full gyroscopic problem holds, is
+lost). The tip nodes (meshes.blade.tip_points) are printed per mode
+so that modes are named by the same tip kinematics (shroud.core.modes).
+DOLFINx uses the linear prestress (K_e u0 = f_c); the nonlinear static
+state differs from it by O(strain) ~ 1e-3 in the stress.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import shutil
+import subprocess
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from meshes.blade import ROOT, MeshSpec, mesh_file, section_frame, tip_points
+from shroud.core.modes import label_modes
+from shroud.params import Parameters
+
+ELEMENTS = {"tetra10": ("C3D10", 10), "hexahedron27": ("C3D20", 20)}
+
+
+@dataclass(frozen=True)
+class CalculixModes:
+    """Frequencies from one ccx run, in ascending order."""
+
+    f_hz: np.ndarray                 # (k,) perturbation frequencies (no Coriolis)
+    f_coriolis_hz: np.ndarray | None  # (k,) complex-frequency step, or None
+    labels: tuple[str, ...]
+    element: str
+    dofs: int                        # 3 x nodes of the deck (clamped included)
+    wall_s: float                    # the ccx process, s
+
+
+def ccx() -> str | None:
+    """Path of the ccx executable, or None."""
+    return shutil.which("ccx") or shutil.which("ccx_2.20")
+
+
+def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, coriolis: bool = True,
+               nlgeom: bool = True) -> dict:
+    """Write ``path`` (.inp) for the solid of ``params`` at ``rpm``; return mesh facts."""
+    import meshio
+    spec = MeshSpec.from_params(params)
+    mesh = meshio.read(mesh_file(spec))
+    blocks = [(b, ELEMENTS[b.type]) for b in mesh.cells if b.type in ELEMENTS]
+    facets = [(b, mesh.cell_data["gmsh:physical"][i]) for i, b in enumerate(mesh.cells)
+              if b.type in ("triangle6", "quad9")]
+    root = np.unique(np.concatenate([b.data[tag == ROOT].ravel() for b, tag in facets]))
+    used = np.unique(np.concatenate([b.data[:, :n].ravel() for b, (_, n) in blocks]))
+    tip = [int(np.argmin(np.linalg.norm(mesh.points - p, axis=1))) for p in tip_points(spec)]
+    omega = 2.0 * math.pi * rpm / 60.0
+    m = params.material
+    lines = ["*HEADING", "shrouded blade (shroud workbench, reference_fe.calculix)", "*NODE, NSET=NALL"]
+    lines += [f"{i + 1}, {x:.12e}, {y:.12e}, {z:.12e}" for i, (x, y, z) in zip(used.tolist(), mesh.points[used].tolist())]
+    first = 1
+    for b, (name, n) in blocks:
+        lines.append(f"*ELEMENT, TYPE={name}, ELSET=EALL")
+        for e, cell in enumerate(b.data[:, :n]):
+            nodes = [str(first + e)] + [str(v + 1) for v in cell]
+            # at most 16 entries per line: continue on the next
+            lines.append(", ".join(nodes[:16]) + ("," if len(nodes) > 16 else ""))
+            if len(nodes) > 16:
+                lines.append(", ".join(nodes[16:]))
+        first += len(b.data)
+    lines += ["*NSET, NSET=NROOT"] + [", ".join(str(v + 1) for v in root[i:i + 12]) for i in range(0, len(root), 12)]
+    lines += ["*NSET, NSET=NTIP", ", ".join(str(v + 1) for v in tip),
+              "*BOUNDARY", "NROOT, 1, 3, 0.",
+              "*MATERIAL, NAME=STEEL", "*ELASTIC", f"{m.E!r}, {m.nu!r}", "*DENSITY", f"{m.rho!r}",
+              "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL"]
+    centrif = f"EALL, CENTRIF, {omega**2:.12e}, 0., 0., 0., 0., 0., 1."   # ccx reads <= 20 characters a number
+    if omega > 0:
+        lines += ["*STEP, NLGEOM" if nlgeom else "*STEP", "*STATIC", "1., 1.", "*DLOAD", centrif, "*END STEP",
+                  "*STEP, PERTURBATION"]
+    else:
+        lines += ["*STEP"]
+    lines += ["*FREQUENCY, STORAGE=YES", f"{n_modes}", "*NODE PRINT, NSET=NTIP", "U", "*END STEP"]
+    if coriolis and omega > 0:
+        lines += ["*STEP, PERTURBATION", "*COMPLEX FREQUENCY, CORIOLIS", f"{n_modes}",
+                  "*DLOAD", centrif, "*END STEP"]
+    path.write_text("\n".join(lines) + "\n")
+    return {"element": blocks[0][1][0], "nodes": int(used.size), "tip_nodes": tip}
+
+
+_NUMBER = r"[-+]?\d*\.?\d+(?:[EeDd][-+]?\d+)?"
+
+
+def read_frequencies(dat: str) -> tuple[np.ndarray, np.ndarray | None]:
+    """(undamped Hz, Coriolis Hz or None) from the text of a ccx .dat file."""
+    blocks = dat.split("E I G E N V A L U E   O U T P U T")[1:]
+    out = []
+    for block in blocks:
+        rows = []
+        for line in block.splitlines():
+            parts = line.split()
+            if len(parts) >= 4 and parts[0].isdigit() and all(re.fullmatch(_NUMBER, p) for p in parts[1:]):
+                rows.append([float(p.replace("D", "E")) for p in parts])
+            elif rows:
+                break
+        out.append(np.array(rows))
+    # *FREQUENCY: MODE, EIGENVALUE, omega (rad/time), f (cycles/time), imag omega.
+    f0 = out[0][:, 3]
+    # *COMPLEX FREQUENCY: MODE, omega (rad/time), f (cycles/time), ...
+    fc = np.sort(np.abs(out[1][:, 2])) if len(out) > 1 else None
+    return f0, fc
+
+
+def read_tip_shapes(dat: str, n_modes: int) -> np.ndarray:
+    """(n_modes, 3, 3) displacements of the three tip nodes per mode of the *FREQUENCY step."""
+    parts = dat.split("displacements (vx,vy,vz) for set NTIP")[1:n_modes + 1]
+    shapes = []
+    for part in parts:
+        rows = [line.split() for line in part.splitlines()[1:] if line.split()]
+        rows = [r for r in rows[:3]]
+        shapes.append(np.array([[float(v) for v in r[1:4]] for r in rows]))
+    return np.array(shapes)
+
+
+def tip_kinematics(spec: MeshSpec, shapes: np.ndarray) -> np.ndarray:
+    """(k, 4) [flap, chord, torsion * b/2, axial] of tip-node shapes (as reference_fe.modal)."""
+    e_v, e_w = section_frame(spec.beta_tip)
+    centre, minus, plus = shapes[:, 0], shapes[:, 1], shapes[:, 2]
+    theta = -((plus - minus) @ e_v) / (0.5 * spec.width)
+    return np.column_stack([centre @ e_v, centre @ e_w, theta * 0.5 * spec.width, centre[:, 0]])
+
+
+def run_calculix(params: Parameters, rpm: float, n_modes: int, workdir: Path,
+                 coriolis: bool = True, nlgeom: bool = True) -> CalculixModes:
+    """Write the deck in ``workdir``, run ccx (one thread), read its frequencies and name the modes."""
+    exe = ccx()
+    if exe is None:
+        raise FileNotFoundError("ccx (CalculiX) is not installed")
+    workdir.mkdir(parents=True, exist_ok=True)
+    facts = write_deck(params, rpm, n_modes, workdir / "blade.inp", coriolis, nlgeom)
+    env = {"OMP_NUM_THREADS": "1", "CCX_NPROC_EQUATION_SOLVER": "1", "PATH": "/usr/bin:/bin"}
+    t0 = time.perf_counter()
+    done = subprocess.run([exe, "-i", "blade"], cwd=workdir, capture_output=True, text=True, env=env)
+    wall = time.perf_counter() - t0
+    (workdir / "ccx.log").write_text(done.stdout + done.stderr)
+    if done.returncode != 0 or not (workdir / "blade.dat").exists():
+        raise RuntimeError(f"ccx failed (exit {done.returncode}); see {workdir / 'ccx.log'}")
+    dat = (workdir / "blade.dat").read_text()
+    f0, fc = read_frequencies(dat)
+    labels, _ = label_modes(tip_kinematics(MeshSpec.from_params(params), read_tip_shapes(dat, len(f0))))
+    return CalculixModes(f_hz=f0, f_coriolis_hz=fc, labels=tuple(labels), element=facts["element"],
+                         dofs=3 * facts["nodes"], wall_s=wall)
