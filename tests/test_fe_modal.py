@@ -163,7 +163,7 @@ def test_mpirun_two_ranks_matches_serial(tmp_path):
     if not mpirun.exists() or not shroud.exists():
         pytest.skip("mpirun or the shroud command is not installed in this environment")
     args = ["modal", "--model", "fe", "--json", "--modes", "4", "--rpm", "12000",
-            "--set", "blade.length=0.1", "--set", "fe.mesh_size=0.0035"]
+            "--set", "blade.length=0.1", "--set", "fe.mesh_size=0.0035", "--set", "fe.cell=tet"]
     env = dict(os.environ, SHROUD_CACHE=str(tmp_path))
     serial = subprocess.run([str(shroud), *args], capture_output=True, text=True, env=env, check=True)
     parallel = subprocess.run([str(mpirun), "-n", "2", str(shroud), *args], capture_output=True,

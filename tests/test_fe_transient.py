@@ -15,7 +15,7 @@ pytest.importorskip("dolfinx_solver")
 
 from shroud.params import Parameters  # noqa: E402
 
-COARSE = ["fe.mesh_size=0.0035", "fe.order=1"]
+COARSE = ["fe.cell=tet", "fe.mesh_size=0.0035", "fe.order=1"]    # linear tetrahedra: the cheap solid
 
 
 @pytest.fixture(scope="module")

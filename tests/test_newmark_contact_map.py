@@ -15,11 +15,14 @@ pytestmark = [pytest.mark.fe, pytest.mark.slow]
 pytest.importorskip("dolfinx_solver")
 
 
-def test_fig8_contact_map_of_the_reduced_solid(tmp_path):
+@pytest.mark.parametrize("mesh", [["fe.cell=tet", "fe.mesh_size=0.0035", "fe.order=1"],   # triangular facets
+                                  ["fe.cell=hex"]],                                      # quadrilateral facets
+                         ids=["tet", "hex"])
+def test_fig8_contact_map_of_the_reduced_solid(tmp_path, mesh):
     from comparisons import fig8
     from shroud.app.scene import load_scene
     scene = load_scene("scenes/fig8.toml", [
-        "fe.mesh_size=0.0035", "fe.order=1", "time.periods=3", 'options.models=["fe-reduced"]',
+        *mesh, "time.periods=3", 'options.models=["fe-reduced"]',
         "options.reference=fe-reduced", "options.window_periods=2", "options.plot_periods=1"])
     results = fig8.run(scene, tmp_path)
     cmap = results["contact_map"]["fe-reduced"]
