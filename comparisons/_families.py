@@ -21,6 +21,7 @@ from shroud.params import Parameters
 from shroud.core.plotting import figure, save
 from shroud.analysis.sweep import PLATEAU, SETTLING_OPTIONS, Settling, run_sweeps, steady_resonance
 from shroud.core.results import SweepResult
+from shroud.base.tables import write_records
 
 FAMILY_OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
@@ -163,10 +164,7 @@ def write_outputs(out: Path, family, rows: list[dict], title: str) -> list[str]:
                 for k in range(len(r.rpm)):
                     w.writerow([name, c.label, r.rpm[k], r.amplitude_v_L[k], r.amplitude_w_L[k],
                                 r.period[k] or "", int(r.settled[k])])
-    with open(out / "resonances.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_records(out / "resonances.csv", rows)
     return files
 
 

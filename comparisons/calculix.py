@@ -16,13 +16,13 @@ the whole-process comparison is benchmarks/bench_fe_modal.py.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
 
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
+from shroud.base.tables import write_records
 
 OPTIONS = {
     "rpm": 10000.0,
@@ -69,10 +69,7 @@ def run(scene, out: Path) -> dict:
                         "dofs_dolfinx": ours.dofs, "dofs_calculix": theirs.dofs,
                         "time_dolfinx_s": ours.solve_s, "time_calculix_s": theirs.wall_s,
                         "worst_diff_pct": worst})
-    with open(out / "calculix.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_records(out / "calculix.csv", rows)
     _write_report(out / "report.md", scene, rows, summary)
     return {"modes": rows, "meshes": summary}
 

@@ -32,6 +32,7 @@ from shroud.base.log import Progress, info
 from shroud.core.plotting import figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
+from shroud.base.tables import write_records
 
 OPTIONS = {
     "gaps_um": [600.0, 100.0, 50.0],
@@ -118,8 +119,8 @@ def run(scene, out: Path) -> dict:
                            "fe_reduced_w_L_m": pts.amplitude_w_L[i], "reduced_settled": line.settled[i],
                            "fe_reduced_settled": pts.settled[i]})
     coexist = _coexistence.coexistence([(c.label, c.params) for c in cases], sweeps, rpms, o, (LINE, POINTS))
-    _csv(out / "fig7_curves.csv", curves)
-    _csv(out / "fig7_resonances.csv", rows)
+    write_records(out / "fig7_curves.csv", curves)
+    write_records(out / "fig7_resonances.csv", rows)
     figure_name = _figure(cases, sweeps, out)
     dofs = {m: sweeps[m][0].dofs for m in (LINE, POINTS)}
     step = float(rpms[1] - rpms[0])
@@ -129,14 +130,6 @@ def run(scene, out: Path) -> dict:
     return {"rpm": rpms, "dofs": dofs, "reduction_build_s": build_s, "resonances": rows,
             "coexisting_states": coexist, "conclusions": found,
             "curves": {c.label: {m: sweeps[m][k].to_json() for m in (LINE, POINTS)} for k, c in enumerate(cases)}}
-
-
-def _csv(path: Path, rows: list[dict]) -> None:
-    import csv
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
 
 
 def _figure(cases, sweeps, out: Path) -> str:

@@ -26,7 +26,6 @@ two shroud faces (reference_fe.contact_map, drawn by comparisons._pictures).
 
 from __future__ import annotations
 
-import csv
 import math
 import time
 from pathlib import Path
@@ -42,6 +41,7 @@ from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.signals import STEADY_PERIODS
 from shroud.analysis.transient import simulate
+from shroud.base.tables import write_records
 
 OPTIONS = {
     "models": ["reduced", "full", "extended", "fe-reduced", "fe"],
@@ -117,11 +117,11 @@ def run(scene, out: Path) -> dict:
                "total_s": r["build_s"] + r.get("run_s", math.nan), "paper_s": TABLE3_SECONDS.get(m),
                "status": "diverged" if "diverged" in r else "complete"} for m, r in runs.items()]
     states = {m: r["result"].state_fraction for m, r in ok.items()}
-    _write_csv(out / "table3.csv", table3)
-    _write_csv(out / "agreement.csv", [
+    write_records(out / "table3.csv", table3)
+    write_records(out / "agreement.csv", [
         {"model": m, "versus": o["reference"], "signal": s, "nrmse": a.nrmse[s], "peak_error": a.peak_error[s]}
         for m, a in versus_ref.items() for s in SIGNALS])
-    _write_csv(out / "state_fractions.csv", [
+    write_records(out / "state_fractions.csv", [
         {"model": m, "side": side, **fr} for m, st in states.items() for side, fr in st.items()])
     figures = _figures(ok, params, o, period, out)
     maps = _contact_maps(ok, params, out)
@@ -139,15 +139,6 @@ def run(scene, out: Path) -> dict:
         "figures": [p.name for p in figures] + [m["png"] for m in maps.values()],
         "contact_map": maps,
     }
-
-
-def _write_csv(path: Path, rows: list[dict]) -> None:
-    if not rows:
-        return
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
 
 
 def _figures(ok: dict, params, o, period: float, out: Path) -> list[Path]:
@@ -211,7 +202,7 @@ def _contact_maps(ok: dict, params, out: Path) -> dict[str, dict]:
                              "z_m": face.nodes[j, 2], "area_share": face.weight[j],
                              **{name: share[j, c] for c, name in enumerate(STATE_NAMES)},
                              "peak_normal_N": peak[j]})
-        _write_csv(out / f"contact_map_{model}.csv", rows)
+        write_records(out / f"contact_map_{model}.csv", rows)
         maps[model] = {"png": png.name, "csv": f"contact_map_{model}.csv", "window_periods": window,
                        **summarize(faces, tr.element_share, tr.element_peak_normal),
                        "draw_s": time.perf_counter() - t0}

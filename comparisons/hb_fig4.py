@@ -13,7 +13,6 @@ study, read off the curves here) or whether the models differ.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +22,7 @@ from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.base.tables import write_records
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 4000.0, "rpm_to": 30000.0, "td_rpm_count": 53,
@@ -65,10 +65,7 @@ def run(scene, out: Path) -> dict:
         ax.set_title(f"({'abcdef'[i]}) {label}")
         ax.legend()
     save(fig, out / "hb_fig4_reduced_vs_full.png")
-    with open(out / "td_points_by_branch.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(points[0]))
-        w.writeheader()
-        w.writerows(points)
+    write_records(out / "td_points_by_branch.csv", points)
     hb_cost = {m: sum(r[m]["hb_s"] for r in rows) for m in MODELS}
     td_cost = {m: sum(r[m]["td_cpu_s"] for r in rows) for m in MODELS}
     off = [p for p in points if not on_stable(p["branch"])]

@@ -13,7 +13,6 @@ reduced solid's HB state it landed on.
 
 from __future__ import annotations
 
-import csv
 import time
 from pathlib import Path
 
@@ -25,6 +24,7 @@ from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
+from shroud.base.tables import write_records
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "small_gap_um": 1.0, "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 6000.0, "rpm_to": 14000.0, "td_rpm_count": 17, "harmonics": 7, "samples": 256,
@@ -72,10 +72,7 @@ def run(scene, out: Path) -> dict:
         ax.set_title(f"{title} (beam thick, solid thin, o solid TD)")
         ax.legend(fontsize=6, ncol=2)
     save(fig, out / "hb_fig7.png")
-    with open(out / "td_points_by_branch.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(points[0]))
-        w.writeheader()
-        w.writerows(points)
+    write_records(out / "td_points_by_branch.csv", points)
     cost = {"beam_hb_s": sum(r["beam_hb_s"] for r in rows), "solid_hb_s": sum(r["solid_hb_s"] for r in rows),
             "solid_td_cpu_s": sum(r["solid_td_cpu_s"] for r in rows), "per_speed_bases_s": build_s}
     lines = [f"# {scene.title}\n",

@@ -16,7 +16,6 @@ branches; both methods' costs are reported side by side.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +25,7 @@ from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
+from shroud.base.tables import write_records
 
 OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
@@ -86,10 +86,7 @@ def run(scene, out: Path) -> dict:
     pre = [r for r in rows if r["kind"] == "preload" and r["value"] >= 0
            and opts["rpm_from"] < r["hb_resonance_rpm"] < opts["rpm_to"]]      # peaks inside the range only
     best = min(pre, key=lambda r: r["hb_resonance_amplitude_m"]) if pre else None
-    with open(out / "td_points_by_branch.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(points[0]))
-        w.writeheader()
-        w.writerows(points)
+    write_records(out / "td_points_by_branch.csv", points)
     hb_total, td_total = sum(r["hb_s"] for r in rows), sum(r["td_cpu_s"] for r in rows)
     off = [p for p in points if not on_stable(p["branch"])]
     lines = [f"# {scene.title}\n",

@@ -13,7 +13,6 @@ report says so rather than calling it an optimum.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +20,7 @@ import numpy as np
 from shroud.analysis.hb import run_hb
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
+from shroud.base.tables import write_records
 
 OPTIONS = {"preloads_N": [0.0, 10.0, 25.0, 50.0, 75.0, 100.0, 150.0, 200.0, 300.0, 400.0],
            "rpm_from": 4000.0, "rpm_to": 45000.0, "harmonics": 10, "samples": 512, "model": "reduced"}
@@ -54,10 +54,7 @@ def run(scene, out: Path) -> dict:
     ax.set_title("(b) resonant amplitude over preload (x: peak at the range's end)")
     save(fig, out / "hb_optimal_preload.png")
     best = min(inside, key=lambda r: r["resonance_amplitude_m"]) if inside else None
-    with open(out / "resonances.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_records(out / "resonances.csv", rows)
     lines = [f"# {scene.title}\n",
              f"Model {opts['model']}, harmonic balance H = {opts['harmonics']} ({opts['samples']} samples), "
              f"continuation {opts['rpm_from']:g}-{opts['rpm_to']:g} r/min; {seconds(sum(r['hb_s'] for r in rows))} "

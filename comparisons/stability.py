@@ -16,7 +16,6 @@ plot (:func:`plot`) -> report (:func:`report`).
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,6 +29,7 @@ from shroud.base.markdown import markdown_table, seconds
 from shroud.core import signals
 from shroud.core.newmark import LAG_CHECK_MAX_DOFS, NewmarkScheme, explicit_lag_stability, stuck_stiffness
 from shroud.core.plotting import figure, save
+from shroud.base.tables import write_records
 
 OPTIONS = {"kn_values": [1e6, 1e7, 1e8, 1e9, 1e10], "steps_per_period": [256, 64, 32, 16],
            "treatments": ["implicit", "explicit"], "refine": 8, "huge_preload_N": 1e5,
@@ -250,10 +250,7 @@ def report(result: StabilityResult, scene) -> str:
 
 def run(scene, out: Path) -> dict:
     result = compute(scene)
-    with open(out / "stability.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(result.rows[0]))
-        w.writeheader()
-        w.writerows(result.rows)
+    write_records(out / "stability.csv", result.rows)
     plot(result, scene.options, out)
     (out / "report.md").write_text(report(result, scene))
     return result.to_json()

@@ -15,13 +15,6 @@ and the shroud volumes. Meshes are tetrahedra of gmsh order ``fe.order``
 meshes.hexa) with the same tags, and are cached on disk by a hash of
 exactly the inputs that shape them and of the code that builds them
 (:func:`mesh_file`).
-
-Example
--------
->>> from shroud.params import Parameters
->>> spec = MeshSpec.from_params(Parameters().updated({"fe.cell": "tet", "fe.mesh_size": 0.0035}))
->>> round(spec.elements_through_thickness, 2)
-2.0
 """
 
 from __future__ import annotations

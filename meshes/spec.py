@@ -2,7 +2,7 @@
 
 Shared by both mesh builders (meshes.blade: tetrahedra; meshes.hexa:
 swept hexahedra) and by the solid (reference_fe). SI units (m, rad);
-frames as in shared/spec/geometry.md.
+frames as in docs/geometry.md.
 
 Example
 -------
