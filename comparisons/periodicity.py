@@ -78,8 +78,16 @@ class PeriodicityResult:
             by_mu.setdefault(r.mu, []).append(r)
         return {mu: waveform_case(runs) for mu, runs in sorted(by_mu.items())}
 
-    def to_json(self) -> dict:
+    def conclusions(self) -> dict:
+        """What the report concludes, as data: the period of every case at the scene's speed, whether
+        P10 appears there and anywhere on the band's map."""
         return {"periods": {f"mu {r.mu:g}, {r.label}": r.result.period for r in self.runs},
+                "p10_at_scene_speed": any(r.result.period == 10 for r in self.runs),
+                "p10_in_band": any(p == 10 for _, sw in self.period_map for p in sw.period)}
+
+    def to_json(self) -> dict:
+        return {"conclusions": self.conclusions(),
+                "periods": {f"mu {r.mu:g}, {r.label}": r.result.period for r in self.runs},
                 "shown": {f"{mu:g}": r.label for mu, r in self.shown().items()},
                 "rows": [list(row) for row in _case_rows(self.runs)],
                 "confirmed": [c.row for c in self.confirmed],
@@ -222,7 +230,10 @@ def report(result: PeriodicityResult, scene) -> str:
              f"Periods found: {', '.join(f'P{p}' for p in seen) or 'none'}; P10 at: "
              + (", ".join(f"{c} {r:.0f} r/min" for c, r in p10_at) or "no case and speed") +
              f". '-': no period up to P10 (quasi-periodic or chaotic) over the last 30 periods. Summed run "
-             f"time {seconds(sum(sw.cpu_s for _, sw in search))}.\n",
+             f"time {seconds(sum(sw.cpu_s for _, sw in search))}. With {len(rpms)} speeds and {len(search)} "
+             "cases the map can miss periods that live in narrow speed bands"
+             + (" (this is the quick version: the full scene's finer map is the reference for which periods "
+                "occur)" if scene.quick else "") + ".\n",
              markdown_table(["case", *[f"{r:.0f}" for r in rpms]],
                             [(label, *[f"P{p}" if p else "-" for p in sw.period]) for label, sw in search])]
     if confirmed:

@@ -56,9 +56,21 @@ class StabilityResult:
     explicit_lag: list[dict]           # the lag analysis, one row per (kn, steps per period)
     left_out: list[str] = field(default_factory=list)   # what was not computed, and why
 
+    def conclusions(self) -> dict:
+        """What the report concludes, as data: implicit bounded and its energy balance closed (to
+        1e-6) everywhere; whether the explicit treatment diverges anywhere, and at each kn and step;
+        each linear limit met to 1 %."""
+        implicit = [r for r in self.rows if r["treatment"] == "implicit"]
+        explicit = [r for r in self.rows if r["treatment"] == "explicit"]
+        return {"implicit_bounded": all(r["bounded"] for r in implicit),
+                "implicit_energy_closed": all(r["energy_error"] < 1e-6 for r in implicit),
+                "explicit_diverges_somewhere": any(not r["bounded"] for r in explicit),
+                "explicit_bounded": {f"{r['case']}, {r['steps_per_period']} steps": r["bounded"] for r in explicit},
+                "linear_limit_met": {k: v["relative_difference"] < 1e-2 for k, v in self.linear_limits.items()}}
+
     def to_json(self) -> dict:
         return {"rows": self.rows, "linear_limits": self.linear_limits, "explicit_lag": self.explicit_lag,
-                "left_out": self.left_out}
+                "left_out": self.left_out, "conclusions": self.conclusions()}
 
 
 def check(scene) -> None:

@@ -111,3 +111,26 @@ def test_error_vs_time_quick_agrees_with_full(tmp_path):
     assert len(shared) >= 3
     for key in shared:
         assert got[key] == full[key], key
+
+
+def test_stability_quick_agrees_with_full(tmp_path):
+    got, _ = quick("stability", tmp_path)
+    full = FULL["stability"]["conclusions"]
+    for key in ("implicit_bounded", "implicit_energy_closed", "explicit_diverges_somewhere"):
+        assert got[key] == full[key], key
+    shared = got["explicit_bounded"].keys() & full["explicit_bounded"].keys()
+    assert len(shared) >= 8
+    for case in shared:
+        assert got["explicit_bounded"][case] == full["explicit_bounded"][case], case
+    assert got["linear_limit_met"] == full["linear_limit_met"]
+
+
+def test_periodicity_quick_agrees_with_full(tmp_path):
+    got, _ = quick("periodicity", tmp_path)
+    full = FULL["periodicity"]["conclusions"]
+    shared = got["periods"].keys() & full["periods"].keys()
+    assert len(shared) >= 4
+    for case in shared:
+        assert got["periods"][case] == full["periods"][case], case
+    for key in ("p10_at_scene_speed", "p10_in_band"):
+        assert got[key] == full[key], key
