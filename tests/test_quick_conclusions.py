@@ -134,3 +134,20 @@ def test_periodicity_quick_agrees_with_full(tmp_path):
         assert got["periods"][case] == full["periods"][case], case
     for key in ("p10_at_scene_speed", "p10_in_band"):
         assert got[key] == full[key], key
+
+
+def test_fig3_quick_agrees_with_full(tmp_path):
+    got, _ = quick("fig3", tmp_path)
+    assert got == FULL["fig3"]["conclusions"]
+
+
+@pytest.mark.fe
+def test_table1_quick_agrees_with_full(tmp_path):
+    got, _ = quick("table1", tmp_path)
+    full = FULL["table1"]["conclusions"]
+    shared = got["within_2pct_of_paper"].keys() & full["within_2pct_of_paper"].keys()
+    assert len(shared) >= 8
+    for case in shared:
+        assert got["within_2pct_of_paper"][case] == full["within_2pct_of_paper"][case], case
+    for key in ("falls_with_N", "converged_within_0.1pct_of_paper_fe"):
+        assert got[key] == full[key], key
