@@ -30,7 +30,8 @@ from shroud.params import Contact, Parameters
 
 # Per step: tip, normal, friction and tangential pairs (float64) and the two states (int8) ...
 RECORD_BYTES_PER_STEP = 4 * 2 * 8 + 2
-# ... and the time-series CSV's 11 float64 columns, stacked before writing (shroud.core.results.write_trajectory_csv).
+# ... and the time-series CSV's 11 float64 columns, stacked before writing
+# (shroud.core.results.write_trajectory_csv).
 CSV_BYTES_PER_STEP = 11 * 8
 # Share of the machine's memory one run's records may take: the model, its
 # solver and the other processes of a sweep or campaign need the rest.
