@@ -35,6 +35,7 @@ import scipy.linalg
 from numba import njit
 
 from shroud.core.contact import KN, KT, MU, SEPARATE, SIGN, SLIP, STICK, ContactLaw
+from shroud.core.linear_solvers import dense
 
 UNIT_CIRCLE_TOL = 1e-6
 SMALL = 128       # state dimension up to which the compiled loops beat LAPACK/BLAS calls (and their threads)
@@ -79,9 +80,6 @@ def expm_small(A):
     return E
 
 
-def _dense(A) -> np.ndarray:
-    return A.toarray() if hasattr(A, "toarray") else np.asarray(A, dtype=float)
-
 
 def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float) -> np.ndarray:
     """Monodromy matrix of the linearized motion over one period 2 pi / omega.
@@ -89,7 +87,7 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     ``state``, ``F`` (elements, samples): each element's state and friction
     force at the samples of the period (sample i holds over [t_i, t_i+1]).
     """
-    M, C, K, W = _dense(M), _dense(C), _dense(K), _dense(W)
+    M, C, K, W = dense(M), dense(C), dense(K), dense(W)
     n, (k, nt) = M.shape[0], state.shape
     dt = 2 * np.pi / omega / nt
     sticks = (state == STICK).any(axis=1)
@@ -152,7 +150,7 @@ def hill_exponents(J: np.ndarray, M, C, omega: float, H: int) -> np.ndarray:
 
     Returns the 2n exponents with |Im s| <= omega / 2 (1/s), largest real part first.
     """
-    M, C = _dense(M), _dense(C)
+    M, C = dense(M), dense(C)
     n, nh = M.shape[0], 2 * H + 1
     Dt = np.zeros((nh, nh))                             # d/dt on [a_0, a_1, b_1, ...]
     for k in range(1, H + 1):

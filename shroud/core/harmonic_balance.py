@@ -47,6 +47,7 @@ from numba import njit
 
 from shroud.core.contact import (KN, KT, MU, N0, SEPARATE, SIGN, SLIP, STICK, ContactLaw,
                                  friction_return_map, normal_force)
+from shroud.core.linear_solvers import dense
 from shroud.core.system import StructuralSystem
 
 MAX_PASSES = 3          # periods the sliders are marched at most (2 make any slider periodic)
@@ -321,14 +322,11 @@ def _real_blocks(Z: np.ndarray) -> np.ndarray:
     return L.reshape(nh * n, nh * n)
 
 
-def _dense(A) -> np.ndarray:
-    return A.toarray() if hasattr(A, "toarray") else np.asarray(A, dtype=float)
-
 
 def dynamic_stiffness(system: StructuralSystem, H: int, omega: float | None = None) -> np.ndarray:
     """Z_k = K - (k omega)^2 M + i k omega C for k = 0..H, complex (H+1, n, n)."""
     w = system.omega_e if omega is None else omega
-    M, C, K = _dense(system.M), _dense(system.C), _dense(system.K)
+    M, C, K = dense(system.M), dense(system.C), dense(system.K)
     k = np.arange(H + 1)[:, None, None]
     return K[None] - (k * w) ** 2 * M[None] + 1j * k * w * C[None]
 
@@ -348,8 +346,8 @@ def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = N
     DOFs (W Z_k^-1 W^T per harmonic, exact).
     """
     n = system.dofs
-    W = _dense(system.contact.W) if system.contact is not None else np.zeros((0, n))
-    tip = _dense(system.tip)
+    W = dense(system.contact.W) if system.contact is not None else np.zeros((0, n))
+    tip = dense(system.tip)
     m = W.shape[0]
     condense = (0 < m < n) if condense is None else condense
     Z = dynamic_stiffness(system, H)
@@ -497,7 +495,7 @@ def state_vector(system: StructuralSystem, sol: HarmonicSolution, lin: LinearHar
     """
     nh, H = sol.basis.nh, sol.basis.H
     if lin.condensed:
-        W = _dense(system.contact.W)
+        W = dense(system.contact.W)
         Z = dynamic_stiffness(system, H)
         rhs = _load_harmonics(system, H) + _complex_coefficients(sol.contact.Lam) @ W
         Q = _real_coefficients(np.linalg.solve(Z, rhs[:, :, None])[:, :, 0])

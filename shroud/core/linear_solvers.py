@@ -57,6 +57,15 @@ class RowShare(Protocol):
     def sum(self, part: np.ndarray) -> np.ndarray: ...
 
 
+def dense(A) -> np.ndarray:
+    """``A`` as a float ndarray (scipy.sparse made dense): for the small operators only.
+
+    >>> dense(scipy.sparse.eye(2)).tolist()
+    [[1.0, 0.0], [0.0, 1.0]]
+    """
+    return A.toarray() if scipy.sparse.issparse(A) else np.asarray(A, dtype=float)
+
+
 class DenseInverse:
     """A small dense operator, inverted once.
 

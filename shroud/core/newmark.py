@@ -48,7 +48,7 @@ from numba import njit
 from shroud.core.contact import (SLIP, STICK, ContactLaw, contact_energy, copy_into, evaluate,
                             friction_dissipation, leaf, solve_contact, workspace)
 from shroud.base.log import Progress, warn
-from shroud.core.linear_solvers import AllRows, Factorization, RowShare, default_factorization
+from shroud.core.linear_solvers import AllRows, Factorization, RowShare, default_factorization, dense
 from shroud.core.system import StructuralSystem
 
 OK, NOT_FINITE, UNBOUNDED = 0, 1, 2
@@ -247,8 +247,8 @@ def explicit_lag_stability(system: StructuralSystem, law: ContactLaw, scheme: Ne
     the motion's frequency and net damping ratio. The largest stable step is
     bracketed by bisection on the sign of that ratio.
     """
-    M, C, K = _dense(system.M), _dense(system.C), _dense(system.K)
-    W, D = _dense(system.contact.W), stuck_stiffness(law)
+    M, C, K = dense(system.M), dense(system.C), dense(system.K)
+    W, D = dense(system.contact.W), stuck_stiffness(law)
 
     def least_damped(dt: float) -> tuple[float, float, float]:
         lam = np.linalg.eigvals(_explicit_step_matrix(M, C, K, W, D, NewmarkScheme(dt, scheme.gamma, scheme.beta)))
@@ -272,9 +272,6 @@ def explicit_lag_stability(system: StructuralSystem, law: ContactLaw, scheme: Ne
         lo = scheme.dt
     return LagStability(spectral_radius=rho, frequency_hz=f, damping_ratio=zeta, dt_stable=lo)
 
-
-def _dense(A) -> np.ndarray:
-    return A.toarray() if scipy.sparse.issparse(A) else np.asarray(A, dtype=float)
 
 
 def _is_dense(system: StructuralSystem) -> bool:
@@ -300,7 +297,7 @@ class _Step:
 
     def contact_workspace(self, law: ContactLaw):
         """shroud.core.contact.workspace for this step's compliance (factored as W Phi when low rank)."""
-        return workspace(law, _dense(self.W), self.Phi) if self.low_rank else workspace(law)
+        return workspace(law, dense(self.W), self.Phi) if self.low_rank else workspace(law)
 
     def respond(self, q_pred: np.ndarray, lam: np.ndarray) -> np.ndarray:
         """q_pred + Phi lam on this process's rows: the step's end state under the contact forces ``lam``.
@@ -340,7 +337,7 @@ def _factorize_step(system: StructuralSystem, law: ContactLaw, scheme: NewmarkSc
     share = system.layout or AllRows(n)
     if law.count:
         W = system.contact.W
-        Phi = np.asarray(factor.solve(_dense(W.T))).reshape(n, -1)   # one block solve
+        Phi = np.asarray(factor.solve(dense(W.T))).reshape(n, -1)   # one block solve
         Cc = np.asarray(W @ Phi)
         if not _is_dense(system):        # column-major for respond(); the dense kernel reads rows
             Phi = np.asfortranarray(share.own(Phi))
@@ -588,16 +585,16 @@ def _kernel_array(x) -> np.ndarray:
 def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v, rec):
     n = system.dofs
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
-    M, C = _dense(system.M), _dense(system.C)
+    M, C = dense(system.M), dense(system.C)
     S = step.factor.solve(np.eye(n))                                  # K_eff^-1 (n <= a few hundred)
     A = np.ascontiguousarray(S @ np.hstack([a0 * M + a1 * C, a2 * M + a4 * C, a3 * M + a5 * C]))
-    W = _dense(step.W) if law.count else np.zeros((0, n))
+    W = dense(step.W) if law.count else np.zeros((0, n))
     Sfc, Sfa = S @ system.f_const, S @ system.f_aero
     done, status, iterations, unconverged = _dense_kernel(
         A, W @ A, Sfc, Sfa, W @ Sfc, W @ Sfa, _kernel_array(system.f_const),
         _kernel_array(system.f_aero), _kernel_array(C), float(system.omega_e), scheme.dt, scheme.gamma,
         a0, a2, a3, steps, _kernel_array(W), _kernel_array(step.Phi),
-        _kernel_array(step.Cc), _kernel_array(_dense(system.tip)), law.rows, law.props,
+        _kernel_array(step.Cc), _kernel_array(dense(system.tip)), law.rows, law.props,
         law.side, law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
         rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, rec.element_counts,
         rec.element_peak, step.contact_workspace(law))
