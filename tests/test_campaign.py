@@ -102,6 +102,15 @@ def test_one_failing_scene_does_not_stop_the_others(probe):
     assert "failed (RuntimeError" in (out / "report.md").read_text()
 
 
+def test_a_failed_scene_makes_the_command_exit_1(probe, capsys):
+    from shroud.app.cli import EXIT_RUN_FAILED, main
+    path = _campaign(probe, 'campaign = ["first", "second"]\n[overrides]\nsecond = ["options.fail=true"]\n')
+    assert main(["run", str(path), "--out", str(probe / "out")]) == EXIT_RUN_FAILED
+    assert "a scene failed" in capsys.readouterr().out
+    path = _campaign(probe, 'campaign = ["first", "third"]\n')
+    assert main(["run", str(path), "--out", str(probe / "ok")]) == 0
+
+
 def test_quick_flag_and_command_line_sets_reach_every_scene(probe):
     path = _campaign(probe, 'campaign = ["first", "second"]\nquick = true\n')
     campaign = load_campaign(path, overrides=["load.F0=75"])

@@ -198,7 +198,11 @@ def cmd_run(args) -> int:
                      f"junit.xml in {summary['out']}")
         lines += [f"FAILED {r['scene'] + ': ' if 'scene' in r else ''}{r['path']}: {r['message']}"
                   for r in failed]
+    if summary["status"] == "complete with failures":
+        lines.append("a scene failed: its error.txt is in its folder")
     _emit(args, summary, "\n".join(lines))
+    if summary["status"] == "complete with failures":     # a failed scene outranks a failed gate
+        return EXIT_RUN_FAILED
     return EXIT_GATE_FAILED if failed else 0
 
 
