@@ -79,7 +79,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -87,6 +87,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 GRID_THICKNESS_CELLS = 24     # cells across the thickness on the coarser grid of the J solve
+SYMMETRIC_ORDERING = "MMD_AT_PLUS_A"   # SuperLU's fill-reducing ordering for the symmetric grid operators
 
 
 SHEAR_DEFINITIONS = ("cowper", "energy")
@@ -127,7 +128,7 @@ class SectionProperties:
     J: float               # St-Venant torsion constant, m^4
     warping: float         # Gamma = int omega^2 dA, warping constant about the shear centre, m^6
     shear_centre: tuple    # (v_s, w_s), m, in the shape's own coordinates
-    flexure: tuple         # (Flexure, Flexure): shear along the principal axes nearest e_v and e_w
+    grids: tuple = field(repr=False, compare=False)   # (inside, v_range, w_range, cells_v, cells_w)
 
     @property
     def I_p(self) -> float:
@@ -138,6 +139,18 @@ class SectionProperties:
     def principal_angle(self) -> float:
         """Angle (rad) from e_w to the principal axis of the larger second moment."""
         return 0.5 * math.atan2(2.0 * self.I_vw, self.I_w - self.I_v)
+
+    @functools.cached_property
+    def flexure(self) -> tuple[Flexure, Flexure]:
+        """The flexure integrals for shear along the principal axes nearest e_v and e_w.
+
+        Solved when first asked (the paper's beam, which keeps Cowper's formula, never asks):
+        on the grids of the torsion constant, Richardson-extrapolated.
+        """
+        inside, v_range, w_range, cells_v, cells_w = self.grids
+        coarse = _flexure(inside, v_range, w_range, cells_v, cells_w)
+        fine = _flexure(inside, v_range, w_range, 2 * cells_v, 2 * cells_w)
+        return tuple(Flexure(cowper=tuple(r[:2]), energy=tuple(r[2:])) for r in fine + (fine - coarse) / 3.0)
 
     def shear_coefficients(self, nu: float, definition: str = "cowper") -> tuple[float, float]:
         """(kappa_v, kappa_w): shear coefficients along the principal axes nearest e_v and e_w."""
@@ -184,7 +197,7 @@ def _prandtl(inside, V: np.ndarray, W: np.ndarray, dv: float, dw: float) -> np.n
     A = scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                                 shape=(n, n))
     phi = np.zeros(free.shape)
-    phi[free] = scipy.sparse.linalg.spsolve(A, np.full(n, 2.0))
+    phi[free] = scipy.sparse.linalg.spsolve(A, np.full(n, 2.0), permc_spec=SYMMETRIC_ORDERING)
     return phi
 
 
@@ -222,7 +235,8 @@ def _warping(inside, V, W, dv, dw, phi) -> np.ndarray:
     D1 = D[:, 1:]
     omega = np.zeros(mask.shape)
     values = np.zeros(n)
-    values[1:] = scipy.sparse.linalg.spsolve((D1.T @ D1).tocsc(), D1.T @ np.concatenate(rhs))
+    values[1:] = scipy.sparse.linalg.spsolve((D1.T @ D1).tocsc(), D1.T @ np.concatenate(rhs),
+                                             permc_spec=SYMMETRIC_ORDERING)
     omega[mask] = values
     return omega
 
@@ -303,22 +317,24 @@ def _flexure(inside, v_range, w_range, nv, nw) -> np.ndarray:
     K = scipy.sparse.csc_matrix((np.tile(Ke.ravel(), conn.shape[0]), (rows, cols)), shape=(nodes, nodes))
     used = np.unique(conn)
     keep = used[1:]                                               # chi = 0 at the first node used
-    solve = scipy.sparse.linalg.splu(K[keep][:, keep].tocsc()).solve
+    solve = scipy.sparse.linalg.splu(K[keep][:, keep].tocsc(), permc_spec=SYMMETRIC_ORDERING).solve
+    wN, wdN = N * weight[:, None], dN * weight[:, None, None]    # quadrature-weighted shape functions
     out = np.zeros((2, 5))
     for k, (e, e_perp) in enumerate(((near_v, near_w), (near_w, near_v))):
         y, z = P @ e, P @ e_perp                                  # (c, 9)
         I, I_o = float(np.sum((y * y) @ weight)), float(np.sum((z * z) @ weight))
         d = 0.5 * (y * y - z * z)[..., None] * e + (y * z)[..., None] * e_perp     # (c, 9, 2)
-        loads = [np.einsum("cg,ga,g->ca", y, N, weight), -np.einsum("cgi,gai,g->ca", d, dN, weight)]
+        loads = [y @ wN, -(d[..., 0] @ wdN[:, :, 0] + d[..., 1] @ wdN[:, :, 1])]  # (c, 4) per cell
         fields = []
         for load in loads:
             f = np.bincount(conn.ravel(), load.ravel(), minlength=nodes)
             chi = np.zeros(nodes)
             chi[keep] = solve(f[keep])
             fields.append(chi[conn])                              # (c, 4) nodal values per cell
-        int_chi_y = [float(np.sum((chi @ N.T * y) @ weight)) for chi in fields]
-        tau = [np.einsum("ca,gai->cgi", fields[0], dN), np.einsum("ca,gai->cgi", fields[1], dN) + d]
-        gram = [[float(np.einsum("cgi,cgi,g->", a, b, weight)) for b in tau] for a in tau]
+        int_chi_y = [float(np.sum((chi @ wN.T) * y)) for chi in fields]
+        grads = [np.stack([chi @ dN[:, :, i].T for i in range(2)], axis=-1) for chi in fields]   # (c, 9, 2)
+        tau = [grads[0], grads[1] + d]
+        gram = [[float(np.sum(np.sum(a * b, axis=-1) @ weight)) for b in tau] for a in tau]
         scale = A / I**2
         out[k] = (scale * int_chi_y[0], scale * int_chi_y[1] + 0.5 * (I - I_o) / I,
                   scale * gram[0][0], scale * gram[0][1], scale * gram[1][1])
@@ -357,12 +373,9 @@ def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
     coarse = _torsion_warping(inside, v_range, w_range, cells_v, cells_w, (cv, cw))
     fine = _torsion_warping(inside, v_range, w_range, 2 * cells_v, 2 * cells_w, (cv, cw))
     J, gamma = (f + (f - c) / 3.0 for c, f in zip(coarse[:2], fine[:2]))     # Richardson, second order
-    coarse_fl = _flexure(inside, v_range, w_range, cells_v, cells_w)
-    fine_fl = _flexure(inside, v_range, w_range, 2 * cells_v, 2 * cells_w)
-    fl = fine_fl + (fine_fl - coarse_fl) / 3.0
-    flexure = tuple(Flexure(cowper=tuple(r[:2]), energy=tuple(r[2:])) for r in fl)
     return SectionProperties(area=A, centroid=(cv, cw), I_v=Ivv, I_w=Iww, I_vw=Ivw, I_rr=I_rr, J=J,
-                             warping=gamma, shear_centre=fine[2], flexure=flexure)
+                             warping=gamma, shear_centre=fine[2],
+                             grids=(inside, v_range, w_range, cells_v, cells_w))
 
 
 @functools.lru_cache(maxsize=32)
