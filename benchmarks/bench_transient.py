@@ -9,6 +9,7 @@ cores; the wall time is printed too). The ratio to the plain reference loop
 is measured in the same run.
 
     python benchmarks/bench_transient.py [--repeat 15] [--sweep-speeds 300] [--against REV]
+                                         [--models reduced full extended [fe-reduced]]
 
 ``--against REV`` also times the kernel of shroud/core/newmark.py as it was at
 git revision REV against the working tree's, interleaved run by run in this
@@ -72,12 +73,12 @@ def identical(a, b) -> bool:
             and a.energy.to_json() == b.energy.to_json())
 
 
-def side_by_side(params: Parameters, rev: str, rounds: int) -> None:
+def side_by_side(params: Parameters, rev: str, rounds: int, models) -> None:
     """Median CPU time of the kernel at ``rev`` and now, interleaved; whether the results are identical."""
     versions = {rev: newmark_at(rev), "now": newmark}
     steps = params.time.periods * params.time.steps_per_period
     print(f"kernel at {rev} against the working tree, {rounds} interleaved runs each (median CPU time):")
-    for model in MODELS:
+    for model in models:
         system = build_system(params, model)
         law = contact_law_for(system, params.contact)
 
@@ -101,13 +102,16 @@ def main() -> None:
     ap.add_argument("--sweep-speeds", type=int, default=300, help="0: no sweep")
     ap.add_argument("--repeat", type=int, default=15)
     ap.add_argument("--against", metavar="REV", help="also time newmark.py at this git revision, side by side")
+    ap.add_argument("--models", nargs="+", default=list(MODELS), help="registered models with a dense kernel")
     args = ap.parse_args()
     print(f"load average at start: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores "
           "(other processes share the cores: compare CPU times)")
     params = Parameters()                                   # Fig. 8 case: N0 = 0, 10000 r/min
     steps = params.time.periods * params.time.steps_per_period
     scheme = newmark.NewmarkScheme(params.time_step)
-    for model in MODELS:
+    if "fe-reduced" in args.models:
+        import shroud.app.models  # noqa: F401  (registers the solid models)
+    for model in args.models:
         system = build_system(params, model)
         law = contact_law_for(system, params.contact)
         run = lambda method: newmark.integrate(system, law, scheme, steps, method=method,  # noqa: E731
@@ -125,7 +129,7 @@ def main() -> None:
               f"reference {rw:.2f} s; ratio {rw / kw:.0f}x; "
               f"paper Table 3: {TABLE3_SECONDS.get(model, '-')} s")
     if args.against:
-        side_by_side(params, args.against, args.repeat)
+        side_by_side(params, args.against, args.repeat, args.models)
     if args.sweep_speeds > 0:
         p = params.updated({"time.periods": 200})
         rpms = np.linspace(4000, 30000, args.sweep_speeds)
