@@ -97,17 +97,15 @@ def cowper(nu):
     return 10 * (1 + nu) / (12 + 11 * nu)
 
 
-def energy_shear_coefficient_series(width, depth, nu, terms=60, points=120):
-    """kappa = Q^2 / (A int |tau|^2 dA) of a rectangle sheared along its depth, from the series
-    of its flexure function (y along the depth h, z across the width b, c = -nu / (2 (1 + nu))):
+def flexure_stress_series(width, depth, nu, Y, Z, terms=60):
+    """(tau_y, tau_z) I / Q of a rectangle sheared along its depth, from the series of its flexure
+    function (y along the depth h, z across the width b, c = -nu / (2 (1 + nu))):
     chi = chi_0(y) - c y z^2 / 2 + sum_n A_n cos(k_n z) sinh(k_n y), k_n = 2 n pi / b,
     chi_0' = -(1 + c)(y^2 - h^2/4) / 2 - c h^2 / 8 + c b^2 / 12,
     A_n = c b^3 (-1)^n / (2 n^3 pi^3 cosh(k_n h / 2)) (the cosine series of z^2 on the width),
     tau I / Q = grad chi + c ((y^2 - z^2) / 2, y z): Timoshenko & Goodier, Sect. 124's problem."""
     b, h = width, depth
     c = -nu / (2 * (1 + nu))
-    t, w = np.polynomial.legendre.leggauss(points)
-    Y, Z = np.meshgrid(0.5 * h * t, 0.5 * b * t, indexing="ij")
     ty = -(1 + c) * (Y**2 - h**2 / 4) / 2 - c * h**2 / 8 + c * b**2 / 12 - c * Z**2 / 2 + c * (Y**2 - Z**2) / 2
     tz = -c * Y * Z + c * Y * Z
     for n in range(1, terms + 1):
@@ -116,11 +114,35 @@ def energy_shear_coefficient_series(width, depth, nu, terms=60, points=120):
         # cosh(k y) / cosh(k h / 2) and sinh(k y) / cosh(k h / 2) without overflow
         ch = (np.exp(k * (np.abs(Y) - h / 2)) + np.exp(-k * (np.abs(Y) + h / 2))) / (1 + math.exp(-k * h))
         sh = np.sign(Y) * (np.exp(k * (np.abs(Y) - h / 2)) - np.exp(-k * (np.abs(Y) + h / 2))) / (1 + math.exp(-k * h))
-        ty += A * k * np.cos(k * Z) * ch
-        tz += -A * k * np.sin(k * Z) * sh
+        ty = ty + A * k * np.cos(k * Z) * ch
+        tz = tz - A * k * np.sin(k * Z) * sh
+    return ty, tz
+
+
+def energy_shear_coefficient_series(width, depth, nu, points=120):
+    """kappa = Q^2 / (A int |tau|^2 dA) of the rectangle from the series, by Gauss quadrature."""
+    b, h = width, depth
+    t, w = np.polynomial.legendre.leggauss(points)
+    Y, Z = np.meshgrid(0.5 * h * t, 0.5 * b * t, indexing="ij")
+    ty, tz = flexure_stress_series(b, h, nu, Y, Z)
     energy = np.einsum("i,j,ij->", w * h / 2, w * b / 2, ty**2 + tz**2)
     I = b * h**3 / 12
     return I**2 / (b * h * energy)
+
+
+@pytest.mark.parametrize("ratio, edge, centre", [(2.0, 1.396, 0.856), (1.0, 1.126, 0.940),
+                                                 (0.5, 1.033, 0.983), (0.25, 1.008, 0.996)])
+def test_flexure_series_matches_timoshenko_and_goodiers_table(ratio, edge, centre):
+    """The series itself against the published shear stresses on the neutral axis, at the edges
+    and at the centre, over the elementary 3 Q / (2 A), for nu = 1/4 and b/h = 2 .. 1/4
+    (Timoshenko & Goodier, Theory of Elasticity, Sect. 124, table)."""
+    h = 0.01
+    b = ratio * h
+    elementary = 1.5 / (b * h) * (b * h**3 / 12)           # 3 Q / (2 A) in units of Q / I
+    at_edge = flexure_stress_series(b, h, 0.25, np.array(0.0), np.array(b / 2), terms=400)[0]
+    at_centre = flexure_stress_series(b, h, 0.25, np.array(0.0), np.array(0.0), terms=400)[0]
+    assert at_edge / elementary == pytest.approx(edge, abs=1e-3)
+    assert at_centre / elementary == pytest.approx(centre, abs=1e-3)
 
 
 def test_energy_series_reaches_its_narrow_limit():
