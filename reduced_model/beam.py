@@ -83,7 +83,12 @@ Stiffness (rho, E, G = E / (2 (1 + nu)), section A, I, J, I_rr)
 * strain:      1/2 int EA u'^2 + E psi'^T I psi' + k G A |(v_Y, w_Z)' - psi|^2 dx,
                k = 10 (1 + nu) / (12 + 11 nu), Cowper's coefficient for a
                rectangle (it follows from the 3D solution, which the FE
-               reference is; 5/6 is its nu = 0 value);
+               reference is; 5/6 is its nu = 0 value); with the twist field
+               the section's own coefficients kappa_v, kappa_w by Cowper's
+               definition (reduced_model.section: the flexure problem solved
+               on the section's shape; for a rectangle they are the formula's,
+               whatever its aspect ratio), turned with the section:
+               k G A |.|^2 -> gamma^T G A R diag(kappa_v, kappa_w) R^T gamma;
   with torsion: + 1/2 int G J theta'^2 (St-Venant) + 1/2 int E Gamma theta''^2
   (Vlasov: the clamped root holds the section's warping, so theta'(0) = 0;
   the twist functions are those of reduced_model.basis.held_root_slope; the
@@ -348,12 +353,13 @@ def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
     section = rectangle(blade.width, blade.thickness)
     A = section.area
     rho, E = material.rho, material.E
-    kGA = shear_coefficient(material.nu) * material.G * A
     beta = np.radians(blade.stagger_deg) + np.radians(blade.twist_deg) * x / L
     c, s = np.cos(beta), np.sin(beta)
-    I_YY = section.I_v * c**2 + section.I_w * s**2
-    I_ZZ = section.I_v * s**2 + section.I_w * c**2
-    I_YZ = (section.I_v - section.I_w) * c * s
+    I_YY, I_ZZ, I_YZ = _turned(section.I_v, section.I_w, c, s)
+    # shear stiffness tensor G A kappa in the disk frame: the paper's model keeps Cowper's rectangle
+    # formula; the beam with the twist field the section's own coefficients (Cowper's definition)
+    kappa = section.shear_coefficients(material.nu) if torsion else (shear_coefficient(material.nu),) * 2
+    kGA = {key: material.G * A * value for key, value in zip(("YY", "ZZ", "YZ"), _turned(*kappa, c, s))}
     one = np.ones_like(x)
     fields = 6 if torsion else 5
     n = fields * N
@@ -385,11 +391,14 @@ def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
 
     K_e = np.zeros((n, n))
     K_e[U, U] = _gram(dphi, E * A * one, dphi, wq)
-    for disp, tilt in ((V, PY), (W, PZ)):          # k G A (d' - psi)^2
-        K_e[disp, disp] = _gram(dphi, kGA * one, dphi, wq)
-        K_e[disp, tilt] = -_gram(dphi, kGA * one, phi, wq)
-        K_e[tilt, disp] = K_e[disp, tilt].T
-        K_e[tilt, tilt] = _gram(phi, kGA * one, phi, wq)
+    strain = {"Y": (V, PY), "Z": (W, PZ)}           # gamma = d' - psi; 1/2 gamma^T kGA gamma
+    for a, (disp_a, tilt_a) in strain.items():
+        for b, (disp_b, tilt_b) in strain.items():
+            k = kGA["YY" if a == b == "Y" else "ZZ" if a == b == "Z" else "YZ"]
+            K_e[disp_a, disp_b] += _gram(dphi, k, dphi, wq)
+            K_e[disp_a, tilt_b] -= _gram(dphi, k, phi, wq)
+            K_e[tilt_a, disp_b] -= _gram(phi, k, dphi, wq)
+            K_e[tilt_a, tilt_b] += _gram(phi, k, phi, wq)
     _add_symmetric(K_e, {(PY, PY): _gram(dphi, E * I_YY, dphi, wq), (PZ, PZ): _gram(dphi, E * I_ZZ, dphi, wq),
                          (PY, PZ): _gram(dphi, E * I_YZ, dphi, wq)})
 
@@ -426,6 +435,12 @@ def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
     for a in arrays.values():
         a.flags.writeable = False      # shared through the cache: never modified
     return BeamMatrices(N=N, fields=fields, torsion_arm=0.5 * blade.width, **arrays)
+
+
+def _turned(along_v, along_w, c, s) -> tuple:
+    """(YY, ZZ, YZ) disk-frame components of the section-frame tensor diag(along_v, along_w)
+    turned by beta (c, s = cos beta, sin beta): e_v = (0, c, s), e_w = (0, -s, c)."""
+    return along_v * c**2 + along_w * s**2, along_v * s**2 + along_w * c**2, (along_v - along_w) * c * s
 
 
 def warping_held(section, material: Material, length: float, N: int) -> bool:

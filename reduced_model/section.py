@@ -16,6 +16,8 @@ The beam (reduced_model.beam) needs, per section, in the section frame
     Gamma = int omega^2 dA warping constant, omega the St-Venant warping
                            function about the shear centre, m^6
     (v_s, w_s)             shear centre, m
+    kappa_v, kappa_w       shear coefficients along the principal axes nearest
+                           e_v and e_w, by Cowper's or the energy definition, -
 
 all about the centroid. They come from one function of the shape,
 :func:`section_properties`, which takes any shape given by a predicate
@@ -38,15 +40,46 @@ replace the rectangle without touching the beam.
   linear functions, Gamma = int omega^2 dA (Vlasov's warping constant, the
   stiffness E Gamma of a section whose warping is held, as at a clamped root).
 
-The shear coefficient stays Cowper's closed form for the rectangle (beam.py):
-it is not computed from the shape here.
+* Shear coefficients: the Saint-Venant flexure problem of a shear force Q
+  along a principal axis e (y = (p - c) . e, z across it, I = int y^2 dA,
+  I_o = int z^2 dA), in the shear stresses tau = (Q / I) (grad chi + c d),
+  c = -nu / (2 (1 + nu)), d = ((y^2 - z^2) / 2, y z) in (e, e_perp): the
+  equilibrium div tau = -Q y / I and traction-free sides tau . n = 0 are the
+  weak form  int (grad chi + c d) . grad(delta) dA = int y delta dA  (the side
+  condition natural, so no boundary integral: the grid's cells serve any
+  shape), and d carries the compatibility of the anticlastic Poisson strains
+  (curl tau = -nu Q z / ((1 + nu) I)). chi = chi_1 + c chi_2 is linear in c,
+  so the two solves per axis give every nu. Solved by bilinear (Q1) finite
+  elements on the cells, twice as the torsion constant and
+  Richardson-extrapolated. Two definitions from the one solution
+  (tests/test_reduced_section.py holds both to their closed forms):
+    - Cowper's (J. Appl. Mech. 33, 1966): the shear force over the
+      difference of the mean slope (1/A) int u_y' dA and the mean rotation
+      (1/I) int u_x y dA,
+          1/kappa = (A / I^2) int chi y dA + (c / 2) (I - I_o) / I;
+      10 (1 + nu) / (12 + 11 nu) for every rectangle (the harmonic part of
+      its chi, a cosine series across the width, integrates to nothing
+      against y), 6 (1 + nu) / (7 + 6 nu) for the circle;
+    - the energy one: Q^2 / (kappa G A) = int |tau|^2 / G dA,
+          1/kappa = (A / I^2) int |grad chi + c d|^2 dA;
+      5/6 for a narrow rectangle, far below it for a wide one (the Poisson
+      strains crowd the shear flow towards the edges of the width),
+      6 (1 + nu)^2 / (7 + 14 nu + 8 nu^2) for the circle (the energy of
+      Timoshenko & Goodier's exact stresses, Sect. 121).
+  Both are equal at nu = 0. (A third, Hutchinson's, J. Appl. Mech. 68,
+  2001, gives 6 (1 + nu)^2 / (7 + 12 nu + 4 nu^2) for the circle and
+  5 (1 + nu) / (6 + 5 nu) for a narrow rectangle; it is not computed here.)
+  Along principal axes; the cross coefficient, zero for a section with an
+  axis of symmetry, is left out. The beam with the twist field takes
+  Cowper's (reduced_model.beam). The grid for a thin direction needs cells
+  across it: the shape's v_range gets ``cells_v`` of them.
 """
 
 from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -54,6 +87,32 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 GRID_THICKNESS_CELLS = 24     # cells across the thickness on the coarser grid of the J solve
+SYMMETRIC_ORDERING = "MMD_AT_PLUS_A"   # SuperLU's fill-reducing ordering for the symmetric grid operators
+
+
+SHEAR_DEFINITIONS = ("cowper", "energy")
+
+
+@dataclass(frozen=True)
+class Flexure:
+    """Dimensionless integrals of the flexure problem for a shear force along one principal axis.
+
+    With c = -nu / (2 (1 + nu)) (module docstring):
+    Cowper's 1/kappa = cowper[0] + c cowper[1],
+    the energy 1/kappa = energy[0] + 2 c energy[1] + c^2 energy[2].
+    """
+
+    cowper: tuple
+    energy: tuple
+
+    def kappa(self, nu: float, definition: str = "cowper") -> float:
+        """The shear coefficient at Poisson's ratio ``nu`` by ``definition`` ("cowper" or "energy")."""
+        c = -nu / (2.0 * (1.0 + nu))
+        if definition == "cowper":
+            return 1.0 / (self.cowper[0] + c * self.cowper[1])
+        if definition == "energy":
+            return 1.0 / (self.energy[0] + 2.0 * c * self.energy[1] + c * c * self.energy[2])
+        raise ValueError(f"shear coefficient definition {definition!r}: one of {SHEAR_DEFINITIONS}")
 
 
 @dataclass(frozen=True)
@@ -69,6 +128,7 @@ class SectionProperties:
     J: float               # St-Venant torsion constant, m^4
     warping: float         # Gamma = int omega^2 dA, warping constant about the shear centre, m^6
     shear_centre: tuple    # (v_s, w_s), m, in the shape's own coordinates
+    grids: tuple = field(repr=False, compare=False)   # (inside, v_range, w_range, cells_v, cells_w)
 
     @property
     def I_p(self) -> float:
@@ -79,6 +139,22 @@ class SectionProperties:
     def principal_angle(self) -> float:
         """Angle (rad) from e_w to the principal axis of the larger second moment."""
         return 0.5 * math.atan2(2.0 * self.I_vw, self.I_w - self.I_v)
+
+    @functools.cached_property
+    def flexure(self) -> tuple[Flexure, Flexure]:
+        """The flexure integrals for shear along the principal axes nearest e_v and e_w.
+
+        Solved when first asked (the paper's beam, which keeps Cowper's formula, never asks):
+        on the grids of the torsion constant, Richardson-extrapolated.
+        """
+        inside, v_range, w_range, cells_v, cells_w = self.grids
+        coarse = _flexure(inside, v_range, w_range, cells_v, cells_w)
+        fine = _flexure(inside, v_range, w_range, 2 * cells_v, 2 * cells_w)
+        return tuple(Flexure(cowper=tuple(r[:2]), energy=tuple(r[2:])) for r in fine + (fine - coarse) / 3.0)
+
+    def shear_coefficients(self, nu: float, definition: str = "cowper") -> tuple[float, float]:
+        """(kappa_v, kappa_w): shear coefficients along the principal axes nearest e_v and e_w."""
+        return tuple(f.kappa(nu, definition) for f in self.flexure)
 
 
 def _cell_powers(lo: np.ndarray, hi: np.ndarray, k: int) -> np.ndarray:
@@ -121,7 +197,7 @@ def _prandtl(inside, V: np.ndarray, W: np.ndarray, dv: float, dw: float) -> np.n
     A = scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                                 shape=(n, n))
     phi = np.zeros(free.shape)
-    phi[free] = scipy.sparse.linalg.spsolve(A, np.full(n, 2.0))
+    phi[free] = scipy.sparse.linalg.spsolve(A, np.full(n, 2.0), permc_spec=SYMMETRIC_ORDERING)
     return phi
 
 
@@ -159,7 +235,8 @@ def _warping(inside, V, W, dv, dw, phi) -> np.ndarray:
     D1 = D[:, 1:]
     omega = np.zeros(mask.shape)
     values = np.zeros(n)
-    values[1:] = scipy.sparse.linalg.spsolve((D1.T @ D1).tocsc(), D1.T @ np.concatenate(rhs))
+    values[1:] = scipy.sparse.linalg.spsolve((D1.T @ D1).tocsc(), D1.T @ np.concatenate(rhs),
+                                             permc_spec=SYMMETRIC_ORDERING)
     omega[mask] = values
     return omega
 
@@ -191,6 +268,77 @@ def _torsion_warping(inside, v_range, w_range, nv, nw, centroid) -> tuple[float,
     # omega_P = omega_O - w_P v + v_P w (+ const), omega_O about the origin: the fitted linear part is (w_P, -v_P)
     shear_centre = (-coef[2], coef[1])
     return J, gamma, shear_centre
+
+
+_GAUSS_POINTS, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(3)
+_GAUSS_T, _GAUSS_W = 0.5 * (_GAUSS_POINTS + 1.0), 0.5 * _GAUSS_WEIGHTS     # the 3-point rule on [0, 1]
+
+
+def _q1_cells(inside, v_range, w_range, nv, nw):
+    """Bilinear elements on the grid cells whose centres are inside.
+
+    Returns (conn (c, 4) node numbers, gauss-point coordinates V, W (c, 9),
+    weights (9,) times the cell area, values N (9, 4), gradients dN (9, 4, 2), number of nodes).
+    """
+    v = np.linspace(*v_range, nv + 1)
+    w = np.linspace(*w_range, nw + 1)
+    dv, dw = v[1] - v[0], w[1] - w[0]
+    i, j = np.nonzero(inside(0.5 * (v[1:] + v[:-1])[:, None], 0.5 * (w[1:] + w[:-1])[None, :]))
+    node = lambda a, b: a * (nw + 1) + b          # noqa: E731
+    conn = np.column_stack([node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)])
+    xi, eta = (g.ravel() for g in np.meshgrid(_GAUSS_T, _GAUSS_T, indexing="ij"))
+    weight = np.outer(_GAUSS_W, _GAUSS_W).ravel() * dv * dw
+    N = np.column_stack([(1 - xi) * (1 - eta), xi * (1 - eta), xi * eta, (1 - xi) * eta])
+    dN = np.stack([np.column_stack([-(1 - eta), 1 - eta, eta, -eta]) / dv,
+                   np.column_stack([-(1 - xi), -xi, xi, 1 - xi]) / dw], axis=-1)
+    V = v[i][:, None] + xi[None, :] * dv
+    W = w[j][:, None] + eta[None, :] * dw
+    return conn, V, W, weight, N, dN, (nv + 1) * (nw + 1)
+
+
+def _flexure(inside, v_range, w_range, nv, nw) -> np.ndarray:
+    """Flexure integrals (2, 5) on one grid: per principal axis (nearest e_v, e_w)
+    [cowper0, cowper1, energy0, energy1, energy2] (module docstring, class Flexure).
+
+    The area, centroid and second moments are those of the same cells, so the
+    load y integrates to zero on the domain that is solved (the Neumann
+    problem's condition); chi is held at one node (it is fixed up to a constant).
+    """
+    conn, V, W, weight, N, dN, nodes = _q1_cells(inside, v_range, w_range, nv, nw)
+    A = weight.sum() * conn.shape[0]
+    cv, cw = float(np.sum(V @ weight)) / A, float(np.sum(W @ weight)) / A
+    P = np.stack([V - cv, W - cw], axis=-1)                       # (c, 9, 2) from the centroid
+    M2 = np.einsum("cgi,cgj,g->ij", P, P, weight)                 # [[I_v, I_vw], [I_vw, I_w]]
+    theta = 0.5 * math.atan2(2.0 * M2[0, 1], M2[1, 1] - M2[0, 0])
+    axes = np.array([[math.sin(theta), math.cos(theta)], [math.cos(theta), -math.sin(theta)]])   # (v, w) comps
+    near_w, near_v = axes if abs(axes[0, 1]) >= abs(axes[1, 1]) else axes[::-1]
+    Ke = np.einsum("gai,gbi,g->ab", dN, dN, weight)
+    rows, cols = np.repeat(conn, 4, axis=1).ravel(), np.tile(conn, (1, 4)).ravel()
+    K = scipy.sparse.csc_matrix((np.tile(Ke.ravel(), conn.shape[0]), (rows, cols)), shape=(nodes, nodes))
+    used = np.unique(conn)
+    keep = used[1:]                                               # chi = 0 at the first node used
+    solve = scipy.sparse.linalg.splu(K[keep][:, keep].tocsc(), permc_spec=SYMMETRIC_ORDERING).solve
+    wN, wdN = N * weight[:, None], dN * weight[:, None, None]    # quadrature-weighted shape functions
+    out = np.zeros((2, 5))
+    for k, (e, e_perp) in enumerate(((near_v, near_w), (near_w, near_v))):
+        y, z = P @ e, P @ e_perp                                  # (c, 9)
+        I, I_o = float(np.sum((y * y) @ weight)), float(np.sum((z * z) @ weight))
+        d = 0.5 * (y * y - z * z)[..., None] * e + (y * z)[..., None] * e_perp     # (c, 9, 2)
+        loads = [y @ wN, -(d[..., 0] @ wdN[:, :, 0] + d[..., 1] @ wdN[:, :, 1])]  # (c, 4) per cell
+        fields = []
+        for load in loads:
+            f = np.bincount(conn.ravel(), load.ravel(), minlength=nodes)
+            chi = np.zeros(nodes)
+            chi[keep] = solve(f[keep])
+            fields.append(chi[conn])                              # (c, 4) nodal values per cell
+        int_chi_y = [float(np.sum((chi @ wN.T) * y)) for chi in fields]
+        grads = [np.stack([chi @ dN[:, :, i].T for i in range(2)], axis=-1) for chi in fields]   # (c, 9, 2)
+        tau = [grads[0], grads[1] + d]
+        gram = [[float(np.sum(np.sum(a * b, axis=-1) @ weight)) for b in tau] for a in tau]
+        scale = A / I**2
+        out[k] = (scale * int_chi_y[0], scale * int_chi_y[1] + 0.5 * (I - I_o) / I,
+                  scale * gram[0][0], scale * gram[0][1], scale * gram[1][1])
+    return out
 
 
 def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
@@ -226,7 +374,8 @@ def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
     fine = _torsion_warping(inside, v_range, w_range, 2 * cells_v, 2 * cells_w, (cv, cw))
     J, gamma = (f + (f - c) / 3.0 for c, f in zip(coarse[:2], fine[:2]))     # Richardson, second order
     return SectionProperties(area=A, centroid=(cv, cw), I_v=Ivv, I_w=Iww, I_vw=Ivw, I_rr=I_rr, J=J,
-                             warping=gamma, shear_centre=fine[2])
+                             warping=gamma, shear_centre=fine[2],
+                             grids=(inside, v_range, w_range, cells_v, cells_w))
 
 
 @functools.lru_cache(maxsize=32)
