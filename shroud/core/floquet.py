@@ -5,9 +5,9 @@ Monodromy (time domain): the motion linearized about the periodic orbit,
     M dq'' + C dq' + K dq = W^T dlam,
 
 with the contact law's tangent along the orbit, integrated over one period.
-The tangent of each element follows its state at each sample of the
-harmonic-balance solution (shroud.core.harmonic_balance's AFT record):
-separated 0; normal contact dlam_n = -kn dy_n; stick dF = kt (dz - dw) with
+The tangent of each element is the law's own (shroud.core.contact.tangent)
+in its state at each sample of the harmonic-balance solution
+(shroud.core.harmonic_balance's AFT record): separated 0; normal contact dlam_n = -kn dy_n; stick dF = kt (dz - dw) with
 the slider perturbation dz held from the start of the stick; slip
 dF = sigma mu s kn dv and the slider slaved, dz = dw + dF / kt. The state
 is [dq, dq', dz] (dz of the elements that both stick and release during the
@@ -34,7 +34,7 @@ import numpy as np
 import scipy.linalg
 from numba import njit
 
-from shroud.core.contact import KN, KT, MU, SEPARATE, SIGN, SLIP, STICK, ContactLaw
+from shroud.core.contact import SIGN, SLIP, STICK, ContactLaw, tangents
 from shroud.core.linear_solvers import dense
 
 UNIT_CIRCLE_TOL = 1e-6
@@ -101,42 +101,49 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     sigma = np.where(F > 0, 1.0, -1.0)
     key = state * 2 + (sigma > 0) * (state == SLIP)
     Phi = np.eye(d)
-    s, kn, kt, mu = law.props[:, SIGN], law.props[:, KN], law.props[:, KT], law.props[:, MU]
-    nr, tr = law.rows[:, 0], law.rows[:, 1]
+    Wn, Wt = W[law.rows[:, 0]], W[law.rows[:, 1]]
     change = np.flatnonzero(np.any(key[:, 1:] != key[:, :-1], axis=0)) + 1
     starts = np.r_[0, change]
     lengths = np.diff(np.r_[starts, nt])
-    flows: dict[bytes, np.ndarray] = {}
+    flows: dict[bytes, tuple] = {}
     for i, length in zip(starts, lengths):              # runs of samples with the same states
-        st, sg = state[:, i], sigma[:, i]
         tag = key[:, i].tobytes()
-        A = flows.get(tag)
-        if A is None:                                  # dlam = -D dy + Bz dz, projected on q
-            touching, stick, slip = st != SEPARATE, st == STICK, st == SLIP
-            Wn, Wt = W[nr], W[tr]
-            Kc = (np.einsum("j,ji,jk->ik", kn[touching], Wn[touching], Wn[touching])
-                  + np.einsum("j,ji,jk->ik", kt[stick], Wt[stick], Wt[stick])
-                  - np.einsum("j,ji,jk->ik", sg[slip] * mu[slip] * s[slip] * kn[slip], Wt[slip], Wn[slip]))
-            WBz = np.zeros((n, nz))
-            held = np.flatnonzero(stick & (slot >= 0))
-            WBz[:, slot[held]] = (kt[held, None] * Wt[held]).T
-            A = np.zeros((d, d))
-            A[:n, n:2 * n] = np.eye(n)
-            A[n:2 * n, :n] = -Minv @ (K + Kc)
-            A[n:2 * n, n:2 * n] = -Minv @ C
-            A[n:2 * n, 2 * n:] = Minv @ WBz
-            flows[tag] = A
+        got = flows.get(tag)
+        if got is None:
+            tan = tangents(state[:, i], F[:, i], law.props)
+            A, release = _linearized(Minv, K, C, Wn, Wt, law.props[:, SIGN], tan, hist, slot)
+            flows[tag] = got = (A, release)
+        A, release = got
         step = expm_small(A * (dt * length)) if d <= SMALL else scipy.linalg.expm(A * (dt * length))
-        for j in hist:                                     # released sliders follow the blade (at the
-            if st[j] == STICK:                             # run's end: inside it they act on nothing)
-                continue
-            row = np.zeros(d)
-            row[:n] = W[tr[j]]
-            if st[j] == SLIP:
-                row[:n] += sg[j] * mu[j] * s[j] * kn[j] / kt[j] * W[nr[j]]
-            step[2 * n + slot[j]] = row @ step
+        if release.size:                                # released sliders follow the blade (at the
+            step[2 * n + release[:, 0].astype(np.int64)] = release[:, 1:] @ step    # run's end)
         Phi = _matmul(step, Phi) if d <= SMALL else step @ Phi
     return Phi
+
+
+def _linearized(Minv, K, C, Wn, Wt, s, tan, hist, slot):
+    """The flow matrix A of [dq, dq', dz] in one set of states, and the released sliders' rows.
+
+    ``s`` the elements' sides (-1, +1), ``tan`` (elements, 7) the law's tangent (shroud.core.contact.tangent) of
+    every element. The contact force on the projected coordinates,
+    dlam_n = -s dN, dlam_t = dF, gives the stiffness Kc = -W^T dlam/dy and
+    the sliders' forcing W_t^T dF/dz. A slider that is not sticking is
+    slaved to the blade: its rows (slot, then the row vector on the state)
+    set it at the run's end from dz = dz/dv dv + dz/dw dw.
+    """
+    n, nz = K.shape[0], hist.size
+    dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw = (tan[:, c] for c in range(6))
+    Kc = Wn.T @ ((s * dN_dv)[:, None] * Wn) - Wt.T @ (dF_dv[:, None] * Wn) - Wt.T @ (dF_dw[:, None] * Wt)
+    A = np.zeros((2 * n + nz, 2 * n + nz))
+    A[:n, n:2 * n] = np.eye(n)
+    A[n:2 * n, :n] = -Minv @ (K + Kc)
+    A[n:2 * n, n:2 * n] = -Minv @ C
+    A[n:2 * n, 2 * n:] = Minv @ (Wt[hist].T * dF_dz[hist])
+    free = hist[tan[hist, 6] == 0.0]                       # dz/dz = 0: released
+    release = np.zeros((free.size, 1 + 2 * n + nz))
+    release[:, 0] = slot[free]
+    release[:, 1:n + 1] = dz_dv[free, None] * Wn[free] + dz_dw[free, None] * Wt[free]
+    return A, release
 
 
 def multipliers(Phi: np.ndarray) -> np.ndarray:

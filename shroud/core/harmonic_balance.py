@@ -28,10 +28,11 @@ the contact law of shroud.core.contact (the one law: ``normal_force`` and
 ``friction_return_map``) is evaluated sample by sample with each friction
 slider marched around the period until it is periodic, and the forces are
 projected back on the harmonics. The Jacobian is analytic: the law is
-piecewise linear, and the derivative of the slider is carried through its
-history (stick: z held from the start of the stick, dz = 0; slip: z = w +
-F / kt; separated: z = w), so dF/dX in a stick phase is kt (dz/dX - dw/dX)
-with dz/dX that of the instant the stick began.
+piecewise linear, its derivatives in each state are the law's own tangent
+(shroud.core.contact.tangent), and the derivative of the slider is carried
+through its history by the chain rule (stick: z held from the start of the
+stick; slip: z = w + F / kt; separated: z = w), so dF/dX in a stick phase
+is kt (dz/dX - dw/dX) with dz/dX that of the instant the stick began.
 
 Units: SI (m, N, rad/s).
 """
@@ -45,8 +46,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from shroud.core.contact import (KN, KT, MU, N0, SEPARATE, SIGN, SLIP, STICK, ContactLaw,
-                                 friction_return_map, normal_force)
+from shroud.core.contact import (KN, KT, MU, N0, SEPARATE, SIGN, STICK, ContactLaw, friction_return_map,
+                                 normal_force, tangent)
 from shroud.core.linear_solvers import dense
 from shroud.core.system import StructuralSystem
 
@@ -156,44 +157,34 @@ def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
         for i in range(nt):
             lam[i, nr] -= s * N[j, i]
             lam[i, tr] += F[j, i]
-        # the slider's derivative at the period's start: from its last release, if any
+        # the slider's derivative at the period's start: from its last release (where it no longer
+        # depends on its past, dz/dz = 0), or that of the mean of w when it sticks all period
         for c in range(2 * nh):
             dz[c] = 0.0
         dz[nh] = 1.0
         for i in range(nt - 1, -1, -1):
             if state[j, i] != STICK:
+                _, _, _, _, dz_dv, dz_dw, _ = tangent(state[j, i], F[j, i], s, kn, kt, mu)
                 for c in range(nh):
-                    dz[nh + c] = E[i, c]
-                    dz[c] = 0.0
-                    if state[j, i] == SLIP:
-                        sigma = 1.0 if F[j, i] > 0.0 else -1.0
-                        dz[c] = sigma * mu * s * kn * E[i, c] / kt
+                    dz[c] = dz_dv * E[i, c]
+                    dz[nh + c] = dz_dw * E[i, c]
                 break
         for c in range(nh):
             for d in range(nh):
                 Bn[j, c, d] = 0.0
             for d in range(2 * nh):
                 Bt[j, c, d] = 0.0
-        for i in range(nt):
-            st = state[j, i]
-            if st == SEPARATE:
-                for c in range(nh):
-                    dz[c] = 0.0
-                    dz[nh + c] = E[i, c]
-                continue
+        for i in range(nt):                 # the chain rule through the law's tangent, sample by sample
+            dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw, dz_dz = tangent(state[j, i], F[j, i], s, kn, kt, mu)
             for c in range(nh):
-                dN[c] = s * kn * E[i, c] if N[j, i] > 0.0 else 0.0
-            if st == STICK:
-                for c in range(nh):
-                    dF[c] = kt * dz[c]
-                    dF[nh + c] = kt * (dz[nh + c] - E[i, c])
-            else:
-                sigma = 1.0 if F[j, i] > 0.0 else -1.0
-                for c in range(nh):
-                    dF[c] = sigma * mu * dN[c]
-                    dF[nh + c] = 0.0
-                    dz[c] = dF[c] / kt
-                    dz[nh + c] = E[i, c]
+                e = E[i, c]
+                dN[c] = dN_dv * e
+                dF[c] = dF_dv * e + dF_dz * dz[c]
+                dF[nh + c] = dF_dw * e + dF_dz * dz[nh + c]
+                dz[c] = dz_dv * e + dz_dz * dz[c]
+                dz[nh + c] = dz_dw * e + dz_dz * dz[nh + c]
+            if state[j, i] == SEPARATE:     # no force, nothing to add
+                continue
             for r in range(nh):
                 ar = A[r, i]
                 for c in range(nh):
