@@ -30,55 +30,15 @@ period doubling, a complex pair a Neimark-Sacker bifurcation.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.linalg
-from numba import njit
 
 from shroud.core.contact import SIGN, SLIP, STICK, ContactLaw, tangents
 from shroud.core.linear_solvers import dense
 
 UNIT_CIRCLE_TOL = 1e-6
-SMALL = 128       # state dimension up to which the compiled loops beat LAPACK/BLAS calls (and their threads)
-
-
-@njit(cache=True)
-def _matmul(A, B):
-    """A @ B by loops: small matrices, no BLAS threads (which cost more than the product here)."""
-    n, m, p = A.shape[0], A.shape[1], B.shape[1]
-    out = np.zeros((n, p))
-    for i in range(n):
-        for k in range(m):
-            a = A[i, k]
-            if a != 0.0:
-                for j in range(p):
-                    out[i, j] += a * B[k, j]
-    return out
-
-
-@njit(cache=True)
-def expm_small(A):
-    """exp(A) of a small dense matrix: scaling and squaring of a degree-18 Taylor sum (error < 1e-16 ||A||)."""
-    n = A.shape[0]
-    norm = 0.0
-    for i in range(n):
-        row = 0.0
-        for j in range(n):
-            row += abs(A[i, j])
-        norm = max(norm, row)
-    s = 0
-    while norm > 0.5:
-        norm *= 0.5
-        s += 1
-    B = A / 2.0 ** s
-    E = np.eye(n)
-    term = np.eye(n)
-    for k in range(1, 19):
-        term = _matmul(term, B) / k
-        E += term
-    for _ in range(s):
-        E = _matmul(E, E)
-    return E
-
 
 
 def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float) -> np.ndarray:
@@ -86,6 +46,11 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
 
     ``state``, ``F`` (elements, samples): each element's state and friction
     force at the samples of the period (sample i holds over [t_i, t_i+1]).
+    The state [dq, dq', dz] is carried run by run (a run: samples with the
+    same states): the blade's part by the flow of its block (``_flow``), a
+    sticking slider's dz unchanged, a released one set at the run's end
+    from the blade; so a run costs the exponential of a matrix of order
+    2 n + (at most n), whatever the number of sliders.
     """
     M, C, K, W = dense(M), dense(C), dense(K), dense(W)
     n, (k, nt) = M.shape[0], state.shape
@@ -94,56 +59,84 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     released = (state != STICK).any(axis=1)
     hist = np.flatnonzero(sticks & released)           # elements whose slider carries a history
     nz = hist.size
-    slot = -np.ones(k, np.int64)
-    slot[hist] = np.arange(nz)
     Minv = np.linalg.inv(M)
-    d = 2 * n + nz
     sigma = np.where(F > 0, 1.0, -1.0)
     key = state * 2 + (sigma > 0) * (state == SLIP)
-    Phi = np.eye(d)
+    Phi = np.eye(2 * n + nz)
     Wn, Wt = W[law.rows[:, 0]], W[law.rows[:, 1]]
     change = np.flatnonzero(np.any(key[:, 1:] != key[:, :-1], axis=0)) + 1
     starts = np.r_[0, change]
     lengths = np.diff(np.r_[starts, nt])
-    flows: dict[bytes, tuple] = {}
+    runs: dict[bytes, Linearized] = {}
     for i, length in zip(starts, lengths):              # runs of samples with the same states
         tag = key[:, i].tobytes()
-        got = flows.get(tag)
-        if got is None:
+        lin = runs.get(tag)
+        if lin is None:
             tan = tangents(state[:, i], F[:, i], law.props)
-            A, release = _linearized(Minv, K, C, Wn, Wt, law.props[:, SIGN], tan, hist, slot)
-            flows[tag] = got = (A, release)
-        A, release = got
-        step = expm_small(A * (dt * length)) if d <= SMALL else scipy.linalg.expm(A * (dt * length))
-        if release.size:                                # released sliders follow the blade (at the
-            step[2 * n + release[:, 0].astype(np.int64)] = release[:, 1:] @ step    # run's end)
-        Phi = _matmul(step, Phi) if d <= SMALL else step @ Phi
+            lin = runs[tag] = linearized(Minv, K, C, Wn, Wt, law.props[:, SIGN], tan, hist)
+        E, P = _flow(lin.A, lin.Bv, dt * length)
+        top = E @ Phi[:2 * n]
+        if lin.held.size:
+            top += P @ Phi[2 * n + lin.held]
+        if lin.free.size:                               # released sliders follow the blade
+            Phi[2 * n + lin.free] = lin.release @ top[:n]
+        Phi[:2 * n] = top
     return Phi
 
 
-def _linearized(Minv, K, C, Wn, Wt, s, tan, hist, slot):
-    """The flow matrix A of [dq, dq', dz] in one set of states, and the released sliders' rows.
+@dataclass(frozen=True)
+class Linearized:
+    """The motion linearized in one set of element states.
 
-    ``s`` the elements' sides (-1, +1), ``tan`` (elements, 7) the law's tangent (shroud.core.contact.tangent) of
-    every element. The contact force on the projected coordinates,
-    dlam_n = -s dN, dlam_t = dF, gives the stiffness Kc = -W^T dlam/dy and
-    the sliders' forcing W_t^T dF/dz. A slider that is not sticking is
-    slaved to the blade: its rows (slot, then the row vector on the state)
-    set it at the run's end from dz = dz/dv dv + dz/dw dw.
+    [dq, dq']' = A [dq, dq'] + [0; Bv dz[held]]; ``held``: the slots (in
+    dz) of the sliders that stick, ``free`` those released (slipping or
+    separated), whose dz = ``release`` dq at the run's end.
     """
-    n, nz = K.shape[0], hist.size
-    dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw = (tan[:, c] for c in range(6))
+
+    A: np.ndarray            # (2n, 2n)
+    Bv: np.ndarray           # (n, held) M^-1 W_t^T dF/dz
+    held: np.ndarray
+    free: np.ndarray
+    release: np.ndarray      # (free, n)
+
+
+def linearized(Minv, K, C, Wn, Wt, s, tan, hist) -> Linearized:
+    """The flow in one set of states from the law's tangent ``tan`` (elements, 7; shroud.core.contact.tangent).
+
+    The contact force on the projected coordinates, dlam_n = -s dN,
+    dlam_t = dF, gives the stiffness Kc = -W^T dlam/dy and the sliders'
+    forcing W_t^T dF/dz; ``s`` the elements' sides (-1, +1), ``hist`` the
+    elements whose slider is carried (slot = position in ``hist``). A slider
+    that does not stick is slaved to the blade, dz = dz/dv dv + dz/dw dw.
+    """
+    n = K.shape[0]
+    dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw, dz_dz = tan.T
     Kc = Wn.T @ ((s * dN_dv)[:, None] * Wn) - Wt.T @ (dF_dv[:, None] * Wn) - Wt.T @ (dF_dw[:, None] * Wt)
-    A = np.zeros((2 * n + nz, 2 * n + nz))
-    A[:n, n:2 * n] = np.eye(n)
-    A[n:2 * n, :n] = -Minv @ (K + Kc)
-    A[n:2 * n, n:2 * n] = -Minv @ C
-    A[n:2 * n, 2 * n:] = Minv @ (Wt[hist].T * dF_dz[hist])
-    free = hist[tan[hist, 6] == 0.0]                       # dz/dz = 0: released
-    release = np.zeros((free.size, 1 + 2 * n + nz))
-    release[:, 0] = slot[free]
-    release[:, 1:n + 1] = dz_dv[free, None] * Wn[free] + dz_dw[free, None] * Wt[free]
-    return A, release
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -Minv @ (K + Kc)
+    A[n:, n:] = -Minv @ C
+    held = np.flatnonzero(dF_dz[hist] != 0.0)
+    free = np.flatnonzero(dz_dz[hist] == 0.0)
+    h, f = hist[held], hist[free]
+    return Linearized(A=A, Bv=Minv @ (Wt[h].T * dF_dz[h]), held=held, free=free,
+                      release=dz_dv[f, None] * Wn[f] + dz_dw[f, None] * Wt[f])
+
+
+def _flow(A, Bv, tau):
+    """exp of [[A, [0; Bv]], [0, 0]] tau: the blade's flow E = exp(A tau) and P = int_0^tau exp(A s) ds [0; Bv].
+
+    Through one exponential of order 2n + min(held, n): [[A, [0; Bv]], [0, 0]]
+    itself with few sticking sliders, [[A, [0; I]], [0, 0]] (P then times Bv)
+    with many.
+    """
+    m, (n, c) = A.shape[0], Bv.shape
+    few = c <= n
+    aug = np.zeros((m + min(c, n), m + min(c, n)))
+    aug[:m, :m] = A
+    aug[n:m, m:] = Bv if few else np.eye(n)
+    X = scipy.linalg.expm(aug * tau)
+    return X[:m, :m], (X[:m, m:] if few else X[:m, m:] @ Bv)
 
 
 def multipliers(Phi: np.ndarray) -> np.ndarray:
