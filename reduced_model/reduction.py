@@ -74,3 +74,86 @@ def undamped_modes(M: np.ndarray, K: np.ndarray) -> ModalBasis:
 def project(basis: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     """N*^T X N* (Eq. 12)."""
     return basis.T @ matrix @ basis
+
+
+# --- the modes over a speed range, for continuation in speed -----------------------------------
+
+PANEL_RPM = 2500.0     # the speed axis is cut into panels this wide (r/min)
+PANEL_NODES = 6        # Chebyshev nodes in Omega^2 per panel
+PANEL_TOLERANCE = 1e-7  # largest interpolation error a panel may have (checked against exact modes)
+
+
+class ModesOverSpeed:
+    """The nr lowest modes of (K(Omega), M) and the lowest frequencies as polynomials in Omega^2.
+
+    K(Omega) = K_e + Omega^2 (K_c1 + K_s1) is exactly quadratic in Omega, and
+    its modes are smooth in Omega^2 away from crossings: on each panel of
+    ``PANEL_RPM`` they are interpolated (Lagrange, on ``PANEL_NODES``
+    Chebyshev nodes in Omega^2) from exact modes at the nodes, each mode
+    matched to the panel's first node by its mass-weighted overlap and
+    sign. A panel is built on first use, and certified: at the two speeds
+    halfway between its outermost nodes the interpolated shapes are compared
+    with the exact ones (the part of each outside the exact nr-mode subspace,
+    in the mass norm) and the frequencies too; a panel whose modes cross or
+    whose error exceeds ``PANEL_TOLERANCE`` uses exact modes at every speed
+    instead. ``errors`` holds each panel's measured error (None: exact).
+    """
+
+    def __init__(self, M: np.ndarray, stiffness, nr: int, frequencies: int = 2):
+        self.M, self.stiffness, self.nr, self.count = M, stiffness, nr, max(nr, frequencies)
+        self._panels: dict[int, tuple | None] = {}
+        self.errors: dict[int, float | None] = {}
+
+    def exact(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
+        """(f_hz of the lowest modes, their nr shapes) at Omega (rad/s), from the eigenproblem."""
+        modes = undamped_modes(self.M, self.stiffness(omega))
+        return modes.f_hz[:self.count], modes.truncated(self.nr) if self.nr else modes.shapes[:, :0]
+
+    def at(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
+        """(f_hz, shapes) at Omega (rad/s): interpolated on a certified panel, else exact."""
+        rpm = abs(omega) * 60.0 / (2.0 * np.pi)
+        p = int(rpm // PANEL_RPM)
+        if p not in self._panels:
+            self._panels[p] = self._panel(p)
+        panel = self._panels[p]
+        if panel is None:
+            return self.exact(omega)
+        x2, f2, shapes = panel
+        w = _lagrange(x2, omega * omega)
+        return np.sqrt(np.maximum(w @ f2, 0.0)), (w @ shapes.reshape(w.size, -1)).reshape(shapes.shape[1:])
+
+    def _panel(self, p: int):
+        lo, hi = (2 * np.pi / 60 * PANEL_RPM * np.array([p, p + 1])) ** 2
+        k = np.arange(PANEL_NODES)
+        x2 = 0.5 * (lo + hi) + 0.5 * (hi - lo) * np.cos((2 * k + 1) * np.pi / (2 * PANEL_NODES))
+        f, shapes = zip(*(self.exact(np.sqrt(x)) for x in x2))
+        shapes = np.array(shapes)
+        for j in range(1, PANEL_NODES):                 # the same mode, the same sign at every node
+            overlap = shapes[0].T @ self.M @ shapes[j]
+            if not np.all(np.abs(np.diag(overlap)) > 0.9):
+                self.errors[p] = None                   # modes cross inside the panel
+                return None
+            shapes[j] *= np.sign(np.diag(overlap))
+        panel = (x2, np.array(f) ** 2, shapes)
+        error = 0.0
+        for a, b in ((0, 1), (-2, -1)):                 # between the outermost nodes
+            omega = np.sqrt(0.5 * (x2[a] + x2[b]))
+            f_exact, exact = self.exact(omega)
+            w = _lagrange(x2, omega * omega)
+            f_int, interp = np.sqrt(np.maximum(w @ panel[1], 0.0)), np.tensordot(w, shapes, axes=1)
+            outside = interp - exact @ (exact.T @ self.M @ interp)
+            norms = np.sqrt(np.einsum("ij,ik,kj->j", interp, self.M, interp))
+            out = np.sqrt(np.einsum("ij,ik,kj->j", outside, self.M, outside)) / norms if self.nr else [0.0]
+            error = max(error, float(np.max(out)), float(np.max(np.abs(f_int / f_exact - 1))))
+        self.errors[p] = error
+        return panel if error <= PANEL_TOLERANCE else None
+
+
+def _lagrange(nodes: np.ndarray, x: float) -> np.ndarray:
+    """Weights of the Lagrange interpolant on ``nodes`` at x (barycentric form)."""
+    d = x - nodes
+    hit = np.flatnonzero(d == 0.0)
+    if hit.size:
+        return (np.arange(nodes.size) == hit[0]).astype(float)
+    b = 1.0 / np.prod(nodes[:, None] - nodes[None, :] + np.eye(nodes.size), axis=1) / d
+    return b / b.sum()
