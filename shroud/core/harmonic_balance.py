@@ -107,53 +107,53 @@ def default_samples(H: int) -> int:
 # --- AFT: the contact law along one period, with its derivative -------------------
 
 @njit(cache=True)
-def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
+def _aft_kernel(Ys, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
     """March every element's law around the period (shroud.core.contact's functions).
 
-    Yc (nh, m): coefficients of y; E (samples, nh) synthesis, A (nh, samples)
-    analysis. Fills per element j and sample i N, F, state, and the
-    harmonics' derivatives Bn[j] = d(N harmonics)/d(normal coefficients)
+    Ys (samples, m): y at the samples; E (samples, nh) synthesis, A (nh,
+    samples) analysis. Fills per element j and sample i N, F, state, and
+    the harmonics' derivatives Bn[j] = d(N harmonics)/d(normal coefficients)
     (nh, nh) and Bt[j] = d(F harmonics)/d([normal, tangent] coefficients)
-    (nh, 2 nh), and the forces lam (samples, m) on the projected
-    coordinates (-s N on the normal row, F on the tangent row). The slider starts at the mean of w and is marched until it
-    closes (after a slip or a separation z no longer depends on its start,
-    so two periods suffice); the last period is recorded. The derivative
-    of the slider is carried from the period's last release (slip or
-    separation), which is where the periodic slider was last set, or is
-    that of the mean of w when the element sticks all period.
+    (nh, 2 nh) (added to: the caller zeroes them), and the forces lam (samples, m) on the projected
+    coordinates (-s N on the normal row, F on the tangent row). The slider
+    starts at the mean of w and is marched until it closes (after a slip or
+    a separation z no longer depends on its start, so two periods suffice);
+    the last period is recorded. The derivative of the slider is carried
+    from the period's last release (slip or separation), which is where the
+    periodic slider was last set, or is that of the mean of w when the
+    element sticks all period; through a separation only its last sample
+    counts (dz/dz = 0 there).
     Returns the most periods marched.
     """
     nt, nh = E.shape
     k = rows.shape[0]
     most = 0
-    v = np.zeros(nt)
-    w = np.zeros(nt)
     dz = np.zeros(2 * nh)
     dN = np.zeros(nh)
     dF = np.zeros(2 * nh)
     for j in range(k):
         nr, tr = rows[j, 0], rows[j, 1]
         s, kn, kt, mu, n0 = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU], props[j, N0]
-        wmax = 0.0
+        wmax, z = 0.0, 0.0
         for i in range(nt):
-            a, b = 0.0, 0.0
-            for c in range(nh):
-                a += E[i, c] * Yc[c, nr]
-                b += E[i, c] * Yc[c, tr]
-            v[i], w[i] = a, b
-            wmax = max(wmax, abs(b))
-        z = Yc[0, tr]                       # the mean of w: a neutral start for a stuck slider
+            wmax = max(wmax, abs(Ys[i, tr]))
+            z += Ys[i, tr]
+        z /= nt                             # the mean of w: a neutral start for a stuck slider
         passes = 0
+        touching = False
         for p in range(passes_max):
             z_start = z
             for i in range(nt):
-                Nj = normal_force(v[i], n0, kn, s)
-                Fj, z, st = friction_return_map(w[i], z, Nj, kt, mu)
+                Nj = normal_force(Ys[i, nr], n0, kn, s)
+                Fj, z, st = friction_return_map(Ys[i, tr], z, Nj, kt, mu)
                 N[j, i], F[j, i], state[j, i] = Nj, Fj, st
+                touching = touching or st != SEPARATE
             passes = p + 1
             if p > 0 and abs(z - z_start) <= 1e-13 * (abs(z) + wmax + 1e-300):
                 break
         most = max(most, passes)
+        if not touching:
+            continue
         for i in range(nt):
             lam[i, nr] -= s * N[j, i]
             lam[i, tr] += F[j, i]
@@ -169,12 +169,17 @@ def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
                     dz[c] = dz_dv * E[i, c]
                     dz[nh + c] = dz_dw * E[i, c]
                 break
-        for c in range(nh):
-            for d in range(nh):
-                Bn[j, c, d] = 0.0
-            for d in range(2 * nh):
-                Bt[j, c, d] = 0.0
+        separated = -1                      # the last sample of a separation not yet applied to dz
         for i in range(nt):                 # the chain rule through the law's tangent, sample by sample
+            if state[j, i] == SEPARATE:
+                separated = i
+                continue
+            if separated >= 0:
+                _, _, _, _, dz_dv, dz_dw, _ = tangent(SEPARATE, 0.0, s, kn, kt, mu)
+                for c in range(nh):
+                    dz[c] = dz_dv * E[separated, c]
+                    dz[nh + c] = dz_dw * E[separated, c]
+                separated = -1
             dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw, dz_dz = tangent(state[j, i], F[j, i], s, kn, kt, mu)
             for c in range(nh):
                 e = E[i, c]
@@ -183,8 +188,6 @@ def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
                 dF[nh + c] = dF_dw * e + dF_dz * dz[nh + c]
                 dz[c] = dz_dv * e + dz_dz * dz[c]
                 dz[nh + c] = dz_dw * e + dz_dz * dz[nh + c]
-            if state[j, i] == SEPARATE:     # no force, nothing to add
-                continue
             for r in range(nh):
                 ar = A[r, i]
                 for c in range(nh):
@@ -216,12 +219,12 @@ def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fou
     skips it (dLam_x is then None).
     """
     nh, nt, k, m = basis.nh, basis.samples, law.count, law.m
-    Yc = np.ascontiguousarray(X @ Wx.T)
-    N, F = np.zeros((k, nt)), np.zeros((k, nt))
-    state = np.zeros((k, nt), np.int64)
+    Ys = basis.E @ (X @ Wx.T)                          # y at the samples
+    N, F = np.empty((k, nt)), np.empty((k, nt))
+    state = np.empty((k, nt), np.int64)
     Bn, Bt = np.zeros((k, nh, nh)), np.zeros((k, nh, 2 * nh))
     lam = np.zeros((nt, m))
-    passes = _aft_kernel(Yc, basis.E, basis.A, law.rows, law.props, MAX_PASSES, N, F, state, Bn, Bt,
+    passes = _aft_kernel(Ys, basis.E, basis.A, law.rows, law.props, MAX_PASSES, N, F, state, Bn, Bt,
                          lam) if k else 0
     s = law.props[:, SIGN]
     Lam = basis.A @ lam
