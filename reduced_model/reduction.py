@@ -118,8 +118,8 @@ class ModesOverSpeed:
         panel = self._panels[p]
         if panel is None:
             return self.exact(omega)
-        x2, f2, shapes = panel
-        w = _lagrange(x2, omega * omega)
+        x2, bary, f2, shapes = panel
+        w = _lagrange(x2, bary, omega * omega)
         return np.sqrt(np.maximum(w @ f2, 0.0)), (w @ shapes.reshape(w.size, -1)).reshape(shapes.shape[1:])
 
     def _panel(self, p: int):
@@ -134,13 +134,14 @@ class ModesOverSpeed:
                 self.errors[p] = None                   # modes cross inside the panel
                 return None
             shapes[j] *= np.sign(np.diag(overlap))
-        panel = (x2, np.array(f) ** 2, shapes)
+        bary = 1.0 / np.prod(x2[:, None] - x2[None, :] + np.eye(PANEL_NODES), axis=1)
+        panel = (x2, bary, np.array(f) ** 2, shapes)
         error = 0.0
         for a, b in ((0, 1), (-2, -1)):                 # between the outermost nodes
             omega = np.sqrt(0.5 * (x2[a] + x2[b]))
             f_exact, exact = self.exact(omega)
-            w = _lagrange(x2, omega * omega)
-            f_int, interp = np.sqrt(np.maximum(w @ panel[1], 0.0)), np.tensordot(w, shapes, axes=1)
+            w = _lagrange(x2, bary, omega * omega)
+            f_int, interp = np.sqrt(np.maximum(w @ panel[2], 0.0)), np.tensordot(w, shapes, axes=1)
             outside = interp - exact @ (exact.T @ self.M @ interp)
             norms = np.sqrt(np.einsum("ij,ik,kj->j", interp, self.M, interp))
             out = np.sqrt(np.einsum("ij,ik,kj->j", outside, self.M, outside)) / norms if self.nr else [0.0]
@@ -149,11 +150,12 @@ class ModesOverSpeed:
         return panel if error <= PANEL_TOLERANCE else None
 
 
-def _lagrange(nodes: np.ndarray, x: float) -> np.ndarray:
-    """Weights of the Lagrange interpolant on ``nodes`` at x (barycentric form)."""
+def _lagrange(nodes: np.ndarray, bary: np.ndarray, x: float) -> np.ndarray:
+    """Weights of the Lagrange interpolant on ``nodes`` at x (barycentric form, ``bary`` the nodes'
+    barycentric weights 1 / prod_k (x_j - x_k))."""
     d = x - nodes
     hit = np.flatnonzero(d == 0.0)
     if hit.size:
         return (np.arange(nodes.size) == hit[0]).astype(float)
-    b = 1.0 / np.prod(nodes[:, None] - nodes[None, :] + np.eye(nodes.size), axis=1) / d
+    b = bary / d
     return b / b.sum()

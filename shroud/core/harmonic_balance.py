@@ -40,6 +40,7 @@ Units: SI (m, N, rad/s).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -76,8 +77,9 @@ class Fourier:
         return 2 * np.pi * np.arange(self.samples) / self.samples
 
 
+@functools.lru_cache(maxsize=16)
 def fourier(H: int, samples: int) -> Fourier:
-    """The basis for harmonics 0..H from ``samples`` instants (at least 2 H + 1 of them)."""
+    """The basis for harmonics 0..H from ``samples`` instants (at least 2 H + 1 of them; shared, read-only)."""
     if H < 1:
         raise ValueError(f"harmonic balance needs H >= 1 harmonics, got {H}")
     if samples < 2 * H + 1:
@@ -89,6 +91,7 @@ def fourier(H: int, samples: int) -> Fourier:
     E[:, 2::2] = np.sin(np.outer(tau, k))
     A = E.T * (2.0 / samples)
     A[0] /= 2.0
+    E.flags.writeable = A.flags.writeable = False
     return Fourier(H=H, samples=samples, E=E, A=A)
 
 
