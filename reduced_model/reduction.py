@@ -96,7 +96,9 @@ class ModesOverSpeed:
     with the exact ones (the part of each outside the exact nr-mode subspace,
     in the mass norm) and the frequencies too; a panel whose modes cross or
     whose error exceeds ``PANEL_TOLERANCE`` uses exact modes at every speed
-    instead. ``errors`` holds each panel's measured error (None: exact).
+    instead, as does a panel that reaches a speed where the stiffness is no
+    longer positive (each speed then raises its own error when asked).
+    ``errors`` holds each panel's measured error (None: exact).
     """
 
     def __init__(self, M: np.ndarray, stiffness, nr: int, frequencies: int = 2):
@@ -126,7 +128,11 @@ class ModesOverSpeed:
         lo, hi = (2 * np.pi / 60 * PANEL_RPM * np.array([p, p + 1])) ** 2
         k = np.arange(PANEL_NODES)
         x2 = 0.5 * (lo + hi) + 0.5 * (hi - lo) * np.cos((2 * k + 1) * np.pi / (2 * PANEL_NODES))
-        f, shapes = zip(*(self.exact(np.sqrt(x)) for x in x2))
+        try:
+            f, shapes = zip(*(self.exact(np.sqrt(x)) for x in x2))
+        except InputError:                              # the panel reaches past the blade's stability:
+            self.errors[p] = None                       # each speed says so itself, if asked
+            return None
         shapes = np.array(shapes)
         for j in range(1, PANEL_NODES):                 # the same mode, the same sign at every node
             overlap = shapes[0].T @ self.M @ shapes[j]
@@ -137,7 +143,7 @@ class ModesOverSpeed:
         bary = 1.0 / np.prod(x2[:, None] - x2[None, :] + np.eye(PANEL_NODES), axis=1)
         panel = (x2, bary, np.array(f) ** 2, shapes)
         error = 0.0
-        for a, b in ((0, 1), (-2, -1)):                 # between the outermost nodes
+        for a, b in ((0, 1), (-2, -1)):                 # between the outermost nodes (inside the nodes' range)
             omega = np.sqrt(0.5 * (x2[a] + x2[b]))
             f_exact, exact = self.exact(omega)
             w = _lagrange(x2, bary, omega * omega)
