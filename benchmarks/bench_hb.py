@@ -51,9 +51,8 @@ def speed_range_error(params: Parameters, reduced: bool, rpms) -> float:
         a, b = one(float(rpm)), build_system(params.updated({"speed.rpm": float(rpm)}), reduced)
         for k in (1, 2, 3):
             w = k * b.omega_e
-            ra, rb = (np.vstack([s.contact.W, s.tip])
-                      @ np.linalg.solve(s.K - w * w * s.M + 1j * w * s.C, np.column_stack([s.contact.W.T, s.f_aero]))
-                      for s in (a, b))
+            ra, rb = (np.vstack([s.contact.W, s.tip]) @ np.linalg.solve(
+                s.K - w * w * s.M + 1j * w * s.C, np.column_stack([s.contact.W.T, s.f_aero])) for s in (a, b))
             worst = max(worst, float(np.abs(ra - rb).max() / np.abs(rb).max()))
     return worst
 

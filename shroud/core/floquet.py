@@ -7,14 +7,16 @@ Monodromy (time domain): the motion linearized about the periodic orbit,
 with the contact law's tangent along the orbit, integrated over one period.
 The tangent of each element is the law's own (shroud.core.contact.tangent)
 in its state at each sample of the harmonic-balance solution
-(shroud.core.harmonic_balance's AFT record): separated 0; normal contact dlam_n = -kn dy_n; stick dF = kt (dz - dw) with
-the slider perturbation dz held from the start of the stick; slip
-dF = sigma mu s kn dv and the slider slaved, dz = dw + dF / kt. The state
+(shroud.core.harmonic_balance's AFT record): separated 0; normal contact
+dlam_n = -kn dy_n; stick dF = kt (dz - dw) with the slider perturbation dz
+held from the start of the stick; slip dF = sigma mu s kn dv and the slider
+slaved, dz = dw + dF / kt. The state
 is [dq, dq', dz] (dz of the elements that both stick and release during the
 period; a slider stuck all period only adds the neutral multiplier 1 of its
 arbitrary offset, which is left out). Over each sample interval the states
-are constant and the flow is exp(A dt); the product over the period is the
-monodromy matrix, whose eigenvalues are the Floquet multipliers.
+are constant and the flow is exp(A dt) (scipy's expm, on the blade's
+block: the sliders are carried by the structure of A); the product over
+the period is the monodromy matrix, whose eigenvalues are the Floquet multipliers.
 
 Hill's method (frequency domain): the perturbation e^{s t} p(t) with p
 periodic in the same harmonics gives the quadratic eigenproblem

@@ -354,15 +354,13 @@ def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = N
                                tip_x=np.broadcast_to(tip.astype(complex), (H + 1, 2, n)),
                                tip_lam=np.zeros((H + 1, 2, m), complex), tip_f=np.zeros((H + 1, 2), complex),
                                condensed=False)
-    rhs = np.concatenate([np.broadcast_to(W.T, (H + 1, n, m)), F[:, :, None]], axis=2)
-    S = np.linalg.solve(Z, rhs)                       # Z_k^-1 [W^T, F_k]
-    Hc = W @ S[:, :, :m]                              # receptance on the contact coordinates
-    Zc = np.linalg.inv(Hc)
-    Fc = np.einsum("kij,kj->ki", Zc, S[:, :, m] @ W.T)
-    tipS = tip @ S
-    return LinearHarmonics(omega=system.omega_e, Z=Zc, F=Fc, Wx=np.eye(m),
-                           tip_x=np.zeros((H + 1, 2, m), complex), tip_lam=tipS[:, :, :m],
-                           tip_f=tipS[:, :, m], condensed=True)
+    rhs = np.empty((H + 1, n, m + 1), complex)
+    rhs[:, :, :m], rhs[:, :, m] = W.T, F
+    WS = np.vstack([W, tip]) @ np.linalg.solve(Z, rhs)   # [W; tip] Z_k^-1 [W^T, F_k]
+    Zc = np.linalg.inv(WS[:, :m, :m])                 # of the receptance on the contact coordinates
+    return LinearHarmonics(omega=system.omega_e, Z=Zc, F=(Zc @ WS[:, :m, m:])[:, :, 0], Wx=np.eye(m),
+                           tip_x=np.zeros((H + 1, 2, m), complex), tip_lam=WS[:, m:, :m],
+                           tip_f=WS[:, m:, m], condensed=True)
 
 
 # --- residual, Newton at one speed ---------------------------------------------------
