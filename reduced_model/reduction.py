@@ -91,10 +91,10 @@ class ModesOverSpeed:
     ``PANEL_RPM`` they are interpolated (Lagrange, on ``PANEL_NODES``
     Chebyshev nodes in Omega^2) from exact modes at the nodes, each mode
     matched to the panel's first node by its mass-weighted overlap and
-    sign. A panel is built on first use, and certified: at the two speeds
-    halfway between its outermost nodes the interpolated shapes are compared
-    with the exact ones (the part of each outside the exact nr-mode subspace,
-    in the mass norm) and the frequencies too; a panel whose modes cross or
+    sign. A panel is built on first use, and certified: at its two ends
+    (where the error of a Chebyshev interpolant peaks) the interpolated shapes
+    are compared with the exact ones (the part of each outside the exact
+    nr-mode subspace, in the mass norm) and the frequencies too; a panel whose modes cross or
     whose error exceeds ``PANEL_TOLERANCE`` uses exact modes at every speed
     instead, as does a panel that reaches a speed where the stiffness is no
     longer positive (each speed then raises its own error when asked).
@@ -143,15 +143,15 @@ class ModesOverSpeed:
         bary = 1.0 / np.prod(x2[:, None] - x2[None, :] + np.eye(PANEL_NODES), axis=1)
         panel = (x2, bary, np.array(f) ** 2, shapes)
         error = 0.0
-        for a, b in ((0, 1), (-2, -1)):                 # between the outermost nodes (inside the nodes' range)
-            omega = np.sqrt(0.5 * (x2[a] + x2[b]))
-            f_exact, exact = self.exact(omega)
-            w = _lagrange(x2, bary, omega * omega)
+        for x in (lo, hi):                              # the panel's ends: where the interpolation errs most
+            f_exact, exact = self.exact(np.sqrt(x))
+            w = _lagrange(x2, bary, x)
             f_int, interp = np.sqrt(np.maximum(w @ panel[2], 0.0)), np.tensordot(w, shapes, axes=1)
-            outside = interp - exact @ (exact.T @ self.M @ interp)
-            norms = np.sqrt(np.einsum("ij,ik,kj->j", interp, self.M, interp))
-            out = np.sqrt(np.einsum("ij,ik,kj->j", outside, self.M, outside)) / norms if self.nr else [0.0]
-            error = max(error, float(np.max(out)), float(np.max(np.abs(f_int / f_exact - 1))))
+            error = max(error, float(np.max(np.abs(f_int / f_exact - 1))))
+            if self.nr:                                 # the part of each shape outside the exact subspace
+                outside = interp - exact @ (exact.T @ self.M @ interp)
+                error = max(error, float(np.max(np.sqrt(np.einsum("ij,ik,kj->j", outside, self.M, outside)
+                                                        / np.einsum("ij,ik,kj->j", interp, self.M, interp)))))
         self.errors[p] = error
         return panel if error <= PANEL_TOLERANCE else None
 

@@ -21,6 +21,10 @@ and ``s = +1`` on side 2 (docs/geometry.md):
   slip and dissipates (CONTRIBUTING.md sign note; Eq. 4 printed literally
   would be a negative stiffness).
 
+The law's derivatives in each state, its tangent (:func:`tangent`), are
+written here too: the harmonic balance's Jacobian and the Floquet monodromy
+(shroud.core.harmonic_balance, shroud.core.floquet) both use it.
+
 Forces back on the projected coordinates: ``lam[normal_row] += -s N`` and
 ``lam[tangent_row] += F``; the generalized force is ``W^T lam`` (Eq. 8 for the
 beam, where ``W`` carries the rotation by alpha).
