@@ -74,3 +74,94 @@ def undamped_modes(M: np.ndarray, K: np.ndarray) -> ModalBasis:
 def project(basis: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     """N*^T X N* (Eq. 12)."""
     return basis.T @ matrix @ basis
+
+
+# --- the modes over a speed range, for continuation in speed -----------------------------------
+
+PANEL_RPM = 2500.0     # the speed axis is cut into panels this wide (r/min)
+PANEL_NODES = 6        # Chebyshev nodes in Omega^2 per panel
+PANEL_TOLERANCE = 1e-7  # largest interpolation error a panel may have (checked against exact modes)
+
+
+class ModesOverSpeed:
+    """The nr lowest modes of (K(Omega), M) and the lowest frequencies as polynomials in Omega^2.
+
+    K(Omega) = K_e + Omega^2 (K_c1 + K_s1) is exactly quadratic in Omega, and
+    its modes are smooth in Omega^2 away from crossings: on each panel of
+    ``PANEL_RPM`` they are interpolated (Lagrange, on ``PANEL_NODES``
+    Chebyshev nodes in Omega^2) from exact modes at the nodes, each mode
+    matched to the panel's first node by its mass-weighted overlap and
+    sign. A panel is built on first use, and certified: at its two ends
+    (where the error of a Chebyshev interpolant peaks) the interpolated shapes
+    are compared with the exact ones (the part of each outside the exact
+    nr-mode subspace, in the mass norm) and the frequencies too; a panel whose modes cross or
+    whose error exceeds ``PANEL_TOLERANCE`` uses exact modes at every speed
+    instead, as does a panel that reaches a speed where the stiffness is no
+    longer positive (each speed then raises its own error when asked).
+    ``errors`` holds each panel's measured error (None: exact).
+    """
+
+    def __init__(self, M: np.ndarray, stiffness, nr: int, frequencies: int = 2):
+        self.M, self.stiffness, self.nr, self.count = M, stiffness, nr, max(nr, frequencies)
+        self._panels: dict[int, tuple | None] = {}
+        self.errors: dict[int, float | None] = {}
+
+    def exact(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
+        """(f_hz of the lowest modes, their nr shapes) at Omega (rad/s), from the eigenproblem."""
+        modes = undamped_modes(self.M, self.stiffness(omega))
+        return modes.f_hz[:self.count], modes.truncated(self.nr) if self.nr else modes.shapes[:, :0]
+
+    def at(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
+        """(f_hz, shapes) at Omega (rad/s): interpolated on a certified panel, else exact."""
+        rpm = abs(omega) * 60.0 / (2.0 * np.pi)
+        p = int(rpm // PANEL_RPM)
+        if p not in self._panels:
+            self._panels[p] = self._panel(p)
+        panel = self._panels[p]
+        if panel is None:
+            return self.exact(omega)
+        x2, bary, f2, shapes = panel
+        w = _lagrange(x2, bary, omega * omega)
+        return np.sqrt(np.maximum(w @ f2, 0.0)), (w @ shapes.reshape(w.size, -1)).reshape(shapes.shape[1:])
+
+    def _panel(self, p: int):
+        lo, hi = (2 * np.pi / 60 * PANEL_RPM * np.array([p, p + 1])) ** 2
+        k = np.arange(PANEL_NODES)
+        x2 = 0.5 * (lo + hi) + 0.5 * (hi - lo) * np.cos((2 * k + 1) * np.pi / (2 * PANEL_NODES))
+        try:
+            f, shapes = zip(*(self.exact(np.sqrt(x)) for x in x2))
+        except InputError:                              # the panel reaches past the blade's stability:
+            self.errors[p] = None                       # each speed says so itself, if asked
+            return None
+        shapes = np.array(shapes)
+        for j in range(1, PANEL_NODES):                 # the same mode, the same sign at every node
+            overlap = shapes[0].T @ self.M @ shapes[j]
+            if not np.all(np.abs(np.diag(overlap)) > 0.9):
+                self.errors[p] = None                   # modes cross inside the panel
+                return None
+            shapes[j] *= np.sign(np.diag(overlap))
+        bary = 1.0 / np.prod(x2[:, None] - x2[None, :] + np.eye(PANEL_NODES), axis=1)
+        panel = (x2, bary, np.array(f) ** 2, shapes)
+        error = 0.0
+        for x in (lo, hi):                              # the panel's ends: where the interpolation errs most
+            f_exact, exact = self.exact(np.sqrt(x))
+            w = _lagrange(x2, bary, x)
+            f_int, interp = np.sqrt(np.maximum(w @ panel[2], 0.0)), np.tensordot(w, shapes, axes=1)
+            error = max(error, float(np.max(np.abs(f_int / f_exact - 1))))
+            if self.nr:                                 # the part of each shape outside the exact subspace
+                outside = interp - exact @ (exact.T @ self.M @ interp)
+                error = max(error, float(np.max(np.sqrt(np.einsum("ij,ik,kj->j", outside, self.M, outside)
+                                                        / np.einsum("ij,ik,kj->j", interp, self.M, interp)))))
+        self.errors[p] = error
+        return panel if error <= PANEL_TOLERANCE else None
+
+
+def _lagrange(nodes: np.ndarray, bary: np.ndarray, x: float) -> np.ndarray:
+    """Weights of the Lagrange interpolant on ``nodes`` at x (barycentric form, ``bary`` the nodes'
+    barycentric weights 1 / prod_k (x_j - x_k))."""
+    d = x - nodes
+    hit = np.flatnonzero(d == 0.0)
+    if hit.size:
+        return (np.arange(nodes.size) == hit[0]).astype(float)
+    b = bary / d
+    return b / b.sum()

@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 from reduced_model.beam import E_X, BeamMatrices, for_parameters
-from reduced_model.reduction import project, undamped_modes
+from reduced_model.reduction import ModesOverSpeed, project, undamped_modes
 from shroud.core.damping import rayleigh
 from shroud.params import Parameters
 from shroud.core.system import ContactElements, StructuralSystem
@@ -102,23 +102,44 @@ def output_rows(params: Parameters, beam: BeamMatrices) -> np.ndarray:
 
 def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
     """The beam at ``params.speed.rpm``: full (5N or 6N DOF) or reduced to ``params.reduced.nr`` modes."""
+    t0 = time.perf_counter()
     omega_dot = 2.0 * math.pi * params.speed.rpm_per_s / 60.0
-    return _system(params, for_parameters(params), params.speed.omega, omega_dot, reduced)
+    beam, omega, nr = for_parameters(params), params.speed.omega, params.reduced.nr if reduced else 0
+    modes = undamped_modes(beam.M, beam.stiffness(omega))
+    return _system(params, beam, omega, omega_dot, modes.f_hz, modes.truncated(nr) if nr else None,
+                   contact_elements(params, beam), output_rows(params, beam), t0)
 
 
 def at_speed(params: Parameters, reduced: bool):
-    """rpm -> the beam's system at that constant speed (what build_system makes there, without
-    revalidating the parameters: continuation in speed asks for many speeds)."""
-    beam = for_parameters(params)
-    return lambda rpm: _system(params, beam, 2.0 * math.pi * rpm / 60.0, 0.0, reduced)
+    """rpm -> the beam's system at that constant speed, for continuation in speed (many speeds).
+
+    What build_system makes there, with the parameters validated once, the
+    speed-independent parts built once, and the modes (the reduction basis
+    and the two lowest frequencies for Rayleigh damping) interpolated in
+    Omega^2 on certified panels (reduced_model.reduction.ModesOverSpeed;
+    its ``errors`` against the exact modes are on the returned function's
+    ``modes`` attribute).
+    """
+    beam, nr = for_parameters(params), params.reduced.nr if reduced else 0
+    contact, tip = contact_elements(params, beam), output_rows(params, beam)
+    modes = ModesOverSpeed(beam.M, beam.stiffness, nr)
+
+    def system(rpm: float) -> StructuralSystem:
+        t0 = time.perf_counter()
+        omega = 2.0 * math.pi * rpm / 60.0
+        f_hz, basis = modes.at(omega)
+        return _system(params, beam, omega, 0.0, f_hz, basis if nr else None, contact, tip, t0)
+    system.modes = modes
+    return system
 
 
-def _system(params: Parameters, beam: BeamMatrices, omega: float, omega_dot: float,
-            reduced: bool) -> StructuralSystem:
-    t0 = time.perf_counter()
+def _system(params: Parameters, beam: BeamMatrices, omega: float, omega_dot: float, f_hz: np.ndarray,
+            basis: np.ndarray | None, contact: ContactElements | None, tip: np.ndarray,
+            t0: float) -> StructuralSystem:
+    """The system at Omega (rad/s) from its lowest frequencies ``f_hz`` (Hz, Rayleigh damping) and
+    reduction ``basis`` (None: the full beam); ``t0`` the build's start (perf_counter)."""
     K = beam.stiffness(omega)
-    modes = undamped_modes(beam.M, K)
-    alpha, beta = rayleigh(modes.f_hz[0], modes.f_hz[1], params.damping.xi1, params.damping.xi2)
+    alpha, beta = rayleigh(f_hz[0], f_hz[1], params.damping.xi1, params.damping.xi2)
     C = alpha * beam.M + beta * K + beam.gyroscopic(omega)
     # the rigid shroud's contact points see the tip's rotations, so the beam vibrates about its steady
     # centrifugal state as the solid does (its neighbours, identical blades, untwist alike)
@@ -126,16 +147,12 @@ def _system(params: Parameters, beam: BeamMatrices, omega: float, omega_dot: flo
     if omega_dot != 0.0:
         K = K + omega_dot * beam.K_acc1
         f_const = f_const + omega_dot * beam.f_acc1
-    M, f_aero, tip = beam.M, params.load.F0 * beam.f_aero1, output_rows(params, beam)
-    contact = contact_elements(params, beam)
-
-    nr = params.reduced.nr if reduced else 0
-    if nr:
-        basis = modes.truncated(nr)
+    M, f_aero = beam.M, params.load.F0 * beam.f_aero1
+    if basis is not None:
         M, C, K = (project(basis, X) for X in (beam.M, C, K))
         f_const, f_aero, tip = basis.T @ f_const, basis.T @ f_aero, tip @ basis
         if contact is not None:
             contact = dataclasses.replace(contact, W=contact.W @ basis)
     return StructuralSystem(
-        model="reduced" if nr else "full", M=M, C=C, K=K, f_const=f_const, f_aero=f_aero,
+        model="full" if basis is None else "reduced", M=M, C=C, K=K, f_const=f_const, f_aero=f_aero,
         omega_e=params.load.ke * omega, tip=tip, contact=contact, build_s=time.perf_counter() - t0)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from shroud.core.contact import (SEPARATE, SLIP, STICK, contact_law, evaluate, friction_return_map,
-                            normal_force, solve_contact, workspace)
+                            normal_force, solve_contact, tangent, workspace)
 from shroud.core.system import ContactElements
 
 
@@ -36,6 +36,31 @@ def test_return_mapping_stick_slip_separate():
     assert s == SEPARATE and F == 0.0 and z == 5e-6                    # slider follows (Eq. 5)
     F, z, s = friction_return_map(1e-6, 0.0, N, kt, 0.0)
     assert F == 0.0 and z == 1e-6                                      # mu = 0: no friction
+
+
+@pytest.mark.parametrize("s", [-1.0, 1.0])
+@pytest.mark.parametrize("case", ["separate", "stick", "slip +", "slip -"])
+def test_tangent_is_the_finite_difference_of_the_law(case, s):
+    """dN/dv, dF/d(v, w, z), dz/d(v, w, z) of the law (Eqs. 3-6) by central differences, in each state,
+    away from its switches, on both sides."""
+    kn, kt, mu, N0 = 1e7, 5e6, 0.3, 20.0          # N = 20 N + s kn v; stick range |z - w| <= mu N / kt
+    v = {"separate": -4e-6 * s}.get(case, 1e-6 * s)           # N = 0 (separated) or 30 N
+    z = {"stick": 1e-6, "slip +": 5e-6, "slip -": -5e-6}.get(case, 0.0)   # |kt (z - w)| = 5, 25 N vs 9 N
+
+    def law(v, w, z):
+        N = normal_force(v, N0, kn, s)
+        F, z_new, state = friction_return_map(w, z, N, kt, mu)
+        return np.array([N, F, z_new]), state
+
+    (N, F, _), state = law(v, 0.0, z)
+    assert state == {"separate": SEPARATE, "stick": STICK}.get(case, SLIP)
+    h = 1e-9
+    fd = np.column_stack([(law(*(np.array([v, 0.0, z]) + h * e))[0] - law(*(np.array([v, 0.0, z]) - h * e))[0])
+                          / (2 * h) for e in np.eye(3)])
+    dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw, dz_dz = tangent(state, F, s, kn, kt, mu)
+    np.testing.assert_allclose([dN_dv, fd[0, 1], fd[0, 2]], [fd[0, 0], 0.0, 0.0], atol=1e-6 * kn)
+    np.testing.assert_allclose([dF_dv, dF_dw, dF_dz], fd[1], rtol=1e-6, atol=1e-6 * kt)
+    np.testing.assert_allclose([dz_dv, dz_dw, dz_dz], fd[2], rtol=1e-6, atol=1e-6)
 
 
 def test_friction_loop_dissipates_the_masing_energy():

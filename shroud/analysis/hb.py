@@ -84,7 +84,7 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 
 def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float) -> dict:
     """Amplitudes, spectral tail and Floquet multipliers of a converged point."""
     system, lin, L, F = speeds.at(rpm)
-    b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx))
+    b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx), jacobian=False)
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = hb.amplitude_over_period(tip)
     W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))

@@ -21,6 +21,10 @@ and ``s = +1`` on side 2 (docs/geometry.md):
   slip and dissipates (CONTRIBUTING.md sign note; Eq. 4 printed literally
   would be a negative stiffness).
 
+The law's derivatives in each state, its tangent (:func:`tangent`), are
+written here too: the harmonic balance's Jacobian and the Floquet monodromy
+(shroud.core.harmonic_balance, shroud.core.floquet) both use it.
+
 Forces back on the projected coordinates: ``lam[normal_row] += -s N`` and
 ``lam[tangent_row] += F``; the generalized force is ``W^T lam`` (Eq. 8 for the
 beam, where ``W`` carries the rotation by alpha).
@@ -123,6 +127,41 @@ def friction_return_map(w, z, N, kt, mu):
         return trial, z, STICK
     F = limit if trial > 0.0 else -limit
     return F, w + F / kt, SLIP          # kt > 0 here: |trial| > limit >= 0
+
+
+@leaf
+def tangent(state, F, s, kn, kt, mu):
+    """The law's derivatives in one state (Eqs. 3-6 linearized; the law is piecewise linear).
+
+    For the outputs (N, F, new slider z) of :func:`normal_force` and
+    :func:`friction_return_map` with respect to their inputs (v, w, old
+    slider z), in the state reached and with the friction F reached there
+    (its sign is the slip direction sigma):
+
+        separate: N = 0, F = 0, z = w;
+        stick:    dN/dv = s kn, F = kt (z - w), z held;
+        slip:     dN/dv = s kn, F = sigma mu N, z = w + F / kt.
+
+    Returns (dN/dv, dF/dv, dF/dw, dF/dz, dz/dv, dz/dw, dz/dz): N/m for the
+    force derivatives, 1 for the slider's.
+    """
+    if state == SEPARATE:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0
+    if state == STICK:
+        return s * kn, 0.0, -kt, kt, 0.0, 0.0, 1.0
+    dF_dv = (mu if F > 0.0 else -mu) * s * kn
+    return s * kn, dF_dv, 0.0, 0.0, dF_dv / kt, 1.0, 0.0
+
+
+@njit(cache=True)
+def tangents(state, F, props):
+    """:func:`tangent` of every element (states ``state``, frictions ``F``): a (k, 7) array, same columns."""
+    out = np.empty((state.size, 7))
+    for j in range(state.size):
+        d = tangent(state[j], F[j], props[j, SIGN], props[j, KN], props[j, KT], props[j, MU])
+        for c in range(7):
+            out[j, c] = d[c]
+    return out
 
 
 @leaf

@@ -5,16 +5,18 @@ Monodromy (time domain): the motion linearized about the periodic orbit,
     M dq'' + C dq' + K dq = W^T dlam,
 
 with the contact law's tangent along the orbit, integrated over one period.
-The tangent of each element follows its state at each sample of the
-harmonic-balance solution (shroud.core.harmonic_balance's AFT record):
-separated 0; normal contact dlam_n = -kn dy_n; stick dF = kt (dz - dw) with
-the slider perturbation dz held from the start of the stick; slip
-dF = sigma mu s kn dv and the slider slaved, dz = dw + dF / kt. The state
+The tangent of each element is the law's own (shroud.core.contact.tangent)
+in its state at each sample of the harmonic-balance solution
+(shroud.core.harmonic_balance's AFT record): separated 0; normal contact
+dlam_n = -kn dy_n; stick dF = kt (dz - dw) with the slider perturbation dz
+held from the start of the stick; slip dF = sigma mu s kn dv and the slider
+slaved, dz = dw + dF / kt. The state
 is [dq, dq', dz] (dz of the elements that both stick and release during the
 period; a slider stuck all period only adds the neutral multiplier 1 of its
 arbitrary offset, which is left out). Over each sample interval the states
-are constant and the flow is exp(A dt); the product over the period is the
-monodromy matrix, whose eigenvalues are the Floquet multipliers.
+are constant and the flow is exp(A dt) (scipy's expm, on the blade's
+block: the sliders are carried by the structure of A); the product over
+the period is the monodromy matrix, whose eigenvalues are the Floquet multipliers.
 
 Hill's method (frequency domain): the perturbation e^{s t} p(t) with p
 periodic in the same harmonics gives the quadratic eigenproblem
@@ -30,55 +32,15 @@ period doubling, a complex pair a Neimark-Sacker bifurcation.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.linalg
-from numba import njit
 
-from shroud.core.contact import KN, KT, MU, SEPARATE, SIGN, SLIP, STICK, ContactLaw
+from shroud.core.contact import SIGN, SLIP, STICK, ContactLaw, tangents
 from shroud.core.linear_solvers import dense
 
 UNIT_CIRCLE_TOL = 1e-6
-SMALL = 128       # state dimension up to which the compiled loops beat LAPACK/BLAS calls (and their threads)
-
-
-@njit(cache=True)
-def _matmul(A, B):
-    """A @ B by loops: small matrices, no BLAS threads (which cost more than the product here)."""
-    n, m, p = A.shape[0], A.shape[1], B.shape[1]
-    out = np.zeros((n, p))
-    for i in range(n):
-        for k in range(m):
-            a = A[i, k]
-            if a != 0.0:
-                for j in range(p):
-                    out[i, j] += a * B[k, j]
-    return out
-
-
-@njit(cache=True)
-def expm_small(A):
-    """exp(A) of a small dense matrix: scaling and squaring of a degree-18 Taylor sum (error < 1e-16 ||A||)."""
-    n = A.shape[0]
-    norm = 0.0
-    for i in range(n):
-        row = 0.0
-        for j in range(n):
-            row += abs(A[i, j])
-        norm = max(norm, row)
-    s = 0
-    while norm > 0.5:
-        norm *= 0.5
-        s += 1
-    B = A / 2.0 ** s
-    E = np.eye(n)
-    term = np.eye(n)
-    for k in range(1, 19):
-        term = _matmul(term, B) / k
-        E += term
-    for _ in range(s):
-        E = _matmul(E, E)
-    return E
-
 
 
 def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float) -> np.ndarray:
@@ -86,6 +48,11 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
 
     ``state``, ``F`` (elements, samples): each element's state and friction
     force at the samples of the period (sample i holds over [t_i, t_i+1]).
+    The state [dq, dq', dz] is carried run by run (a run: samples with the
+    same states): the blade's part by the flow of its block (``_flow``), a
+    sticking slider's dz unchanged, a released one set at the run's end
+    from the blade; so a run costs the exponential of a matrix of order
+    2 n + (at most n), whatever the number of sliders.
     """
     M, C, K, W = dense(M), dense(C), dense(K), dense(W)
     n, (k, nt) = M.shape[0], state.shape
@@ -94,49 +61,84 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     released = (state != STICK).any(axis=1)
     hist = np.flatnonzero(sticks & released)           # elements whose slider carries a history
     nz = hist.size
-    slot = -np.ones(k, np.int64)
-    slot[hist] = np.arange(nz)
     Minv = np.linalg.inv(M)
-    d = 2 * n + nz
     sigma = np.where(F > 0, 1.0, -1.0)
     key = state * 2 + (sigma > 0) * (state == SLIP)
-    Phi = np.eye(d)
-    s, kn, kt, mu = law.props[:, SIGN], law.props[:, KN], law.props[:, KT], law.props[:, MU]
-    nr, tr = law.rows[:, 0], law.rows[:, 1]
+    Phi = np.eye(2 * n + nz)
+    Wn, Wt = W[law.rows[:, 0]], W[law.rows[:, 1]]
     change = np.flatnonzero(np.any(key[:, 1:] != key[:, :-1], axis=0)) + 1
     starts = np.r_[0, change]
     lengths = np.diff(np.r_[starts, nt])
-    flows: dict[bytes, np.ndarray] = {}
+    runs: dict[bytes, Linearized] = {}
     for i, length in zip(starts, lengths):              # runs of samples with the same states
-        st, sg = state[:, i], sigma[:, i]
         tag = key[:, i].tobytes()
-        A = flows.get(tag)
-        if A is None:                                  # dlam = -D dy + Bz dz, projected on q
-            touching, stick, slip = st != SEPARATE, st == STICK, st == SLIP
-            Wn, Wt = W[nr], W[tr]
-            Kc = (np.einsum("j,ji,jk->ik", kn[touching], Wn[touching], Wn[touching])
-                  + np.einsum("j,ji,jk->ik", kt[stick], Wt[stick], Wt[stick])
-                  - np.einsum("j,ji,jk->ik", sg[slip] * mu[slip] * s[slip] * kn[slip], Wt[slip], Wn[slip]))
-            WBz = np.zeros((n, nz))
-            held = np.flatnonzero(stick & (slot >= 0))
-            WBz[:, slot[held]] = (kt[held, None] * Wt[held]).T
-            A = np.zeros((d, d))
-            A[:n, n:2 * n] = np.eye(n)
-            A[n:2 * n, :n] = -Minv @ (K + Kc)
-            A[n:2 * n, n:2 * n] = -Minv @ C
-            A[n:2 * n, 2 * n:] = Minv @ WBz
-            flows[tag] = A
-        step = expm_small(A * (dt * length)) if d <= SMALL else scipy.linalg.expm(A * (dt * length))
-        for j in hist:                                     # released sliders follow the blade (at the
-            if st[j] == STICK:                             # run's end: inside it they act on nothing)
-                continue
-            row = np.zeros(d)
-            row[:n] = W[tr[j]]
-            if st[j] == SLIP:
-                row[:n] += sg[j] * mu[j] * s[j] * kn[j] / kt[j] * W[nr[j]]
-            step[2 * n + slot[j]] = row @ step
-        Phi = _matmul(step, Phi) if d <= SMALL else step @ Phi
+        lin = runs.get(tag)
+        if lin is None:
+            tan = tangents(state[:, i], F[:, i], law.props)
+            lin = runs[tag] = linearized(Minv, K, C, Wn, Wt, law.props[:, SIGN], tan, hist)
+        E, P = _flow(lin.A, lin.Bv, dt * length)
+        top = E @ Phi[:2 * n]
+        if lin.held.size:
+            top += P @ Phi[2 * n + lin.held]
+        if lin.free.size:                               # released sliders follow the blade
+            Phi[2 * n + lin.free] = lin.release @ top[:n]
+        Phi[:2 * n] = top
     return Phi
+
+
+@dataclass(frozen=True)
+class Linearized:
+    """The motion linearized in one set of element states.
+
+    [dq, dq']' = A [dq, dq'] + [0; Bv dz[held]]; ``held``: the slots (in
+    dz) of the sliders that stick, ``free`` those released (slipping or
+    separated), whose dz = ``release`` dq at the run's end.
+    """
+
+    A: np.ndarray            # (2n, 2n)
+    Bv: np.ndarray           # (n, held) M^-1 W_t^T dF/dz
+    held: np.ndarray
+    free: np.ndarray
+    release: np.ndarray      # (free, n)
+
+
+def linearized(Minv, K, C, Wn, Wt, s, tan, hist) -> Linearized:
+    """The flow in one set of states from the law's tangent ``tan`` (elements, 7; shroud.core.contact.tangent).
+
+    The contact force on the projected coordinates, dlam_n = -s dN,
+    dlam_t = dF, gives the stiffness Kc = -W^T dlam/dy and the sliders'
+    forcing W_t^T dF/dz; ``s`` the elements' sides (-1, +1), ``hist`` the
+    elements whose slider is carried (slot = position in ``hist``). A slider
+    that does not stick is slaved to the blade, dz = dz/dv dv + dz/dw dw.
+    """
+    n = K.shape[0]
+    dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw, dz_dz = tan.T
+    Kc = Wn.T @ ((s * dN_dv)[:, None] * Wn) - Wt.T @ (dF_dv[:, None] * Wn) - Wt.T @ (dF_dw[:, None] * Wt)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -Minv @ (K + Kc)
+    A[n:, n:] = -Minv @ C
+    held = np.flatnonzero(dF_dz[hist] != 0.0)
+    free = np.flatnonzero(dz_dz[hist] == 0.0)
+    h, f = hist[held], hist[free]
+    return Linearized(A=A, Bv=Minv @ (Wt[h].T * dF_dz[h]), held=held, free=free,
+                      release=dz_dv[f, None] * Wn[f] + dz_dw[f, None] * Wt[f])
+
+
+def _flow(A, Bv, tau):
+    """exp of [[A, [0; Bv]], [0, 0]] tau: the blade's flow E = exp(A tau) and P = int_0^tau exp(A s) ds [0; Bv].
+
+    Through one exponential of order 2n + min(held, n): [[A, [0; Bv]], [0, 0]]
+    itself with few sticking sliders, [[A, [0; I]], [0, 0]] (P then times Bv)
+    with many.
+    """
+    m, (n, c) = A.shape[0], Bv.shape
+    few = c <= n
+    aug = np.zeros((m + min(c, n), m + min(c, n)))
+    aug[:m, :m] = A
+    aug[n:m, m:] = Bv if few else np.eye(n)
+    X = scipy.linalg.expm(aug * tau)
+    return X[:m, :m], (X[:m, m:] if few else X[:m, m:] @ Bv)
 
 
 def multipliers(Phi: np.ndarray) -> np.ndarray:

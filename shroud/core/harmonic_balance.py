@@ -28,10 +28,11 @@ the contact law of shroud.core.contact (the one law: ``normal_force`` and
 ``friction_return_map``) is evaluated sample by sample with each friction
 slider marched around the period until it is periodic, and the forces are
 projected back on the harmonics. The Jacobian is analytic: the law is
-piecewise linear, and the derivative of the slider is carried through its
-history (stick: z held from the start of the stick, dz = 0; slip: z = w +
-F / kt; separated: z = w), so dF/dX in a stick phase is kt (dz/dX - dw/dX)
-with dz/dX that of the instant the stick began.
+piecewise linear, its derivatives in each state are the law's own tangent
+(shroud.core.contact.tangent), and the derivative of the slider is carried
+through its history by the chain rule (stick: z held from the start of the
+stick; slip: z = w + F / kt; separated: z = w), so dF/dX in a stick phase
+is kt (dz/dX - dw/dX) with dz/dX that of the instant the stick began.
 
 Units: SI (m, N, rad/s).
 """
@@ -39,14 +40,15 @@ Units: SI (m, N, rad/s).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
-from shroud.core.contact import (KN, KT, MU, N0, SEPARATE, SIGN, SLIP, STICK, ContactLaw,
-                                 friction_return_map, normal_force)
+from shroud.core.contact import (KN, KT, MU, N0, SEPARATE, SIGN, STICK, ContactLaw, friction_return_map,
+                                 normal_force, tangent)
 from shroud.core.linear_solvers import dense
 from shroud.core.system import StructuralSystem
 
@@ -75,8 +77,9 @@ class Fourier:
         return 2 * np.pi * np.arange(self.samples) / self.samples
 
 
+@functools.lru_cache(maxsize=16)
 def fourier(H: int, samples: int) -> Fourier:
-    """The basis for harmonics 0..H from ``samples`` instants (at least 2 H + 1 of them)."""
+    """The basis for harmonics 0..H from ``samples`` instants (at least 2 H + 1 of them; shared, read-only)."""
     if H < 1:
         raise ValueError(f"harmonic balance needs H >= 1 harmonics, got {H}")
     if samples < 2 * H + 1:
@@ -88,6 +91,7 @@ def fourier(H: int, samples: int) -> Fourier:
     E[:, 2::2] = np.sin(np.outer(tau, k))
     A = E.T * (2.0 / samples)
     A[0] /= 2.0
+    E.flags.writeable = A.flags.writeable = False
     return Fourier(H=H, samples=samples, E=E, A=A)
 
 
@@ -106,94 +110,87 @@ def default_samples(H: int) -> int:
 # --- AFT: the contact law along one period, with its derivative -------------------
 
 @njit(cache=True)
-def _aft_kernel(Yc, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
+def _aft_kernel(Ys, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
     """March every element's law around the period (shroud.core.contact's functions).
 
-    Yc (nh, m): coefficients of y; E (samples, nh) synthesis, A (nh, samples)
-    analysis. Fills per element j and sample i N, F, state, and the
-    harmonics' derivatives Bn[j] = d(N harmonics)/d(normal coefficients)
+    Ys (samples, m): y at the samples; E (samples, nh) synthesis, A (nh,
+    samples) analysis. Fills per element j and sample i N, F, state, and
+    the harmonics' derivatives Bn[j] = d(N harmonics)/d(normal coefficients)
     (nh, nh) and Bt[j] = d(F harmonics)/d([normal, tangent] coefficients)
-    (nh, 2 nh), and the forces lam (samples, m) on the projected
-    coordinates (-s N on the normal row, F on the tangent row). The slider starts at the mean of w and is marched until it
-    closes (after a slip or a separation z no longer depends on its start,
-    so two periods suffice); the last period is recorded. The derivative
-    of the slider is carried from the period's last release (slip or
-    separation), which is where the periodic slider was last set, or is
-    that of the mean of w when the element sticks all period.
+    (nh, 2 nh) (added to: the caller zeroes them), and the forces lam (samples, m) on the projected
+    coordinates (-s N on the normal row, F on the tangent row). The slider
+    starts at the mean of w and is marched until it closes (after a slip or
+    a separation z no longer depends on its start, so two periods suffice);
+    the last period is recorded. The derivative of the slider is carried
+    from the period's last release (slip or separation), which is where the
+    periodic slider was last set, or is that of the mean of w when the
+    element sticks all period; through a separation only its last sample
+    counts (dz/dz = 0 there).
     Returns the most periods marched.
     """
     nt, nh = E.shape
     k = rows.shape[0]
     most = 0
-    v = np.zeros(nt)
-    w = np.zeros(nt)
     dz = np.zeros(2 * nh)
     dN = np.zeros(nh)
     dF = np.zeros(2 * nh)
     for j in range(k):
         nr, tr = rows[j, 0], rows[j, 1]
         s, kn, kt, mu, n0 = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU], props[j, N0]
-        wmax = 0.0
+        wmax, z = 0.0, 0.0
         for i in range(nt):
-            a, b = 0.0, 0.0
-            for c in range(nh):
-                a += E[i, c] * Yc[c, nr]
-                b += E[i, c] * Yc[c, tr]
-            v[i], w[i] = a, b
-            wmax = max(wmax, abs(b))
-        z = Yc[0, tr]                       # the mean of w: a neutral start for a stuck slider
+            wmax = max(wmax, abs(Ys[i, tr]))
+            z += Ys[i, tr]
+        z /= nt                             # the mean of w: a neutral start for a stuck slider
         passes = 0
+        touching = False
         for p in range(passes_max):
             z_start = z
             for i in range(nt):
-                Nj = normal_force(v[i], n0, kn, s)
-                Fj, z, st = friction_return_map(w[i], z, Nj, kt, mu)
+                Nj = normal_force(Ys[i, nr], n0, kn, s)
+                Fj, z, st = friction_return_map(Ys[i, tr], z, Nj, kt, mu)
                 N[j, i], F[j, i], state[j, i] = Nj, Fj, st
+                touching = touching or st != SEPARATE
             passes = p + 1
             if p > 0 and abs(z - z_start) <= 1e-13 * (abs(z) + wmax + 1e-300):
                 break
         most = max(most, passes)
+        if not touching:
+            continue
         for i in range(nt):
             lam[i, nr] -= s * N[j, i]
             lam[i, tr] += F[j, i]
-        # the slider's derivative at the period's start: from its last release, if any
+        # the slider's derivative at the period's start: from its last release (where it no longer
+        # depends on its past, dz/dz = 0), or that of the mean of w when it sticks all period
         for c in range(2 * nh):
             dz[c] = 0.0
         dz[nh] = 1.0
         for i in range(nt - 1, -1, -1):
             if state[j, i] != STICK:
+                _, _, _, _, dz_dv, dz_dw, _ = tangent(state[j, i], F[j, i], s, kn, kt, mu)
                 for c in range(nh):
-                    dz[nh + c] = E[i, c]
-                    dz[c] = 0.0
-                    if state[j, i] == SLIP:
-                        sigma = 1.0 if F[j, i] > 0.0 else -1.0
-                        dz[c] = sigma * mu * s * kn * E[i, c] / kt
+                    dz[c] = dz_dv * E[i, c]
+                    dz[nh + c] = dz_dw * E[i, c]
                 break
-        for c in range(nh):
-            for d in range(nh):
-                Bn[j, c, d] = 0.0
-            for d in range(2 * nh):
-                Bt[j, c, d] = 0.0
-        for i in range(nt):
-            st = state[j, i]
-            if st == SEPARATE:
-                for c in range(nh):
-                    dz[c] = 0.0
-                    dz[nh + c] = E[i, c]
+        separated = -1                      # the last sample of a separation not yet applied to dz
+        for i in range(nt):                 # the chain rule through the law's tangent, sample by sample
+            if state[j, i] == SEPARATE:
+                separated = i
                 continue
+            if separated >= 0:
+                _, _, _, _, dz_dv, dz_dw, _ = tangent(SEPARATE, 0.0, s, kn, kt, mu)
+                for c in range(nh):
+                    dz[c] = dz_dv * E[separated, c]
+                    dz[nh + c] = dz_dw * E[separated, c]
+                separated = -1
+            dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw, dz_dz = tangent(state[j, i], F[j, i], s, kn, kt, mu)
             for c in range(nh):
-                dN[c] = s * kn * E[i, c] if N[j, i] > 0.0 else 0.0
-            if st == STICK:
-                for c in range(nh):
-                    dF[c] = kt * dz[c]
-                    dF[nh + c] = kt * (dz[nh + c] - E[i, c])
-            else:
-                sigma = 1.0 if F[j, i] > 0.0 else -1.0
-                for c in range(nh):
-                    dF[c] = sigma * mu * dN[c]
-                    dF[nh + c] = 0.0
-                    dz[c] = dF[c] / kt
-                    dz[nh + c] = E[i, c]
+                e = E[i, c]
+                dN[c] = dN_dv * e
+                dF[c] = dF_dv * e + dF_dz * dz[c]
+                dF[nh + c] = dF_dw * e + dF_dz * dz[nh + c]
+                dz[c] = dz_dv * e + dz_dz * dz[c]
+                dz[nh + c] = dz_dw * e + dz_dz * dz[nh + c]
             for r in range(nh):
                 ar = A[r, i]
                 for c in range(nh):
@@ -225,12 +222,12 @@ def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fou
     skips it (dLam_x is then None).
     """
     nh, nt, k, m = basis.nh, basis.samples, law.count, law.m
-    Yc = np.ascontiguousarray(X @ Wx.T)
-    N, F = np.zeros((k, nt)), np.zeros((k, nt))
-    state = np.zeros((k, nt), np.int64)
+    Ys = basis.E @ (X @ Wx.T)                          # y at the samples
+    N, F = np.empty((k, nt)), np.empty((k, nt))
+    state = np.empty((k, nt), np.int64)
     Bn, Bt = np.zeros((k, nh, nh)), np.zeros((k, nh, 2 * nh))
     lam = np.zeros((nt, m))
-    passes = _aft_kernel(Yc, basis.E, basis.A, law.rows, law.props, MAX_PASSES, N, F, state, Bn, Bt,
+    passes = _aft_kernel(Ys, basis.E, basis.A, law.rows, law.props, MAX_PASSES, N, F, state, Bn, Bt,
                          lam) if k else 0
     s = law.props[:, SIGN]
     Lam = basis.A @ lam
@@ -357,15 +354,13 @@ def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = N
                                tip_x=np.broadcast_to(tip.astype(complex), (H + 1, 2, n)),
                                tip_lam=np.zeros((H + 1, 2, m), complex), tip_f=np.zeros((H + 1, 2), complex),
                                condensed=False)
-    rhs = np.concatenate([np.broadcast_to(W.T, (H + 1, n, m)), F[:, :, None]], axis=2)
-    S = np.linalg.solve(Z, rhs)                       # Z_k^-1 [W^T, F_k]
-    Hc = W @ S[:, :, :m]                              # receptance on the contact coordinates
-    Zc = np.linalg.inv(Hc)
-    Fc = np.einsum("kij,kj->ki", Zc, S[:, :, m] @ W.T)
-    tipS = tip @ S
-    return LinearHarmonics(omega=system.omega_e, Z=Zc, F=Fc, Wx=np.eye(m),
-                           tip_x=np.zeros((H + 1, 2, m), complex), tip_lam=tipS[:, :, :m],
-                           tip_f=tipS[:, :, m], condensed=True)
+    rhs = np.empty((H + 1, n, m + 1), complex)
+    rhs[:, :, :m], rhs[:, :, m] = W.T, F
+    WS = np.vstack([W, tip]) @ np.linalg.solve(Z, rhs)   # [W; tip] Z_k^-1 [W^T, F_k]
+    Zc = np.linalg.inv(WS[:, :m, :m])                 # of the receptance on the contact coordinates
+    return LinearHarmonics(omega=system.omega_e, Z=Zc, F=(Zc @ WS[:, :m, m:])[:, :, 0], Wx=np.eye(m),
+                           tip_x=np.zeros((H + 1, 2, m), complex), tip_lam=WS[:, m:, :m],
+                           tip_f=WS[:, m:, m], condensed=True)
 
 
 # --- residual, Newton at one speed ---------------------------------------------------
