@@ -99,17 +99,34 @@ class ModesOverSpeed:
     instead, as does a panel that reaches a speed where the stiffness is no
     longer positive (each speed then raises its own error when asked).
     ``errors`` holds each panel's measured error (None: exact).
+
+    The basis at every speed is turned within its own subspace to lie
+    nearest (in the mass norm) to the first speed's modes: N* Q with Q the
+    orthogonal polar factor of N*^T M N*_ref (Procrustes). The reduced model
+    depends only on the subspace (its damping is Rayleigh's on the projected
+    M and K), but a model with more contact coordinates than modes (the
+    extended beam) is balanced on these coordinates, and they must mean the
+    same from one panel to the next and through a veering of two kept modes
+    (the extended beam's flap2 and torsion1 at 13842 r/min), where the
+    eigenvectors themselves turn by 90 degrees within 1 r/min.
     """
 
     def __init__(self, M: np.ndarray, stiffness, nr: int, frequencies: int = 2):
         self.M, self.stiffness, self.nr, self.count = M, stiffness, nr, max(nr, frequencies)
         self._panels: dict[int, tuple | None] = {}
+        self._reference: np.ndarray | None = None
         self.errors: dict[int, float | None] = {}
 
     def exact(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
-        """(f_hz of the lowest modes, their nr shapes) at Omega (rad/s), from the eigenproblem."""
+        """(f_hz of the lowest modes, the basis of the nr lowest, turned to the reference) at Omega (rad/s)."""
         modes = undamped_modes(self.M, self.stiffness(omega))
-        return modes.f_hz[:self.count], modes.truncated(self.nr) if self.nr else modes.shapes[:, :0]
+        shapes = modes.truncated(self.nr) if self.nr else modes.shapes[:, :0]
+        if not self.nr:                                 # the full model keeps no basis
+            return modes.f_hz[:self.count], shapes
+        if self._reference is None:
+            self._reference = shapes
+        U, _, Vt = np.linalg.svd(shapes.T @ self.M @ self._reference)
+        return modes.f_hz[:self.count], shapes @ (U @ Vt)
 
     def at(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
         """(f_hz, shapes) at Omega (rad/s): interpolated on a certified panel, else exact."""

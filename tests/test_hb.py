@@ -159,6 +159,19 @@ def test_the_beams_speed_range_systems_are_the_per_speed_builds(reduced):
     assert all(e is not None and e <= 1e-7 for e in one.modes.errors.values())
 
 
+def test_the_extended_beams_modal_coordinates_mean_the_same_across_panels():
+    """The extended beam has more contact coordinates (8) than modes (6), so its balance runs on modal
+    coordinates: they must mean the same from one speed panel to the next (the continuation stopped at
+    10000 r/min, a panel's end, when a mode's sign flipped there) and through the veering of flap2 and
+    torsion1 near 13842 r/min, where the two eigenvectors turn within 1 r/min (it stopped there too)."""
+    from reduced_model import EXTENDED
+    from reduced_model.system import at_speed
+    one = at_speed(Parameters().updated(EXTENDED), True)
+    for edge in (7500.0, 10000.0, 12500.0, 13842.0):
+        a, b = one.modes.at(2 * np.pi / 60 * (edge - 1e-3))[1], one.modes.at(2 * np.pi / 60 * (edge + 1e-3))[1]
+        assert np.abs(a - b).max() <= 1e-5 * np.abs(a).max()
+
+
 # --- stability: monodromy against Hill's method ------------------------------------------------
 
 @pytest.mark.parametrize("rpm, mu", [(9000.0, 0.0), (8000.0, 0.3)])
@@ -194,7 +207,7 @@ def _time_domain(p: Parameters, model: str, rpm: float, periods: int = 150, q0=N
     return tr, spp
 
 
-@pytest.mark.parametrize("model", ["reduced", "full"])
+@pytest.mark.parametrize("model", ["reduced", "full", "extended"])
 def test_every_p1_time_domain_point_lies_on_a_stable_hb_branch(model):
     """Fig. 11a cases: where a run from rest settles on P1, a stable HB point is within 1 %."""
     from shroud.core.signals import detect_period
