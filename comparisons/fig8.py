@@ -292,6 +292,32 @@ def _contact_maps(ok: dict, params, out: Path) -> dict[str, dict]:
     return maps
 
 
+def _conclusion_lines(results: dict) -> list[str]:
+    """The conclusions (:func:`conclusions`) in words."""
+    found, ref = results["conclusions"], results["reference"]
+    if not found["closest_to_reference"]:
+        return []
+    lines = ["\n## What the comparison concludes\n",
+             f"- Closest to the {LABELS[ref]} (worst NRMSE, within a factor {CLOSER:g} counts as a tie): "
+             + ", ".join(f"{LABELS[m]} ({results['versus_reference'][m]['worst_nrmse']:.2g})"
+                         for m in found["closest_to_reference"]) + "."]
+    lines.append(f"- Tip amplitudes v_L, w_L against the {LABELS[ref]} (within {100 * SAME_AMPLITUDE:g} % the "
+                 "same): " + "; ".join(f"{LABELS[m]} {v['v_L']}, {v['w_L']}"
+                                       for m, v in found["amplitude_vs_reference"].items()) + ".")
+    lines.append(f"- Slip share against the {LABELS[ref]} (mean of the sides, within {SAME_SHARE:g} the same): "
+                 + "; ".join(f"{LABELS[m]} {v}" for m, v in found["slip_vs_reference"].items())
+                 + ". States by share: " + "; ".join(f"{LABELS[m]} {v}" for m, v in found["state_order"].items())
+                 + ".")
+    total = {r["model"]: r["total_s"] for r in results["table3"] if r["status"] == "complete"}
+    ranked = sorted(total, key=total.get)
+    chain = LABELS[ranked[0]]
+    for a, b in zip(ranked, ranked[1:]):
+        chain += (" ~ " if found["cost"].get(f"{a} vs {b}", found["cost"].get(f"{b} vs {a}")) == "comparable"
+                  else " < ") + LABELS[b]
+    lines.append(f"- Cost (build + run; within a factor {CHEAPER:g} comparable, ~): {chain}.")
+    return lines
+
+
 def _limits(scene, results: dict) -> list[str]:
     """What this run's settings cannot resolve, from its settings and its measured settling."""
     p, o = scene.params, scene.options
@@ -381,6 +407,7 @@ def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, figures, 
     lines.append(markdown_table(("model", "side 1", "side 2"),
                                 [(LABELS[m], *(" / ".join(f"{st[side][k]:.2f}" for k in STATE_NAMES)
                                                for side in ("side1", "side2"))) for m, st in states.items()]))
+    lines += _conclusion_lines(results)
     for m, c in maps.items():
         lines.append(f"\n## Contact-state map, {LABELS[m]}\n")
         lines.append(f"Each contact-face node is one contact element; colour: its share of the last "
