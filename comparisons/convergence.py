@@ -330,6 +330,7 @@ def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chos
                      f"at every speed (worst {chosen['worst_pct']:.3f} %).")
     else:
         lines.append(f"No mesh is within {opts['tolerance_pct']:g} % on all modes at every speed: refine further.")
-    lines += ["", "Figure convergence.png: error against DOF, against time, and the cost growth. "
-              "Chosen mesh: mesh.png; its mode shapes: modes.png and modes/modes.pvd (ParaView)."]
+    lines += ["", "Figure convergence.png: error against DOF, against time, and the cost growth."
+              + (" Chosen mesh: mesh.png; its mode shapes: modes.png and modes/modes.pvd (ParaView)."
+                 if opts["pictures"] and chosen is not None else "")]
     path.write_text("\n".join(lines) + "\n")
