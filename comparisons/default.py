@@ -113,7 +113,8 @@ def _frequency_verdicts(verdicts: dict) -> str:
     lines = [f"Against the solid (differences within {tol:g} %, the solid mesh's own tolerance, count as the "
              "same):\n"]
     for m in models:
-        by = {word: [lab for lab, v in verdicts.items() if v.get(m) == word] for word in ("higher", "lower", "the same")}
+        by = {word: [lab for lab, v in verdicts.items() if v.get(m) == word]
+              for word in ("higher", "lower", "the same")}
         lines.append(f"- {m}: " + "; ".join(f"{word} in {', '.join(labs)}" for word, labs in by.items() if labs) + ".")
     return "\n".join(lines) + "\n\n"
 
