@@ -176,8 +176,14 @@ def settling_text(rows: list[dict], options: dict) -> str:
             f"where the top is flat (within {100 * PLATEAU:g} % of it over a band of speeds, an impacting branch) "
             "the highest speed on it, where the branch ends. Speeds not settled per curve: "
             + (", ".join(unsettled) or "none") + ".\n\n"
-            f"What these settings cannot resolve: resonant speeds closer than the speed step ({step:.0f} r/min; "
-            "a peak between two speeds is read at the nearer one) and amplitude jumps narrower than one step.\n")
+            f"What these settings cannot resolve: {grid_limits(step)}.\n")
+
+
+def grid_limits(step_rpm: float) -> str:
+    """What a sweep's speed grid of step ``step_rpm`` (r/min) cannot resolve, for a report."""
+    return (f"resonant speeds closer than the speed step ({step_rpm:.0f} r/min; a peak between two speeds is "
+            "read at the nearer one), the amplitude of such a peak (the grid's largest lies below it) and "
+            "amplitude jumps narrower than one step")
 
 
 def curves_json(family) -> dict:

@@ -15,7 +15,8 @@ compilation) whose first ``n_modes`` frequencies lie within
 factor memory ~ DOF^b (log-log least squares over each kind's meshes):
 time is the modal solve (operators and eigen-solves, mesh cached), memory
 the MUMPS Cholesky factor of K + M (entries x 8 bytes), the object that
-bounds the transient's step.
+bounds the transient's step. :func:`conclusions` turns the returned numbers
+into what the report concludes.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from scipy.optimize import brentq
 
 from comparisons import paper
 from shroud.base.errors import InputError
+from shroud.params import FE
 from shroud.base.markdown import markdown_table
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 
@@ -42,6 +44,10 @@ OPTIONS = {
     "pictures": True,       # mesh and mode-shape PNGs, and the modes as VTK, of the chosen mesh
 }
 KINDS = ("tet", "hex")
+# Quadratic elements: eigenfrequency errors fall as h^4 (twice the energy-norm order 2); an observed
+# order within ASYMPTOTIC of it marks a sequence in its asymptotic range.
+ELEMENT_ORDER = 4.0
+ASYMPTOTIC = (3.0, 5.0)
 
 # Paper Table 1, FE column (ANSYS Beam188, torsion restrained), 8500 r/min, Hz.
 PAPER_FE = paper.TABLE1_FE
@@ -159,8 +165,7 @@ def run(scene, out: Path) -> dict:
     _figure(rows, growth, opts, out / "convergence.png")
     if opts["pictures"] and chosen is not None:
         _pictures(solve_modes(chosen["params"], rpms[0], k, coriolis=False), out)
-    _write_report(out / "report.md", scene, rows, labels, rpms, estimates, growth, chosen)
-    return {"labels": labels, "rpms": rpms,
+    results = {"labels": labels, "rpms": rpms, "tolerance_pct": opts["tolerance_pct"],
             "meshes": [{"cell": r["kind"], "mesh_size_m": r["size"], "dofs": r["dofs"], "solve_s": r["solve_s"],
                         "factor_MB": r["factor_bytes"] / 1e6, "frequencies_hz": r["f"].tolist(),
                         "error_pct": r["error_pct"].tolist(), "worst_error_pct": r["worst_pct"]} for r in rows],
@@ -171,6 +176,58 @@ def run(scene, out: Path) -> dict:
             "chosen": None if chosen is None else {"cell": chosen["kind"], "mesh_size_m": chosen["size"],
                                                     "dofs": chosen["dofs"], "worst_error_pct": chosen["worst_pct"]},
             "paper_fe_hz": list(PAPER_FE)}
+    results["conclusions"] = conclusions(results)
+    _write_report(out / "report.md", scene, rows, labels, rpms, estimates, growth, chosen, results["conclusions"])
+    return results
+
+
+def mesh_name(cell: str, size_m: float) -> str:
+    return f"{cell} {1e3 * size_m:g} mm"
+
+
+def conclusions(results: dict) -> dict:
+    """What the report concludes, as data, from the numbers ``run`` returns (a results.json gives them):
+
+    * meets_tolerance: per mesh, its first n_modes frequencies within tolerance_pct of the converged
+      values at every speed; chosen: the mesh with the fewest DOF that does (None if none);
+      default_mesh_meets_tolerance: whether the project's default (shroud.params.FE) does (None when
+      it is not among the meshes);
+    * observed_order: per cell kind, the Richardson order of each mode at each speed, and asymptotic:
+      whether every one lies within ASYMPTOTIC (the element's order ELEMENT_ORDER, give or take 1);
+    * cheaper_at_equal_error: the cell kind that meets the tolerance with fewer DOF ("hex", "tet"),
+      or None when the meshes run cannot tell (the other kind's meshes all fail below that DOF).
+    """
+    tol = results["tolerance_pct"]
+    meshes = results["meshes"]
+    meets = {mesh_name(m["cell"], m["mesh_size_m"]): m["worst_error_pct"] <= tol for m in meshes}
+    default = mesh_name(FE().cell, FE().mesh_size)
+    orders = {kind: {f"{lab} at {rpm:g} r/min": p for rpm, row in zip(results["rpms"], per_speed)
+                     for lab, p in zip(results["labels"], row)}
+              for kind, per_speed in results["observed_order"].items()}
+    return {"meets_tolerance": meets,
+            "chosen": None if results["chosen"] is None else
+            mesh_name(results["chosen"]["cell"], results["chosen"]["mesh_size_m"]),
+            "default_mesh_meets_tolerance": meets.get(default),
+            "observed_order": orders,
+            "asymptotic": {kind: all(p is not None and ASYMPTOTIC[0] <= p <= ASYMPTOTIC[1] for p in o.values())
+                           for kind, o in orders.items()},
+            "cheaper_at_equal_error": _cheaper(meshes, tol)}
+
+
+def _cheaper(meshes: list[dict], tol: float) -> str | None:
+    """The kind whose cheapest mesh within ``tol`` has fewer DOF than any mesh of the other kind that
+    is within it, the other kind having a mesh at least as large outside it or a larger one inside."""
+    passing = {k: min((m["dofs"] for m in meshes if m["cell"] == k and m["worst_error_pct"] <= tol),
+                      default=None) for k in KINDS}
+    for kind, other in (KINDS, KINDS[::-1]):
+        n = passing[kind]
+        if n is None or not any(m["cell"] == other for m in meshes):
+            continue
+        if passing[other] is not None and passing[other] <= n:
+            continue
+        if passing[other] is not None or any(m["cell"] == other and m["dofs"] >= n for m in meshes):
+            return kind
+    return None
 
 
 def _figure(rows, growth, opts, path: Path) -> None:
@@ -219,13 +276,13 @@ def _pictures(modes, out: Path) -> None:
     write_modes_vtk(modes, out / "modes" / "modes.pvd")
 
 
-def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chosen) -> None:
+def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chosen, found: dict) -> None:
     opts = scene.options
     ref = estimates[opts["reference"]][0]
     lines = [f"# {scene.title}", "",
              "Prestressed solid blade, no Coriolis, at " + ", ".join(f"{r:g}" for r in rpms) + " r/min; "
              "effective size h = DOF^(-1/3); Richardson on the three finest meshes of each cell kind. "
-             f"Converged values: the {opts['reference']} estimate. Time: the modal solve of both speeds "
+             f"Converged values: the {opts['reference']} estimate. Time: the modal solve of every speed "
              "(operators and eigen-solves, mesh cached) on this machine; memory: the MUMPS Cholesky factor "
              "of K + M.", ""]
     table = []
@@ -244,11 +301,28 @@ def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chos
     for kind in other:
         diff = 100 * np.max(np.abs(estimates[kind][0] / ref - 1.0))
         lines.append(f"The {kind} estimate differs from the converged values by at most {diff:.3f} %: "
-                     "how well the converged values are known (an observed order far from the "
-                     "element's, 3-4 here, marks a sequence that is not yet asymptotic).")
+                     "how well the converged values are known.")
     lines += ["", "FE cost growth (log-log fit over each kind's meshes): "
               + "; ".join(f"{kind}: time ~ DOF^{g['time_slope']:.2f}, factor memory ~ DOF^{g['memory_slope']:.2f}"
                           for kind, g in growth.items()) + ".", ""]
+    for kind, orders in found["observed_order"].items():
+        known = [p for p in orders.values() if p is not None]
+        lines.append(f"Observed order, {kind}: " + (f"{min(known):.1f} to {max(known):.1f}" if known else "none")
+                     + (f" ({len(orders) - len(known)} of {len(orders)} non-monotone)" if len(known) < len(orders)
+                        else "") + ": " + ("in the asymptotic range" if found["asymptotic"][kind] else
+                                           f"not in the asymptotic range ({ASYMPTOTIC[0]:g}-{ASYMPTOTIC[1]:g} "
+                                           f"about the element's {ELEMENT_ORDER:g}): its estimate carries more "
+                                           "than the extrapolation error") + ".")
+    cheaper = found["cheaper_at_equal_error"]
+    lines += ["", f"At equal error (within {opts['tolerance_pct']:g} %) the "
+              + (f"{cheaper} cells need fewer DOF." if cheaper else "meshes run cannot tell which cell kind "
+                 "needs fewer DOF.")
+              + " Within the tolerance: " + ", ".join(f"{k} {'yes' if v else 'no'}"
+                                                     for k, v in found["meets_tolerance"].items()) + ".", ""]
+    if len(rpms) < len(OPTIONS["rpms"]):
+        lines += [f"Checked at {', '.join(f'{r:g}' for r in rpms)} r/min only: the tolerance is not held at the "
+                  f"study's other default speeds ({', '.join(f'{r:g}' for r in OPTIONS['rpms'] if r not in rpms)} "
+                  "r/min), where the prestress moves every frequency.", ""]
     if chosen is not None:
         lines.append(f"Chosen default: fe.cell = \"{chosen['kind']}\", fe.mesh_size = {chosen['size']:g} m "
                      f"({chosen['dofs']} DOF, {chosen['solve_s']:.1f} s): the mesh with the fewest DOF whose first "
@@ -256,6 +330,7 @@ def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chos
                      f"at every speed (worst {chosen['worst_pct']:.3f} %).")
     else:
         lines.append(f"No mesh is within {opts['tolerance_pct']:g} % on all modes at every speed: refine further.")
-    lines += ["", "Figure convergence.png: error against DOF, against time, and the cost growth. "
-              "Chosen mesh: mesh.png; its mode shapes: modes.png and modes/modes.pvd (ParaView)."]
+    lines += ["", "Figure convergence.png: error against DOF, against time, and the cost growth."
+              + (" Chosen mesh: mesh.png; its mode shapes: modes.png and modes/modes.pvd (ParaView)."
+                 if opts["pictures"] and chosen is not None else "")]
     path.write_text("\n".join(lines) + "\n")

@@ -15,7 +15,8 @@ What ``bash scripts/main.sh`` runs on a fresh machine, in a few minutes:
    and the cost of each beside the paper's Table 3.
 
 Everything comes from ``shroud.analysis.api`` and the fig8 study; this module only
-arranges and reports.
+arranges and reports. :func:`conclusions` turns the returned numbers into what
+the report concludes.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons import paper
+from comparisons import convergence, paper
 from shroud.analysis import api
 from shroud.core import registry
 from shroud.base.errors import InputError
@@ -79,8 +80,43 @@ def run(scene, out: Path) -> dict:
     if o["transient_models"]:
         results["fig8"] = _fig8(scene, out)
         sections.append(_fig8_report(out))
+    results["conclusions"] = conclusions(results)
+    if "modal" in results:
+        sections.insert(2, _frequency_verdicts(results["conclusions"]["frequency_vs_solid"]))
     (out / "report.md").write_text("".join(sections))
     return results
+
+
+def conclusions(results: dict) -> dict:
+    """What the report concludes, as data, from the numbers ``run`` returns (a results.json gives them):
+    per mode and model, its frequency "higher", "lower" or "the same" as the solid FE's (within the
+    solid mesh's own tolerance, comparisons.convergence.OPTIONS["tolerance_pct"]: a smaller
+    difference is not resolved by the solid); the fig8 study's conclusions on the transient."""
+    tol = convergence.OPTIONS["tolerance_pct"]
+    found: dict = {}
+    if "modal" in results:
+        found["frequency_vs_solid"] = {
+            row["label"]: {key[:-len("_vs_fe_percent")]: "higher" if v > tol else "lower" if v < -tol else "the same"
+                           for key, v in row.items() if key.endswith("_vs_fe_percent")}
+            for row in results["modal"]["rows"]}
+    if "fig8" in results:
+        found["fig8"] = results["fig8"]["conclusions"]
+    return found
+
+
+def _frequency_verdicts(verdicts: dict) -> str:
+    """One line per model: the modes where it is higher, lower and the same as the solid."""
+    models = sorted({m for v in verdicts.values() for m in v})
+    if not models:
+        return ""
+    tol = convergence.OPTIONS["tolerance_pct"]
+    lines = [f"Against the solid (differences within {tol:g} %, the solid mesh's own tolerance, count as the "
+             "same):\n"]
+    for m in models:
+        by = {word: [lab for lab, v in verdicts.items() if v.get(m) == word]
+              for word in ("higher", "lower", "the same")}
+        lines.append(f"- {m}: " + "; ".join(f"{word} in {', '.join(labs)}" for word, labs in by.items() if labs) + ".")
+    return "\n".join(lines) + "\n\n"
 
 
 # --- 1. frequencies -----------------------------------------------------------

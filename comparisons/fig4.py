@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import _coexistence, paper
+from comparisons._families import grid_limits
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
@@ -75,8 +76,7 @@ def run(scene, out: Path) -> dict:
                                                            or "none") + ".\n",
              f"Resonance: the largest settled amplitude, or where the top is flat (within {100 * PLATEAU:g} % "
              "of it over a band of speeds, an impacting branch) the highest speed on it.\n",
-             f"What these settings cannot resolve: resonant speeds closer than the speed step "
-             f"({rpms[1] - rpms[0]:.0f} r/min) and amplitude jumps narrower than one step.\n",
+             f"What these settings cannot resolve: {grid_limits(rpms[1] - rpms[0])}.\n",
              "| paper | here |", "|---|---|",
              f"| reduced and full agree on all six cases | largest amplitude difference from rest "
              f"{max(r[5] for r in rows):.3f} % of the full model's peak{_coexistence.summary(coexist)} |",

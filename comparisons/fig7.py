@@ -167,9 +167,8 @@ def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist, settling
              f"{dofs[POINTS]} DOF (mesh {p.fe.mesh_size:g} m, order {p.fe.order}, {p.fe.cms_modes} modes "
              f"+ attachment modes). The FE reductions (one per speed) took {seconds(build_s)}.\n",
              settling.describe() + " Not settled here: " + (", ".join(unsettled) or "none") + ".\n",
-             f"What these settings cannot resolve: resonant speeds closer than the speed step "
-             f"({step:.0f} r/min; a peak between two speeds is read at the nearer one), amplitude jumps "
-             f"narrower than one step, and coexisting states whose basins the starts "
+             f"What these settings cannot resolve: {fam.grid_limits(step)}, and coexisting states whose "
+             f"basins the starts "
              f"({', '.join(f'{c:g}' for c in scene.options['coexist_starts'])} x the amplitude) miss.\n",
              f"![Fig. 7]({figure_name})\n",
              markdown_table(("case", "beam resonance (r/min)", "FE resonance (r/min)", "beam peak (um)",

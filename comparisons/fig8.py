@@ -22,6 +22,13 @@ apart: a fresh process pays it once, whichever model runs first).
 For the solid models, the contact-state map: per contact-face node,
 the share of the final window spent separate / stick / slip, drawn on the
 two shroud faces (reference_fe.contact_map, drawn by comparisons._pictures).
+
+Each model's settling is measured (the change of its tip amplitudes between
+the last window and the one before, shroud.analysis.sweep.amplitude_change),
+and the report says what the run's settings cannot resolve: unsettled
+models, models left out (the reduced solid standing in for the full one), a
+solid mesh other than the default. :func:`conclusions` turns the returned
+numbers into what the report concludes.
 """
 
 from __future__ import annotations
@@ -30,6 +37,7 @@ import math
 import time
 from pathlib import Path
 
+from comparisons import convergence
 from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
 from comparisons.paper import TABLE3_SECONDS
 from shroud.analysis import api
@@ -40,8 +48,10 @@ from shroud.base.log import info, warn
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.signals import STEADY_PERIODS
+from shroud.analysis.sweep import Settling, amplitude_change
 from shroud.analysis.transient import simulate
 from shroud.base.tables import write_records
+from shroud.params import FE
 
 OPTIONS = {
     "models": ["reduced", "full", "extended", "fe-reduced", "fe"],
@@ -54,6 +64,15 @@ PAIRS = (("reduced", "full", 0.01), ("fe-reduced", "fe", 0.02))   # (model, its 
 LABELS = {"reduced": "reduced beam (nr modes)", "full": "full beam (5N DOF)",
           "fe-reduced": "reduced solid FE", "fe": "full solid FE",
           "extended": "extended beam (torsion, rigid shroud; nr modes)"}
+# Bands of the conclusions. Amplitudes within 0.5 % are the same (a settled amplitude is known to the
+# settling tolerance, 0.2 %); a model is closer to the reference than another when its worst NRMSE is
+# below 1/1.5 of the other's; cheaper when its total time is below 1/3 of the other's (timings of
+# one run on the shared machine vary by up to 2x between runs); contact-state shares within 0.02 of
+# the window are the same.
+SAME_AMPLITUDE = 0.005
+CLOSER = 1.5
+CHEAPER = 3.0
+SAME_SHARE = 0.02
 # Paper Fig. 8(d, h): States 1-3 are separation, slip, stick.
 PAPER_STATE = {STATE_NAMES.index("separate"): 1, STATE_NAMES.index("slip"): 2, STATE_NAMES.index("stick"): 3}
 
@@ -87,7 +106,9 @@ def run_models(params, models, out: Path) -> dict[str, dict]:
              f"{result.steps} steps in {result.elapsed_s:.2f} s")
         runs[model] = {"result": result, "dofs": system.dofs, "build_s": system.build_s,
                        "run_s": result.elapsed_s, "t": result.trajectory.t,
-                       "signals": signals_of(result.trajectory)}
+                       "signals": signals_of(result.trajectory),
+                       "amplitude_change": amplitude_change(result.trajectory, params.time.steps_per_period,
+                                                            STEADY_PERIODS)}
     return runs
 
 
@@ -125,9 +146,8 @@ def run(scene, out: Path) -> dict:
         {"model": m, "side": side, **fr} for m, st in states.items() for side, fr in st.items()])
     figures = _figures(ok, params, o, period, out)
     maps = _contact_maps(ok, params, out)
-    (out / "report.md").write_text(_report(scene, runs, table3, compile_s, versus_ref, pairs, states,
-                                           figures, maps))
-    return {
+    change = {m: r["amplitude_change"] for m, r in ok.items()}
+    results = {
         "rpm": params.speed.rpm, "periods": params.time.periods,
         "steps_per_period": params.time.steps_per_period, "reference": o["reference"],
         "table3": table3, "compile_s": compile_s, "paper_table3_s": TABLE3_SECONDS,
@@ -138,6 +158,69 @@ def run(scene, out: Path) -> dict:
         "pairs": pairs, "diverged": {m: r["diverged"] for m, r in runs.items() if "diverged" in r},
         "figures": [p.name for p in figures] + [m["png"] for m in maps.values()],
         "contact_map": maps,
+        "amplitude_change": {m: c if math.isfinite(c) else None for m, c in change.items()},
+        "settled": {m: c <= Settling.tolerance if math.isfinite(c) else None for m, c in change.items()},
+    }
+    results["conclusions"] = conclusions(results)
+    (out / "report.md").write_text(_report(scene, runs, table3, compile_s, versus_ref, pairs, states,
+                                           figures, maps, results))
+    return results
+
+
+def _versus(a: float, b: float, factor: float, words: tuple[str, str, str]) -> str:
+    """words[0] if a > factor b, words[1] if a < b / factor, else words[2] (a, b > 0)."""
+    if a > b * factor:
+        return words[0]
+    return words[1] if a < b / factor else words[2]
+
+
+def _state_order(shares: dict[str, float]) -> str:
+    """The states by falling share, "=" between shares within SAME_SHARE: "separate > slip > stick"."""
+    ranked = sorted(STATE_NAMES, key=lambda k: -shares[k])
+    text = ranked[0]
+    for a, b in zip(ranked, ranked[1:]):
+        text += (" = " if shares[a] - shares[b] <= SAME_SHARE else " > ") + b
+    return text
+
+
+def conclusions(results: dict) -> dict:
+    """What the report concludes, as data, from the numbers ``run`` returns (a results.json gives them):
+
+    * pairs_met: each reduced model meets its NRMSE target against its full model;
+    * settled: each model's tip amplitudes settled (change over the last window <= Settling.tolerance);
+    * closer_to_reference: for two models (canonical order), "closer", "farther" or "as close" (worst
+      NRMSE against the reference within a factor CLOSER), and closest_to_reference: the models tied
+      for the smallest worst NRMSE;
+    * amplitude_vs_reference: each model's v_L, w_L amplitude "larger", "smaller" or "the same"
+      (within SAME_AMPLITUDE) than the reference's;
+    * slip_vs_reference: its slip share (mean of the sides) "more", "less" or "the same" (SAME_SHARE);
+    * state_order: its states by falling share (mean of the sides);
+    * cost: for two models, "cheaper", "costlier" or "comparable" (total time within a factor CHEAPER).
+    """
+    ref = results["reference"]
+    order = [m for m in OPTIONS["models"] if m in results["amplitude"]]
+    worst = {m: v["worst_nrmse"] for m, v in results["versus_reference"].items()}
+    total = {r["model"]: r["total_s"] for r in results["table3"] if r["status"] == "complete"}
+    slip = {m: (st["side1"]["slip"] + st["side2"]["slip"]) / 2 for m, st in results["state_fraction"].items()}
+    best = min(worst.values(), default=math.inf)
+    pairs = [(a, b) for i, a in enumerate(order) for b in order[i + 1:]]
+    return {
+        "pairs_met": {k: v["met"] for k, v in results["pairs"].items()},
+        "settled": dict(results["settled"]),
+        "closest_to_reference": sorted(m for m, w in worst.items() if w <= CLOSER * best),
+        "closer_to_reference": {f"{a} vs {b}": _versus(worst[a], worst[b], CLOSER,
+                                                      ("farther", "closer", "as close"))
+                                for a, b in pairs if a in worst and b in worst},
+        "amplitude_vs_reference": {m: {s: _versus(a[s], results["amplitude"][ref][s], 1 + SAME_AMPLITUDE,
+                                                  ("larger", "smaller", "the same")) for s in ("v_L", "w_L")}
+                                   for m, a in results["amplitude"].items() if m != ref and ref in slip},
+        "slip_vs_reference": {m: "more" if s > slip[ref] + SAME_SHARE else
+                              "less" if s < slip[ref] - SAME_SHARE else "the same"
+                              for m, s in slip.items() if m != ref and ref in slip},
+        "state_order": {m: _state_order({k: (st["side1"][k] + st["side2"][k]) / 2 for k in STATE_NAMES})
+                        for m, st in results["state_fraction"].items()},
+        "cost": {f"{a} vs {b}": _versus(total[a], total[b], CHEAPER, ("costlier", "cheaper", "comparable"))
+                 for a, b in pairs if a in total and b in total},
     }
 
 
@@ -209,7 +292,87 @@ def _contact_maps(ok: dict, params, out: Path) -> dict[str, dict]:
     return maps
 
 
-def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, figures, maps) -> str:
+def _conclusion_lines(results: dict) -> list[str]:
+    """The conclusions (:func:`conclusions`) in words."""
+    found, ref = results["conclusions"], results["reference"]
+    if not found["closest_to_reference"]:
+        return []
+    lines = ["\n## What the comparison concludes\n",
+             f"- Closest to the {LABELS[ref]} (worst NRMSE, within a factor {CLOSER:g} counts as a tie): "
+             + ", ".join(f"{LABELS[m]} ({results['versus_reference'][m]['worst_nrmse']:.2g})"
+                         for m in found["closest_to_reference"]) + "."]
+    lines.append(f"- Tip amplitudes v_L, w_L against the {LABELS[ref]} (within {100 * SAME_AMPLITUDE:g} % the "
+                 "same): " + "; ".join(f"{LABELS[m]} {v['v_L']}, {v['w_L']}"
+                                       for m, v in found["amplitude_vs_reference"].items()) + ".")
+    lines.append(f"- Slip share against the {LABELS[ref]} (mean of the sides, within {SAME_SHARE:g} the same): "
+                 + "; ".join(f"{LABELS[m]} {v}" for m, v in found["slip_vs_reference"].items())
+                 + ". States by share: " + "; ".join(f"{LABELS[m]} {v}" for m, v in found["state_order"].items())
+                 + ".")
+    total = {r["model"]: r["total_s"] for r in results["table3"] if r["status"] == "complete"}
+    ranked = sorted(total, key=total.get)
+    chain = LABELS[ranked[0]]
+    for a, b in zip(ranked, ranked[1:]):
+        chain += (" ~ " if found["cost"].get(f"{a} vs {b}", found["cost"].get(f"{b} vs {a}")) == "comparable"
+                  else " < ") + LABELS[b]
+    lines.append(f"- Cost (build + run; within a factor {CHEAPER:g} comparable, ~): {chain}.")
+    return lines
+
+
+def _limits(scene, results: dict) -> list[str]:
+    """What this run's settings cannot resolve, from its settings and its measured settling."""
+    p, o = scene.params, scene.options
+    window, tol = STEADY_PERIODS, Settling.tolerance
+    change = results["amplitude_change"]
+    lines = ["## What these settings resolve and what they cannot\n"]
+    unknown = [m for m, c in change.items() if c is None]
+    unsettled = {m: c for m, c in change.items() if c is not None and c > tol}
+    if unknown:
+        lines.append(f"- {p.time.periods} periods are fewer than two windows of {window}: whether "
+                     f"{', '.join(LABELS[m] for m in unknown)} settled cannot be told; their amplitudes, "
+                     "agreement and contact shares may be those of the start-up transient.")
+    if unsettled:
+        lines.append(f"- Not shown settled after {p.time.periods} periods: the tip amplitudes over the last "
+                     f"{window} periods differ from those over the {window} before by "
+                     + ", ".join(f"{100 * c:.2g} % ({LABELS[m]})" for m, c in unsettled.items())
+                     + f", more than {100 * tol:g} %: their amplitudes, agreement and contact shares may be those "
+                     "of the start-up transient (or the window before still held it); more periods "
+                     "(time.periods) tell.")
+    settled = [m for m, c in change.items() if c is not None and c <= tol]
+    if settled:
+        lines.append(f"- Settled after {p.time.periods} periods: {', '.join(LABELS[m] for m in settled)} "
+                     f"(tip amplitudes change by at most {100 * max(change[m] for m in settled):.2g} % "
+                     f"between the last {window} periods and the {window} before; settled below "
+                     f"{100 * tol:g} %): more periods would not move their amplitudes, agreement or "
+                     "contact shares by more than that.")
+    missing = [m for m in ("reduced", "full", "fe-reduced", "fe") if m not in o["models"]]
+    if missing:
+        checks = [f"{small} vs {big}" for small, big, _ in PAIRS if small in missing or big in missing]
+        lines.append(f"- Not run here: {', '.join(LABELS[m] for m in missing)}: no Table 3 row"
+                     + (", no contact map" if {"fe", "fe-reduced"} & set(missing) else "")
+                     + (f", no pair check ({', '.join(checks)})" if checks else "") + ".")
+    if o["reference"] != "fe" and "fe" in missing:
+        lines.append(f"- The reference is the {LABELS[o['reference']]}, not the full solid FE: every "
+                     "comparison with the reference is one with the full solid only as far as the "
+                     "reference follows it (the fe-reduced vs fe pair of scenes/fig8.toml).")
+    solids = [m for m in o["models"] if m in ("fe", "fe-reduced")]
+    default = FE()
+    mesh = (p.fe.cell, p.fe.mesh_size, p.fe.order)
+    if solids and mesh != (default.cell, default.mesh_size, default.order):
+        lines.append(f"- The solid mesh ({p.fe.cell}, {p.fe.mesh_size:g} m, order {p.fe.order}) is not the "
+                     f"default ({default.cell}, {default.mesh_size:g} m, order {default.order}, the mesh "
+                     "scenes/convergence.toml chose): its frequencies, and the solid's response, differ from "
+                     "the default solid's by an amount this run does not measure.")
+    elif solids:
+        lines.append(f"- The solid is the default mesh ({p.fe.cell}, {p.fe.mesh_size:g} m, order {p.fe.order}), "
+                     f"chosen by scenes/convergence.toml to hold its first {convergence.OPTIONS['n_modes']} "
+                     f"frequencies within {convergence.OPTIONS['tolerance_pct']:g} % of the mesh-converged values.")
+    lines.append(f"- {p.time.steps_per_period} steps per excitation period (dt = {p.time_step:.3g} s): a "
+                 f"contact event is located to within dt, the state shares are counted in steps of "
+                 f"1/{p.time.steps_per_period} of a period; the stability scene measures what coarser steps cost.")
+    return lines
+
+
+def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, figures, maps, results) -> str:
     p = scene.params
     lines = [f"# {scene.title}\n",
              f"{p.speed.rpm:g} r/min, N0 = {p.contact.N0:g} N, kn = {p.contact.kn:g} N/m, "
@@ -244,6 +407,7 @@ def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, figures, 
     lines.append(markdown_table(("model", "side 1", "side 2"),
                                 [(LABELS[m], *(" / ".join(f"{st[side][k]:.2f}" for k in STATE_NAMES)
                                                for side in ("side1", "side2"))) for m, st in states.items()]))
+    lines += _conclusion_lines(results)
     for m, c in maps.items():
         lines.append(f"\n## Contact-state map, {LABELS[m]}\n")
         lines.append(f"Each contact-face node is one contact element; colour: its share of the last "
@@ -260,6 +424,8 @@ def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, figures, 
     diverged = {m: r["diverged"] for m, r in runs.items() if "diverged" in r}
     for m, why in diverged.items():
         lines.append(f"\n**{LABELS[m]} diverged**: {why}\n")
+    lines.append("")
+    lines += _limits(scene, results)
     lines.append("\nTime series of each model: `transient_<model>.csv`; tables: `table3.csv`, "
                  "`agreement.csv`, `state_fractions.csv`, per-node contact maps `contact_map_<model>.csv`.\n")
     return "\n".join(lines)

@@ -254,10 +254,42 @@ def report(result: StabilityResult, scene) -> str:
                                  [(k, v["transient_m"] * 1e3, v["linear_m"] * 1e3, v["relative_difference"])
                                   for k, v in linear.items()])]
     lines.append("![stability.png](stability.png)")
+    lines += _conclusion_lines(result, params.time.periods)
     if result.left_out:
         lines += ["\n**Left out of this run:**\n", *[f"- {why}" for why in result.left_out], ""]
     lines += _lag_section(result.explicit_lag)
     return "\n".join(lines) + "\n"
+
+
+def _conclusion_lines(result: StabilityResult, periods: int) -> list[str]:
+    """The conclusions (:meth:`StabilityResult.conclusions`) in words, with what the run length leaves open."""
+    found = result.conclusions()
+    implicit = [r for r in result.rows if r["treatment"] == "implicit"]
+    explicit = found["explicit_bounded"]
+    lines = ["\n## What the runs conclude\n"]
+    if implicit:
+        worst = max(r["energy_error"] for r in implicit)
+        bounded = "bounded in every run" if found["implicit_bounded"] else "unbounded in some runs"
+        lines.append(f"- Implicit: {bounded}; "
+                     f"energy balance closed to {worst:.2g} at worst "
+                     f"({'below' if found['implicit_energy_closed'] else 'not below'} 1e-6).")
+    if explicit:
+        grown = [k for k, v in explicit.items() if not v]
+        lines.append(f"- Explicit: unbounded in {len(grown)} of {len(explicit)} runs"
+                     + (f"; bounded over {periods} periods: {', '.join(k for k, v in explicit.items() if v)}"
+                        if len(grown) < len(explicit) else "") + ".")
+        weak = [f"kn {r['kn']:.0e}, {r['steps_per_period']} steps" for r in result.explicit_lag
+                if r["explicit_run_bounded"] and r["zeta_net_eigen"] < 0]
+        if weak:
+            lines.append(f"- Bounded over {periods} periods is not shown stable: {', '.join(weak)} stayed "
+                         "bounded although its contact mode has a negative net damping with the contacts stuck "
+                         "(lag analysis below); a longer run may grow.")
+    for case, met in found["linear_limit_met"].items():
+        v = result.linear_limits[case]
+        lines.append(f"- {case}: the transient {'meets' if met else 'misses'} its linear limit to 1 % "
+                     f"({v['relative_difference']:.2g})" + ("" if met else f": more than {periods} periods "
+                                                            "may be needed for its start-up to die") + ".")
+    return lines
 
 
 def run(scene, out: Path) -> dict:
