@@ -136,6 +136,8 @@ class PeakSystem:
     def __call__(self, y: np.ndarray, n0: float):
         """(G, dG/dy, () -> dG/dN0) at y = (X, c rpm) and the preload ``n0`` (shroud.core.continuation's form)."""
         X, rpm = y[:-1], y[-1] / self.c
+        if not (np.all(np.isfinite(y)) and rpm > 0 and np.isfinite(n0)):     # a diverged corrector step
+            return np.full(y.size, np.nan), np.eye(y.size), lambda: np.zeros(y.size)
         law = law_with_preload(self.law, n0)
         R, J, d_rpm = residual_in_speed(self.speeds, law, self.basis)(X, rpm)
         g = self.slope(X, rpm, law)
