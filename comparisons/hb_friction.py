@@ -59,6 +59,8 @@ def check(scene) -> None:
     o = scene.options
     if len(o["values"]) < 2:
         raise InputError("options.values", f"{o['values']}: allowed: at least two values to compare")
+    if not 0 < o["rpm_from"] < o["rpm_to"]:
+        raise InputError("options.rpm_to", f"{o['rpm_from']:g} .. {o['rpm_to']:g}: allowed: 0 < rpm_from < rpm_to")
     if max(o["preloads_N"], default=0.0) > o["n0_to"]:
         raise InputError("options.n0_to", f"{o['n0_to']:g} N: allowed: at least the largest preload "
                                           f"({max(o['preloads_N']):g} N)")
@@ -133,13 +135,13 @@ def conclusions(variants: list[Variant]) -> dict:
     optimal preload (N) and from which preload the shroud stays stuck through the resonance; the trend of
     the optimal preload and the spread of the smallest resonant amplitudes; whether the stuck resonance
     is the same for every variant."""
-    gaps = [v.gap_rows() for v in variants]
+    gaps = [[r for r in v.gap_rows() if r["complete"]] for v in variants]     # branches stopped short: out
     pre = [v.preload_rows() for v in variants]
     kept = [i for i in range(len(pre[0])) if all(rows[i]["complete"] for rows in pre)]   # branches stopped short: out
-    large = [[r for r in rows if r["gap_um"] >= LARGE_GAP_UM] for rows in gaps]
-    amp_spread = max((spread([rows[i]["amplitude_m"] for rows in large]) for i in range(len(large[0]))),
-                     default=0.0)
-    rpm_spread = max((spread([rows[i]["rpm"] for rows in large]) for i in range(len(large[0]))), default=0.0)
+    shared = set.intersection(*({r["gap_um"] for r in rows if r["gap_um"] >= LARGE_GAP_UM} for rows in gaps))
+    large = [[r for r in sorted(rows, key=lambda r: r["gap_um"]) if r["gap_um"] in shared] for rows in gaps]
+    amp_spread = max((spread([rows[i]["amplitude_m"] for rows in large]) for i in range(len(shared))), default=0.0)
+    rpm_spread = max((spread([rows[i]["rpm"] for rows in large]) for i in range(len(shared))), default=0.0)
     opt = [v.preload.curve.optimum for v in variants]
     stuck = [v.preload.stuck_from_N0 for v in variants]
     ends = [float(v.preload.curve.amplitude_v_L[-1]) for v in variants]

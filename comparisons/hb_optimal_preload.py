@@ -44,6 +44,8 @@ def check(scene) -> None:
     o = scene.options
     if not o["n0_from"] < o["n0_to"]:
         raise InputError("options.n0_to", f"{o['n0_to']:g} N: allowed: above options.n0_from ({o['n0_from']:g} N)")
+    if not 0 < o["rpm_from"] < o["rpm_to"]:
+        raise InputError("options.rpm_to", f"{o['rpm_from']:g} .. {o['rpm_to']:g}: allowed: 0 < rpm_from < rpm_to")
     outside = [n for n in o["preloads_N"] if not o["n0_from"] <= n <= o["n0_to"]]
     if outside:
         raise InputError("options.preloads_N", f"{outside} lie outside the tracked range "

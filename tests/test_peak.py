@@ -2,17 +2,21 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import reduced_model  # noqa: F401  (registers the beam models)
 from shroud.analysis.hb import run_hb
 from shroud.analysis.peak import track_peak
+from shroud.app.cli import main
 from shroud.base.errors import InputError
 from shroud.params import Parameters
 
 FIG11 = {"contact.alpha_deg": 30.0, "contact.kt": 5e6, "contact.mu": 0.3}     # the paper's Fig. 11 contact
 RPM_FROM, RPM_TO, BRUTE_POINTS = 4000.0, 60000.0, 300
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def brute_force_peak(params: Parameters, n0: float) -> tuple[float, float]:
@@ -50,3 +54,18 @@ def test_a_start_whose_peak_is_outside_the_speed_range_is_refused():
         track_peak(params, "reduced", 0.0, 50.0, 4000.0, 20000.0)
     with pytest.raises(InputError, match="n0_to"):
         track_peak(params, "reduced", 50.0, 10.0, 4000.0, 60000.0)
+
+
+@pytest.mark.parametrize("scene, setting, key", [
+    ("hb_optimal_preload", "options.n0_to=-5", "options.n0_to"),
+    ("hb_optimal_preload", "options.preloads_N=[500.0]", "options.preloads_N"),
+    ("hb_friction", "options.n0_to=50", "options.n0_to"),
+    ("hb_stiffness_ratio", "options.rpm_to=3000", "options.rpm_to"),
+    ("hb_friction", "options.values=[0.3]", "options.values"),
+])
+def test_bad_options_of_the_preload_studies_are_one_line_and_exit_2(tmp_path, capsys, scene, setting, key):
+    out = tmp_path / "out"
+    code = main(["run", str(ROOT / "scenes" / f"{scene}.toml"), "--quick", "--set", setting, "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and err[-1].startswith(f"error: {key}:") and "allowed:" in err[-1], err
+    assert not out.exists()
