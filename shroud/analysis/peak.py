@@ -122,19 +122,26 @@ class PeakSystem:
                  n0_scale: float, chord: float = CHORD):
         self.speeds, self.law, self.basis, self.chord = speeds, law, basis, chord
         self.c, self.x_scale, self.n0_scale = x_scale / rpm_scale, x_scale, n0_scale
+        self._ends: dict[int, np.ndarray] = {}     # the last solution at each end of the chord: Newton's start
 
-    def amplitude(self, X0: np.ndarray, rpm: float, law: ContactLaw) -> float:
-        """a of the branch's point at ``rpm`` (Newton from ``X0``), m; nan if Newton fails there."""
+    def amplitude(self, X0: np.ndarray, rpm: float, law: ContactLaw, end: int) -> float:
+        """a of the branch's point at ``rpm`` (Newton from the last solution at this ``end`` of the chord,
+        else from ``X0``), m; nan if Newton fails from both."""
         _, lin, _, _ = self.speeds.at(rpm)
-        X, b, _, ok = hb.newton(X0, lin, law, self.basis)
-        if not ok:
-            return float("nan")
-        return float(hb.amplitude_over_period(lin.tip(X.reshape(self.basis.nh, lin.nx), b.contact.Lam))[0])
+        for start in (self._ends.get(end), X0):
+            if start is not None:
+                X, b, _, ok = hb.newton(start, lin, law, self.basis)
+                if ok:
+                    self._ends[end] = X
+                    return float(hb.amplitude_over_period(lin.tip(X.reshape(self.basis.nh, lin.nx),
+                                                                  b.contact.Lam))[0])
+        return float("nan")
 
     def slope(self, X: np.ndarray, rpm: float, law: ContactLaw) -> float:
         """g: the chord slope of a over +-chord of the speed, in units of x_scale (per unit relative speed)."""
         e = self.chord
-        return (self.amplitude(X, rpm * (1 + e), law) - self.amplitude(X, rpm * (1 - e), law)) / (2 * e * self.x_scale)
+        return ((self.amplitude(X, rpm * (1 + e), law, +1) - self.amplitude(X, rpm * (1 - e), law, -1))
+                / (2 * e * self.x_scale))
 
     def __call__(self, y: np.ndarray, n0: float):
         """(G, dG/dy, () -> dG/dN0) at y = (X, c rpm) and the preload ``n0`` (shroud.core.continuation's form)."""
