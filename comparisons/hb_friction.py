@@ -68,6 +68,14 @@ def check(scene) -> None:
         raise InputError("options.td_rpm_to", f"{o['td_rpm_to']:g}: allowed: in (rpm_from, rpm_to]")
 
 
+def peak_covered(branch: HBResult) -> bool:
+    """Whether a branch holds its resonance: it is complete, or it stopped (the corrector failed) only after
+    coming down from its largest amplitude to below half of it."""
+    i = int(np.argmax(branch.amplitude_v_L))
+    return bool(branch.complete or (i < len(branch.rpm) - 1
+                                    and branch.amplitude_v_L[-1] < 0.5 * branch.amplitude_v_L[i]))
+
+
 @dataclass
 class Variant:
     """One value of the varied parameter: its branches (gap and preload cases), the tracked resonance over
@@ -82,11 +90,11 @@ class Variant:
     def gap_rows(self) -> list[dict]:
         """Resonance of every gap branch (Fig. 13a-b): largest P1 amplitude on it, stable or not."""
         return [{"variant": self.name, "case": label, "gap_um": value, "rpm": br.resonance["rpm"],
-                 "amplitude_m": br.resonance["amplitude"], "complete": br.complete, "hb_s": br.elapsed_s}
+                 "amplitude_m": br.resonance["amplitude"], "covered": peak_covered(br), "hb_s": br.elapsed_s}
                 for (label, kind, value, _), br in zip(self.cases, self.branches) if kind == "gap"]
 
     def preload_rows(self) -> list[dict]:
-        """Resonance at the small gap (its branch's peak; ``complete`` False when the branch stopped short)
+        """Resonance at the small gap (its branch's peak; ``covered`` False when the branch stopped short of it)
         and at every preload (the tracked curve's point there) (Fig. 13c-d)."""
         out = []
         for (label, kind, value, _), br in zip(self.cases, self.branches):
@@ -97,10 +105,10 @@ class Variant:
                    "branch_amplitude_m": br.resonance["amplitude"]}
             if point:
                 out.append({**row, "rpm": point["rpm"], "amplitude_m": point["amplitude"], "source": "tracked",
-                            "complete": True})
+                            "covered": True})
             elif value < 0:
                 out.append({**row, "rpm": br.resonance["rpm"], "amplitude_m": br.resonance["amplitude"],
-                            "source": "branch", "complete": br.complete})
+                            "source": "branch", "covered": peak_covered(br)})
         return out
 
 
@@ -135,9 +143,9 @@ def conclusions(variants: list[Variant]) -> dict:
     optimal preload (N) and from which preload the shroud stays stuck through the resonance; the trend of
     the optimal preload and the spread of the smallest resonant amplitudes; whether the stuck resonance
     is the same for every variant."""
-    gaps = [[r for r in v.gap_rows() if r["complete"]] for v in variants]     # branches stopped short: out
+    gaps = [[r for r in v.gap_rows() if r["covered"]] for v in variants]     # branches stopped short: out
     pre = [v.preload_rows() for v in variants]
-    kept = [i for i in range(len(pre[0])) if all(rows[i]["complete"] for rows in pre)]   # branches stopped short: out
+    kept = [i for i in range(len(pre[0])) if all(rows[i]["covered"] for rows in pre)]   # branches stopped short: out
     shared = set.intersection(*({r["gap_um"] for r in rows if r["gap_um"] >= LARGE_GAP_UM} for rows in gaps))
     large = [[r for r in sorted(rows, key=lambda r: r["gap_um"]) if r["gap_um"] in shared] for rows in gaps]
     amp_spread = max((spread([rows[i]["amplitude_m"] for rows in large]) for i in range(len(shared))), default=0.0)
@@ -165,8 +173,7 @@ def conclusions(variants: list[Variant]) -> dict:
         "minimum_amplitude_nearly_same": bool(spread([o["amplitude"] for o in opt]) < NEARLY_SAME),
         "stuck_from_N0": {v.name: s for v, s in zip(variants, stuck)},
         "stuck_resonance_same": bool(all(s is not None for s in stuck) and spread(ends) < 1e-4),
-        "complete": bool(all(v.preload.curve.complete for v in variants)
-                         and all(b.complete for v in variants for b in v.branches)),
+        "peak_tracking_complete": bool(all(v.preload.curve.complete for v in variants)),
     }
     return out
 
@@ -277,18 +284,19 @@ def report(scene, variants: list[Variant], concl: dict, points: list[dict], file
         + (f" Left out of these trends: {', '.join(concl['preload_cases_left_out'])} (a branch stopped short of "
            "its peak, below)." if concl["preload_cases_left_out"] else "") + "\n",
         markdown_table(["variant", "case", "resonant speed (r/min)", "resonant amplitude (mm)", "source"],
-                       [(r["variant"], r["case"], f"{r['rpm']:.0f}", r["amplitude_m"] * 1e3, "branch peak")
+                       [(r["variant"], r["case"], f"{r['rpm']:.0f}", r["amplitude_m"] * 1e3,
+                         "branch peak" + ("" if r["covered"] else " (the branch stopped short of it: left out)"))
                         for v in variants for r in v.gap_rows()]
                        + [(r["variant"], r["case"], f"{r['rpm']:.0f}", r["amplitude_m"] * 1e3,
                            f"tracked (branch peak {r['branch_amplitude_m'] * 1e3:.4g} mm at {r['branch_rpm']:.0f})"
                            if r["source"] == "tracked" else
-                           "branch peak" + ("" if r["complete"] else " (the branch stopped short)"))
+                           "branch peak" + ("" if r["covered"] else " (the branch stopped short of it: left out)"))
                           for v in variants for r in v.preload_rows()]),
     ]
     if points:
         lines += ["", f"Time-domain points not on a stable P1 branch within {100 * opts['match']:g} %: {len(off)} of "
                   f"{len(points)} (each named in td_points_by_branch.csv by the state it landed on)."]
-    if not concl["complete"]:
+    if not (concl["peak_tracking_complete"] and all(b.complete for v in variants for b in v.branches)):
         lines += ["", "Incomplete: " + "; ".join(
             [f"{v.name} peak tracking: {v.preload.curve.stopped}" for v in variants if not v.preload.curve.complete]
             + [f"{v.name} {c[0]}: {b.stopped}" for v in variants for c, b in zip(v.cases, v.branches)

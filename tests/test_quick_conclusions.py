@@ -185,7 +185,7 @@ def test_hb_family_quick_agrees_with_full(tmp_path, study):
     got, options = quick(study, tmp_path)
     full = FULL[study]["conclusions"]
     for key in ("optimal_preload_trend", "minimum_amplitude_nearly_same", "optimal_preload_unaffected",
-                "stuck_resonance_same", "complete"):
+                "stuck_resonance_same", "peak_tracking_complete"):
         assert got[key] == full[key], key
     assert got["large_gaps"]["no_effect"] == full["large_gaps"]["no_effect"]
     cases = got["preload_cases"].keys() & full["preload_cases"].keys()
