@@ -70,7 +70,9 @@ def check(scene) -> None:
 
 def peak_covered(branch: HBResult) -> bool:
     """Whether a branch holds its resonance: it is complete, or it stopped (the corrector failed) only after
-    coming down from its largest amplitude to below half of it."""
+    coming down from its largest amplitude to below half of it (a branch with no point holds nothing)."""
+    if branch.amplitude_v_L.size == 0:
+        return False
     i = int(np.argmax(branch.amplitude_v_L))
     return bool(branch.complete or (i < len(branch.rpm) - 1
                                     and branch.amplitude_v_L[-1] < 0.5 * branch.amplitude_v_L[i]))
