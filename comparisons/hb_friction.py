@@ -143,7 +143,8 @@ def conclusions(variants: list[Variant]) -> dict:
     0 equal within 0.1 %): per preload case the resonant speed and amplitude; per variant whether the
     resonant speed rises as the gap closes; the spread across variants at gaps >= 100 um; per variant the
     optimal preload (N) and from which preload the shroud stays stuck through the resonance; the trend of
-    the optimal preload and the spread of the smallest resonant amplitudes; whether the stuck resonance
+    the optimal preload (0 where the optimal preloads spread by less than NEARLY_SAME: unaffected) and the
+    spread of the smallest resonant amplitudes; whether the stuck resonance
     is the same for every variant."""
     gaps = [[r for r in v.gap_rows() if r["covered"]] for v in variants]     # branches stopped short: out
     pre = [v.preload_rows() for v in variants]
@@ -168,9 +169,10 @@ def conclusions(variants: list[Variant]) -> dict:
         "optimal_preload_N": {v.name: o["N0"] for v, o in zip(variants, opt)},
         "optimal_bracket_N": {v.name: o["bracket"] for v, o in zip(variants, opt)},
         "optimum_inside": {v.name: not o["at_end"] for v, o in zip(variants, opt)},
-        "optimal_preload_trend": trend([o["N0"] for o in opt], tolerance=0.02),
         "optimal_preload_spread": spread([o["N0"] for o in opt]),
         "optimal_preload_unaffected": bool(spread([o["N0"] for o in opt]) < NEARLY_SAME),
+        "optimal_preload_trend": (0 if spread([o["N0"] for o in opt]) < NEARLY_SAME
+                                  else trend([o["N0"] for o in opt])),
         "minimum_amplitude_spread": spread([o["amplitude"] for o in opt]),
         "minimum_amplitude_nearly_same": bool(spread([o["amplitude"] for o in opt]) < NEARLY_SAME),
         "stuck_from_N0": {v.name: s for v, s in zip(variants, stuck)},
