@@ -44,7 +44,7 @@ OPTIONS = {
     "n0_to": 300.0,                  # the resonance is followed in N0 from 0 up to this preload, N
     "rpm_from": 4000.0, "rpm_to": 60000.0,
     "harmonics": 10, "samples": 512, "model": "reduced",
-    "branch_points": 150, "track_points": 40,
+    "branch_points": 60, "track_points": 40,
     "time_domain": True,             # overlay the from-rest time-domain sweep
     "td_rpm_to": 30000.0,            # ... over rpm_from..td_rpm_to (the paper's range)
     "td_rpm_count": 27,
@@ -288,7 +288,8 @@ def report(scene, variants: list[Variant], concl: dict, points: list[dict], file
         + (f" Left out of these trends: {', '.join(concl['preload_cases_left_out'])} (a branch stopped short of "
            "its peak, below)." if concl["preload_cases_left_out"] else "") + "\n",
         markdown_table(["variant", "case", "resonant speed (r/min)", "resonant amplitude (mm)", "source"],
-                       [(r["variant"], r["case"], f"{r['rpm']:.0f}", r["amplitude_m"] * 1e3,
+                       [(r["variant"], r["case"], f"{r['rpm']:.0f}" if np.isfinite(r["rpm"]) else None,
+                         r["amplitude_m"] * 1e3 if np.isfinite(r["amplitude_m"]) else None,
                          "branch peak" + ("" if r["covered"] else " (the branch stopped short of it: left out)"))
                         for v in variants for r in v.gap_rows()]
                        + [(r["variant"], r["case"], f"{r['rpm']:.0f}", r["amplitude_m"] * 1e3,
