@@ -43,7 +43,6 @@ def test_tracked_peak_is_the_speed_branches_peak():
         assert abs(point["rpm"] - rpm) <= 2 * step, n0
     best = curve.optimum
     assert not best["at_end"]
-    assert best["amplitude"] <= curve.amplitude_v_L.min() * (1 + 1e-9)
     assert best["amplitude"] < 0.5 * curve.amplitude_v_L[0] and best["amplitude"] < 0.5 * curve.amplitude_v_L[-1]
     assert np.all(np.diff(curve.rpm) > -1.0)
 

@@ -73,23 +73,13 @@ class PeakCurve:
 
     @property
     def optimum(self) -> dict:
-        """The optimal preload: the smallest resonant amplitude on the curve.
-
-        {"N0", "amplitude"}: the vertex of the parabola through the smallest
-        point and its two neighbours (N, m); "rpm" and "bracket" (the
-        neighbours' N0) of the smallest point; "at_end" when the smallest is
-        the curve's first or last point (the optimum is there or beyond).
-        """
+        """The optimal preload: the curve's point of the smallest resonant amplitude, {"N0" (N), "rpm",
+        "amplitude" (m), "bracket" (its neighbours' N0, N), "at_end" (the smallest is the curve's first or
+        last point: the optimum is there or beyond)}."""
         i = int(np.argmin(self.amplitude_v_L))
-        out = {"N0": float(self.n0[i]), "rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]),
-               "bracket": [float(self.n0[max(i - 1, 0)]), float(self.n0[min(i + 1, len(self.n0) - 1)])],
-               "at_end": bool(i in (0, len(self.n0) - 1))}
-        if not out["at_end"]:
-            c2, c1, c0 = np.polyfit(self.n0[i - 1:i + 2], self.amplitude_v_L[i - 1:i + 2], 2)
-            if c2 > 0:
-                n = -c1 / (2 * c2)
-                out["N0"], out["amplitude"] = float(n), float(c0 + c1 * n + c2 * n * n)
-        return out
+        return {"N0": float(self.n0[i]), "rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]),
+                "bracket": [float(self.n0[max(i - 1, 0)]), float(self.n0[min(i + 1, len(self.n0) - 1)])],
+                "at_end": bool(i in (0, len(self.n0) - 1))}
 
     def at(self, n0: float) -> dict[str, float] | None:
         """The curve's point at exactly ``n0`` (one of the ``at`` preloads of :func:`track_peak`), or None."""
@@ -168,15 +158,18 @@ class PeakSystem:
 
 def track_peak(params: Parameters, model: str, n0_from: float, n0_to: float, rpm_from: float, rpm_to: float,
                harmonics: int = DEFAULT_HARMONICS, samples: int | None = None, at: tuple[float, ...] = (),
-               min_points: int = 40, chord: float = CHORD) -> PeakCurve:
+               min_points: int = 40, chord: float = CHORD, refine: int = 20) -> PeakCurve:
     """The resonance of ``model`` followed in N0 from ``n0_from`` to ``n0_to`` (N).
 
     The first peak is the largest amplitude of the speed branch at
     ``n0_from`` over ``rpm_from``-``rpm_to`` r/min (it must lie inside that
     range); from there the peak is free to move in speed. The curve has a
     point at exactly each preload of ``at`` (within the range) and at least
-    ``min_points`` points (bounds the step in N0). An incomplete curve (the
-    corrector stopped converging) is returned so far, with where and why.
+    ``min_points`` points (bounds the step in N0). The stretch between the
+    smallest resonant amplitude's two neighbours is followed again in
+    ``refine`` steps (the minimum may be a sharp V: where the shroud begins
+    to stick through the resonance). An incomplete curve (the corrector
+    stopped converging) is returned so far, with where and why.
     """
     t0 = time.perf_counter()
     if not n0_from < n0_to:
@@ -196,26 +189,36 @@ def track_peak(params: Parameters, model: str, n0_from: float, n0_to: float, rpm
     x_scale = float(np.abs(first.X[i]).max())
     n0_scale = max(abs(n0_from), abs(n0_to))
     extended = PeakSystem(speeds, law, basis, x_scale, float(first.rpm[i]), n0_scale, chord)
-    points: list[tuple[np.ndarray, float, dict]] = []
+    marks = {float(a) for a in at if n0_from < a < n0_to}
 
-    def keep(y, n0):
-        if points and n0 == points[-1][1]:       # a segment's start is the previous segment's end
-            return
-        X, rpm = y[:-1], y[-1] / extended.c
-        points.append((y, n0, point_details(speeds, law_with_preload(law, n0), basis, X, rpm)))
+    def follow(y, p, end, dp_max) -> tuple[list, str | None]:
+        """Points (y, N0, details) from (y, p) to ``end`` through every mark between; (points, why stopped)."""
+        out: list[tuple[np.ndarray, float, dict]] = []
 
-    stops = sorted({float(a) for a in at if n0_from < a < n0_to} | {float(n0_to)})
-    y, p = np.r_[first.X[i], extended.c * first.rpm[i]], float(n0_from)
-    complete, stopped = True, None
-    for stop in stops:
-        branch = continue_branch(extended, y, p, stop, x_scale, ds=0.05, ds_max=0.3,
-                                 dp_max=(n0_to - n0_from) / (min_points - 1), p_scale=n0_scale, on_point=keep)
-        if not branch.complete or not branch.p or branch.p[-1] < stop:
-            complete, stopped = False, branch.stopped or f"the corrector did not reach N0 = {stop:g} N"
-            break
-        y, p = branch.x[-1], branch.p[-1]
+        def keep(y, n0):
+            if out and n0 == out[-1][1]:       # a segment's start is the previous segment's end
+                return
+            X, rpm = y[:-1], y[-1] / extended.c
+            out.append((y, n0, point_details(speeds, law_with_preload(law, n0), basis, X, rpm)))
+
+        for stop in sorted({m for m in marks if p < m < end} | {float(end)}):
+            branch = continue_branch(extended, y, p, stop, x_scale, ds=0.05, ds_max=0.3, dp_max=dp_max,
+                                     p_scale=n0_scale, on_point=keep)
+            if not branch.complete or not branch.p or branch.p[-1] < stop:
+                return out, branch.stopped or f"the corrector did not reach N0 = {stop:g} N"
+            y, p = branch.x[-1], branch.p[-1]
+        return out, None
+
+    points, stopped = follow(np.r_[first.X[i], extended.c * first.rpm[i]], float(n0_from), n0_to,
+                             (n0_to - n0_from) / (min_points - 1))
+    k = int(np.argmin([pt[2]["amplitude_v_L"] for pt in points])) if points else 0
+    if stopped is None and refine > 0 and 0 < k < len(points) - 1:     # the optimum, between its neighbours
+        lo, hi = points[k - 1], points[k + 1]
+        finer, why = follow(lo[0], lo[1], hi[1], (hi[1] - lo[1]) / refine)
+        if why is None:
+            points = points[:k - 1] + finer + points[k + 2:]
     ys = np.array([pt[0] for pt in points])
     return PeakCurve(model=model, harmonics=harmonics, samples=n, n0=np.array([pt[1] for pt in points]),
                      rpm=ys[:, -1] / extended.c, amplitude_v_L=np.array([pt[2]["amplitude_v_L"] for pt in points]),
-                     stable=np.array([pt[2]["stable"] for pt in points], bool), complete=complete,
+                     stable=np.array([pt[2]["stable"] for pt in points], bool), complete=stopped is None,
                      stopped=stopped, elapsed_s=time.perf_counter() - t0, X=ys[:, :-1])
