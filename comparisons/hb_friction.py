@@ -207,7 +207,7 @@ def plot(out: Path, variants: list[Variant]) -> list[str]:
     fig, axes = figure(2, 2, width=10.0, height=7.0)
     for i, v in enumerate(variants):
         colour = f"C{i}"
-        rows = v.gap_rows()
+        rows = [r for r in v.gap_rows() if r["covered"]]      # a branch that stopped short holds no resonance
         axes[0][0].plot([r["gap_um"] for r in rows], [r["rpm"] for r in rows], "o-", color=colour, label=v.name)
         axes[1][0].plot([r["gap_um"] for r in rows], [r["amplitude_m"] * 1e3 for r in rows], "o-", color=colour,
                         label=v.name)
