@@ -4,7 +4,9 @@ Each test runs a scene's ``--quick`` version as a user would (shroud.app.runner.
 compares the conclusions its study returns as data (``results["conclusions"]``) with those of the
 full scene, recorded in tests/data/full_conclusions.json with the command that produced them (the
 full scenes take minutes to hours, too long for CI). Resonant and crossing speeds must agree within
-the quick grid's speed step, every yes/no and every sign of a comparison exactly.
+the quick grid's speed step (for the resonance followed in the preload: optimal preloads within the
+curves' brackets, the onset of full stick within the quick curve's step in N0), every yes/no and every
+sign of a comparison exactly.
 """
 
 import json
@@ -203,3 +205,53 @@ def test_convergence_quick_agrees_with_full(tmp_path):
             assert (q[mode] is None) == (f[mode] is None), (kind, mode)
             if q[mode] is not None:
                 assert abs(q[mode] - f[mode]) <= 0.2, (kind, mode)
+
+
+def tracked_step(options: dict) -> float:
+    """The quick tracked curve's largest step in N0 (N): what its optimum and stuck onset can resolve."""
+    return (options["n0_to"] - options.get("n0_from", 0.0)) / (options["track_points"] - 1)
+
+
+def same_optimum(q: float, f: float, q_bracket: list[float], f_bracket: list[float]) -> bool:
+    """Whether two optimal preloads agree within the wider of the two curves' brackets around them."""
+    return abs(q - f) <= max(q_bracket[1] - q_bracket[0], f_bracket[1] - f_bracket[0])
+
+
+@pytest.mark.slow
+def test_hb_optimal_preload_quick_agrees_with_full(tmp_path):
+    got, options = quick("hb_optimal_preload", tmp_path)
+    full = FULL["hb_optimal_preload"]["conclusions"]
+    for key in ("optimum_inside", "resonant_speed_rises_with_preload", "brute_force_agrees", "complete"):
+        assert got[key] == full[key], key
+    assert same_optimum(got["optimal_preload_N"], full["optimal_preload_N"], got["optimal_bracket_N"],
+                        full["optimal_bracket_N"])
+    assert got["optimal_amplitude_m"] == pytest.approx(full["optimal_amplitude_m"], rel=0.01)
+    assert (got["stuck_from_N0"] is None) == (full["stuck_from_N0"] is None)
+    if full["stuck_from_N0"] is not None:
+        assert abs(got["stuck_from_N0"] - full["stuck_from_N0"]) <= tracked_step(options)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("study", ["hb_friction", "hb_stiffness_ratio"])
+def test_hb_family_quick_agrees_with_full(tmp_path, study):
+    got, options = quick(study, tmp_path)
+    full = FULL[study]["conclusions"]
+    for key in ("optimal_preload_trend", "minimum_amplitude_nearly_same", "optimal_preload_unaffected",
+                "stuck_resonance_same", "peak_tracking_complete"):
+        assert got[key] == full[key], key
+    assert got["large_gaps"]["no_effect"] == full["large_gaps"]["no_effect"]
+    cases = got["preload_cases"].keys() & full["preload_cases"].keys()
+    assert len(cases) >= 2
+    for case in cases:
+        assert got["preload_cases"][case] == full["preload_cases"][case], case
+    variants = got["optimal_preload_N"].keys() & full["optimal_preload_N"].keys()
+    assert len(variants) >= 2
+    for v in variants:
+        assert got["resonant_speed_rises_as_gap_closes"][v] == full["resonant_speed_rises_as_gap_closes"][v], v
+        assert got["optimum_inside"][v] == full["optimum_inside"][v], v
+        assert same_optimum(got["optimal_preload_N"][v], full["optimal_preload_N"][v],
+                            got["optimal_bracket_N"][v], full["optimal_bracket_N"][v]), v
+        q, f = got["stuck_from_N0"][v], full["stuck_from_N0"][v]
+        assert (q is None) == (f is None), v
+        if f is not None:
+            assert abs(q - f) <= tracked_step(options), v

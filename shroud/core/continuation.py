@@ -56,7 +56,8 @@ def _tangent(J: np.ndarray, Rp: np.ndarray, previous: np.ndarray | None) -> np.n
 def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float, x_scale: float,
                     ds: float = 0.02, ds_min: float = 1e-5, ds_max: float = 0.1, max_points: int = 2000,
                     dp_max: float | None = None, max_turn: float = 0.5, ds_kink: float = 2e-3,
-                    on_point: Callable[[np.ndarray, float], None] | None = None) -> Branch:
+                    on_point: Callable[[np.ndarray, float], None] | None = None,
+                    p_scale: float | None = None) -> Branch:
     """Follow R(x, p) = 0 from (x0, p0) until p passes ``p_end`` (p0 < p_end).
 
     ``x0`` needs only be near the solution at p0 (Newton at fixed p first).
@@ -67,8 +68,10 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     is piecewise linear: grazing, the onset of stick) and is stepped over.
     The last point is
     put exactly at p_end. ``on_point(x, p)`` is called for every accepted point.
+    ``p_scale`` scales the parameter in the arclength (default |p0|; give it
+    where p0 may be 0, e.g. a preload continued from N0 = 0).
     """
-    p_scale = abs(p0)
+    p_scale = abs(p0) if p_scale is None else p_scale
     branch = Branch()
 
     def scaled(x, p):

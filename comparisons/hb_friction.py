@@ -1,0 +1,338 @@
+"""Figs. 12-13 by harmonic balance: the coefficient of friction over gaps and preloads.
+
+Per value of mu (paper: 0.1, 0.3, 0.5) every case of Fig. 11 (initial gaps;
+a 1 um gap and initial preloads) is a harmonic-balance branch over speed
+with its stability (shroud.analysis.hb; stable solid, unstable dashed,
+stability changes marked), over a speed range extended beyond the paper's
+so that the preloads' resonances lie inside it. The resonant speed and
+amplitude over the gap (Fig. 13a-b) are read off the branches (largest P1
+amplitude, stable or not); over the preload (Fig. 13c-d) they are the
+resonance followed in N0 from touching (N0 = 0) on (shroud.analysis.peak),
+with the branches' peaks as markers (the 1 um gap: its branch's peak). Where the time-domain sweep is run
+(``time_domain``) its points are overlaid and named by the HB state they
+landed on (comparisons._hb). The conclusions are the paper's (Sect. 3.2):
+mu hardly matters at gaps >= 100 um; with a 1 um gap or a preload the
+resonant speed rises with mu; the optimal preload falls as mu grows while
+the smallest resonant amplitude stays nearly the same; once the shroud
+stays stuck through the resonance mu no longer matters; and (Sect. 3.1)
+the resonant speed rises as the gap closes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from comparisons import hb_optimal_preload as peak
+from comparisons._hb import landed_on, on_stable, states_at
+from comparisons.hb_gap_preload import cases as fig11_cases
+from shroud.analysis.hb import run_hb
+from shroud.analysis.sweep import run_sweeps
+from shroud.base.errors import InputError
+from shroud.base.markdown import markdown_table, seconds
+from shroud.base.tables import write_records
+from shroud.core.plotting import figure, save
+from shroud.core.results import HBResult, SweepResult
+
+OPTIONS = {
+    "values": [0.1, 0.3, 0.5],
+    "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
+    "small_gap_um": 1.0,
+    "preloads_N": [10.0, 25.0, 50.0, 100.0, 200.0],
+    "n0_to": 300.0,                  # the resonance is followed in N0 from 0 up to this preload, N
+    "rpm_from": 4000.0, "rpm_to": 60000.0,
+    "harmonics": 10, "samples": 512, "model": "reduced",
+    "branch_points": 60, "track_points": 40,
+    "time_domain": True,             # overlay the from-rest time-domain sweep
+    "td_rpm_to": 30000.0,            # ... over rpm_from..td_rpm_to (the paper's range)
+    "td_rpm_count": 27,
+    "match": 0.01,                   # a time-domain point is on a branch within this relative difference
+}
+NO_EFFECT = 0.05        # resonances spread by less than this share across the variants: (almost) no effect
+NEARLY_SAME = 0.10      # optimal preloads or smallest resonant amplitudes spread by less than this share: the same
+LARGE_GAP_UM = 100.0
+
+
+def check(scene) -> None:
+    o = scene.options
+    if len(o["values"]) < 2:
+        raise InputError("options.values", f"{o['values']}: allowed: at least two values to compare")
+    if not 0 < o["rpm_from"] < o["rpm_to"]:
+        raise InputError("options.rpm_to", f"{o['rpm_from']:g} .. {o['rpm_to']:g}: allowed: 0 < rpm_from < rpm_to")
+    if max(o["preloads_N"], default=0.0) > o["n0_to"]:
+        raise InputError("options.n0_to", f"{o['n0_to']:g} N: allowed: at least the largest preload "
+                                          f"({max(o['preloads_N']):g} N)")
+    if o["time_domain"] and not o["rpm_from"] < o["td_rpm_to"] <= o["rpm_to"]:
+        raise InputError("options.td_rpm_to", f"{o['td_rpm_to']:g}: allowed: in (rpm_from, rpm_to]")
+
+
+def peak_covered(branch: HBResult) -> bool:
+    """Whether a branch holds its resonance: it is complete, or it stopped (the corrector failed) only after
+    coming down from its largest amplitude to below half of it (a branch with no point holds nothing)."""
+    if branch.amplitude_v_L.size == 0:
+        return False
+    i = int(np.argmax(branch.amplitude_v_L))
+    return bool(branch.complete or (i < len(branch.rpm) - 1
+                                    and branch.amplitude_v_L[-1] < 0.5 * branch.amplitude_v_L[i]))
+
+
+@dataclass
+class Variant:
+    """One value of the varied parameter: its branches (gap and preload cases), the tracked resonance over
+    N0, and the time-domain sweeps (or None)."""
+
+    name: str
+    cases: list[tuple[str, str, float, object]]      # (label, kind, value, params) as comparisons.hb_gap_preload
+    branches: list[HBResult]
+    preload: peak.PreloadResonance
+    sweeps: list[SweepResult] | None
+
+    def gap_rows(self) -> list[dict]:
+        """Resonance of every gap branch (Fig. 13a-b): largest P1 amplitude on it, stable or not."""
+        return [{"variant": self.name, "case": label, "gap_um": value, "rpm": br.resonance["rpm"],
+                 "amplitude_m": br.resonance["amplitude"], "covered": peak_covered(br), "hb_s": br.elapsed_s}
+                for (label, kind, value, _), br in zip(self.cases, self.branches) if kind == "gap"]
+
+    def preload_rows(self) -> list[dict]:
+        """Resonance at the small gap (its branch's peak; ``covered`` False when the branch stopped short of it)
+        and at every preload (the tracked curve's point there) (Fig. 13c-d)."""
+        out = []
+        for (label, kind, value, _), br in zip(self.cases, self.branches):
+            if kind != "preload":
+                continue
+            point = self.preload.curve.at(value)
+            row = {"variant": self.name, "case": label, "N0": value, "branch_rpm": br.resonance["rpm"],
+                   "branch_amplitude_m": br.resonance["amplitude"]}
+            if point:
+                out.append({**row, "rpm": point["rpm"], "amplitude_m": point["amplitude"], "source": "tracked",
+                            "covered": True})
+            elif value < 0:
+                out.append({**row, "rpm": br.resonance["rpm"], "amplitude_m": br.resonance["amplitude"],
+                            "source": "branch", "covered": peak_covered(br)})
+        return out
+
+
+def compute_variant(name: str, params, opts: dict) -> Variant:
+    cs = fig11_cases(params, opts)
+    branches = [run_hb(p, opts["model"], opts["rpm_from"], opts["rpm_to"], harmonics=int(opts["harmonics"]),
+                       samples=int(opts["samples"]), min_points=int(opts["branch_points"])) for _, _, _, p in cs]
+    preload = peak.compute(params, {**opts, "n0_from": 0.0},
+                           {value: br for (_, kind, value, _), br in zip(cs, branches)
+                            if kind == "preload" and value >= 0})
+    sweeps = (run_sweeps([p for _, _, _, p in cs], opts["model"],
+                         np.linspace(opts["rpm_from"], opts["td_rpm_to"], int(opts["td_rpm_count"])))
+              if opts["time_domain"] else None)
+    return Variant(name=name, cases=cs, branches=branches, preload=preload, sweeps=sweeps)
+
+
+def spread(values: list[float]) -> float:
+    """(max - min) / max of positive values."""
+    return (max(values) - min(values)) / max(values)
+
+
+def trend(values: list[float], tolerance: float = 1e-3) -> int:
+    """+1 when the last value is larger than the first by more than ``tolerance`` (share), -1 when smaller, 0 else."""
+    d = (values[-1] - values[0]) / max(abs(values[0]), 1e-300)
+    return int(d > tolerance) - int(d < -tolerance)
+
+
+def conclusions(variants: list[Variant]) -> dict:
+    """The paper's checks as data. Trends run from the first variant to the last (+1 rising, -1 falling,
+    0 equal within 0.1 %): per preload case the resonant speed and amplitude; per variant whether the
+    resonant speed rises as the gap closes; the spread across variants at gaps >= 100 um; per variant the
+    optimal preload (N) and from which preload the shroud stays stuck through the resonance; the trend of
+    the optimal preload (0 where the optimal preloads spread by less than NEARLY_SAME: unaffected) and the
+    spread of the smallest resonant amplitudes; whether the stuck resonance
+    is the same for every variant."""
+    gaps = [[r for r in v.gap_rows() if r["covered"]] for v in variants]     # branches stopped short: out
+    pre = [v.preload_rows() for v in variants]
+    kept = [i for i in range(len(pre[0])) if all(rows[i]["covered"] for rows in pre)]   # branches stopped short: out
+    shared = set.intersection(*({r["gap_um"] for r in rows if r["gap_um"] >= LARGE_GAP_UM} for rows in gaps))
+    large = [[r for r in sorted(rows, key=lambda r: r["gap_um"]) if r["gap_um"] in shared] for rows in gaps]
+    amp_spread = max((spread([rows[i]["amplitude_m"] for rows in large]) for i in range(len(shared))), default=0.0)
+    rpm_spread = max((spread([rows[i]["rpm"] for rows in large]) for i in range(len(shared))), default=0.0)
+    opt = [v.preload.curve.optimum for v in variants]
+    stuck = [v.preload.stuck_from_N0 for v in variants]
+    ends = [float(v.preload.curve.amplitude_v_L[-1]) for v in variants]
+    out = {
+        "resonant_speed_rises_as_gap_closes": {
+            v.name: bool(np.all(np.diff([r["rpm"] for r in sorted(rows, key=lambda r: -r["gap_um"])]
+                                        + [v.preload.curve.rpm[0]]) > 0)) for v, rows in zip(variants, gaps)},
+        "large_gaps": {"amplitude_spread": amp_spread, "speed_spread": rpm_spread,
+                       "no_effect": bool(amp_spread < NO_EFFECT and rpm_spread < NO_EFFECT)},
+        "preload_cases": {pre[0][i]["case"]: {"speed_trend": trend([rows[i]["rpm"] for rows in pre]),
+                                              "amplitude_trend": trend([rows[i]["amplitude_m"] for rows in pre])}
+                          for i in kept},
+        "preload_cases_left_out": [pre[0][i]["case"] for i in range(len(pre[0])) if i not in kept],
+        "optimal_preload_N": {v.name: o["N0"] for v, o in zip(variants, opt)},
+        "optimal_bracket_N": {v.name: o["bracket"] for v, o in zip(variants, opt)},
+        "optimum_inside": {v.name: not o["at_end"] for v, o in zip(variants, opt)},
+        "optimal_preload_spread": spread([o["N0"] for o in opt]),
+        "optimal_preload_unaffected": bool(spread([o["N0"] for o in opt]) < NEARLY_SAME),
+        "optimal_preload_trend": (0 if spread([o["N0"] for o in opt]) < NEARLY_SAME
+                                  else trend([o["N0"] for o in opt])),
+        "minimum_amplitude_spread": spread([o["amplitude"] for o in opt]),
+        "minimum_amplitude_nearly_same": bool(spread([o["amplitude"] for o in opt]) < NEARLY_SAME),
+        "stuck_from_N0": {v.name: s for v, s in zip(variants, stuck)},
+        "stuck_resonance_same": bool(all(s is not None for s in stuck) and spread(ends) < 1e-4),
+        "peak_tracking_complete": bool(all(v.preload.curve.complete for v in variants)),
+    }
+    return out
+
+
+def _trend_word(t: int, up: str = "rises", down: str = "falls") -> str:
+    return {1: up, -1: down, 0: "stays the same"}[t]
+
+
+def plot(out: Path, variants: list[Variant]) -> list[str]:
+    """Fig. 12/16 (branches per variant: gaps, then the small gap and preloads) and Fig. 13/17 (resonant
+    speed and amplitude over gap and preload)."""
+    fig, axes = figure(len(variants), 2, width=11.0, height=3.2 * len(variants) + 0.4)
+    for i, v in enumerate(variants):
+        for k, ((label, kind, _, _), br) in enumerate(zip(v.cases, v.branches)):
+            ax = axes[i][0 if kind == "gap" else 1]
+            br.plot(ax, label=label, colour=f"C{k % 10}")
+            if v.sweeps is not None:
+                sw = v.sweeps[k]
+                ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, ".", color=f"C{k % 10}", ms=4)
+        c = v.preload.curve
+        axes[i][1].plot(c.rpm, c.amplitude_v_L * 1e3, "k-", lw=1.2, label="resonance over N0")
+        small = next(label for label, kind, _, _ in v.cases if kind == "preload")
+        for j, what in enumerate(("initial gaps", f"{small} and preloads")):
+            axes[i][j].set_title(f"{v.name}: {what}" + (" (HB -, --; time domain .)" if v.sweeps else ""))
+            axes[i][j].legend(ncol=2, fontsize=7)
+    files = [save(fig, out / "hb_branches.png").name]
+    fig, axes = figure(2, 2, width=10.0, height=7.0)
+    for i, v in enumerate(variants):
+        colour = f"C{i}"
+        rows = [r for r in v.gap_rows() if r["covered"]]      # a branch that stopped short holds no resonance
+        axes[0][0].plot([r["gap_um"] for r in rows], [r["rpm"] for r in rows], "o-", color=colour, label=v.name)
+        axes[1][0].plot([r["gap_um"] for r in rows], [r["amplitude_m"] * 1e3 for r in rows], "o-", color=colour,
+                        label=v.name)
+        peak.plot_over_preload(axes[1][1], axes[0][1], v.preload, v.name, colour)
+    for ax, title in ((axes[0][0], "(a) resonant speed over the gap"), (axes[1][0], "(b) resonant amplitude "
+                      "over the gap"), (axes[0][1], "(c) resonant speed over N0 (o: branch peaks)"),
+                      (axes[1][1], "(d) resonant amplitude over N0 (*: optimum)")):
+        ax.set_title(title)
+        ax.legend()
+    for ax in (axes[0][0], axes[1][0]):
+        ax.set_xscale("log")
+        ax.set_xlabel("initial gap (um)")
+    axes[0][0].set_ylabel("resonant speed (r/min)")
+    axes[1][0].set_ylabel("resonant amplitude of v_L (mm)")
+    files.append(save(fig, out / "resonance_characteristics.png").name)
+    return files
+
+
+def time_domain_points(variants: list[Variant], opts: dict) -> list[dict]:
+    """Every time-domain point with the HB state it landed on."""
+    points = []
+    for v in variants:
+        for (label, _, _, p), br, sw in zip(v.cases, v.branches, v.sweeps or []):
+            for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period):
+                name = landed_on(states_at(br, p, opts["model"], r), a, per, opts["match"])
+                points.append({"variant": v.name, "case": label, "rpm": float(r), "amplitude_m": float(a),
+                               "period": per, "branch": name})
+    return points
+
+
+def report(scene, variants: list[Variant], concl: dict, points: list[dict], files: list[str], describe: str) -> str:
+    opts = scene.options
+    hb_s = {v.name: sum(b.elapsed_s for b in v.branches) for v in variants}
+    track_s = {v.name: v.preload.curve.elapsed_s for v in variants}
+    td_s = {v.name: sum(s.cpu_s for s in v.sweeps) for v in variants if v.sweeps is not None}
+    pre = concl["preload_cases"]
+    speed_up = [c for c, t in pre.items() if t["speed_trend"] == 1]
+    amp_down = [c for c, t in pre.items() if t["amplitude_trend"] == -1]
+    names = [v.name for v in variants]
+    stuck = concl["stuck_from_N0"]
+    lg = concl["large_gaps"]
+    off = [p for p in points if not on_stable(p["branch"])]
+    lines = [
+        f"# {scene.title}\n",
+        f"Model {opts['model']}; harmonic balance H = {opts['harmonics']}, {opts['samples']} samples, branches "
+        f"{opts['rpm_from']:g}-{opts['rpm_to']:g} r/min with Floquet stability; the resonance followed in N0 from "
+        f"0 to {opts['n0_to']:g} N"
+        + (f"; time domain {opts['td_rpm_count']} speeds {opts['rpm_from']:g}-{opts['td_rpm_to']:g} r/min x "
+           f"{scene.params.time.periods} periods from rest (dots)" if opts["time_domain"] else "") + ".\n",
+        "Cost per variant: " + "; ".join(
+            f"{n}: branches {seconds(hb_s[n])}, peak tracking {seconds(track_s[n])}"
+            + (f", time domain {seconds(td_s[n])} CPU" if n in td_s else "") for n in names) + ".\n",
+        "| paper | here |", "|---|---|",
+        f"| gaps >= {LARGE_GAP_UM:g} um: {describe} has (almost) no effect on the resonant speed and amplitude | "
+        f"{'yes' if lg['no_effect'] else 'no'}: spread across the variants {100 * lg['speed_spread']:.2f} % "
+        f"(speed), {100 * lg['amplitude_spread']:.2f} % (amplitude) |",
+        "| the resonant speed rises as the gap closes (down to touching, N0 = 0) | " + "; ".join(
+            f"{n}: {'yes' if ok else 'no'}" for n, ok in concl["resonant_speed_rises_as_gap_closes"].items()) + " |",
+        f"| 1 um gap or a preload: the resonant speed as {describe} grows | " + "; ".join(
+            f"{c}: {_trend_word(t['speed_trend'])}" for c, t in pre.items()) + " |",
+        f"| ... the resonant amplitude as {describe} grows | " + "; ".join(
+            f"{c}: {_trend_word(t['amplitude_trend'])}" for c, t in pre.items()) + " |",
+        "| optimal preload (tracked resonance's minimum) | " + "; ".join(
+            f"{n}: " + (f"{concl['optimal_preload_N'][n]:.1f} N" if concl["optimum_inside"][n] else
+                        f"at the end ({concl['optimal_preload_N'][n]:g} N)") for n in names)
+        + f": it {_trend_word(concl['optimal_preload_trend'])} as {describe} grows; spread across the variants "
+          f"{100 * concl['optimal_preload_spread']:.1f} % ("
+          f"{'unaffected: within' if concl['optimal_preload_unaffected'] else 'affected: beyond'} {100 * NEARLY_SAME:g} %) |",
+        f"| smallest resonant amplitude | spread {100 * concl['minimum_amplitude_spread']:.1f} % across the variants "
+        f"({'nearly the same: within' if concl['minimum_amplitude_nearly_same'] else 'not the same: beyond'} "
+        f"{100 * NEARLY_SAME:g} %) |",
+        "| stuck through the resonance (the resonance no longer changes with N0) from | " + "; ".join(
+            f"{n}: " + (f"{s:.1f} N" if s is not None else f"not within {opts['n0_to']:g} N") for n, s in stuck.items())
+        + ("; there every variant has the same resonance" if concl["stuck_resonance_same"] else "") + " |",
+        "",
+        f"Preload cases where the resonant speed rises with {describe}: {len(speed_up)} of {len(pre)}; where the "
+        f"resonant amplitude falls: {len(amp_down)} of {len(pre)}."
+        + (f" Left out of these trends: {', '.join(concl['preload_cases_left_out'])} (a branch stopped short of "
+           "its peak, below)." if concl["preload_cases_left_out"] else "") + "\n",
+        markdown_table(["variant", "case", "resonant speed (r/min)", "resonant amplitude (mm)", "source"],
+                       [(r["variant"], r["case"], f"{r['rpm']:.0f}" if np.isfinite(r["rpm"]) else None,
+                         r["amplitude_m"] * 1e3 if np.isfinite(r["amplitude_m"]) else None,
+                         "branch peak" + ("" if r["covered"] else " (the branch stopped short of it: left out)"))
+                        for v in variants for r in v.gap_rows()]
+                       + [(r["variant"], r["case"], f"{r['rpm']:.0f}", r["amplitude_m"] * 1e3,
+                           f"tracked (branch peak {r['branch_amplitude_m'] * 1e3:.4g} mm at {r['branch_rpm']:.0f})"
+                           if r["source"] == "tracked" else
+                           "branch peak" + ("" if r["covered"] else " (the branch stopped short of it: left out)"))
+                          for v in variants for r in v.preload_rows()]),
+    ]
+    if points:
+        lines += ["", f"Time-domain points not on a stable P1 branch within {100 * opts['match']:g} %: {len(off)} of "
+                  f"{len(points)} (each named in td_points_by_branch.csv by the state it landed on)."]
+    if not (concl["peak_tracking_complete"] and all(b.complete for v in variants for b in v.branches)):
+        lines += ["", "Incomplete: " + "; ".join(
+            [f"{v.name} peak tracking: {v.preload.curve.stopped}" for v in variants if not v.preload.curve.complete]
+            + [f"{v.name} {c[0]}: {b.stopped}" for v in variants for c, b in zip(v.cases, v.branches)
+               if not b.complete])]
+    lines += ["", *[f"![{f}]({f})" for f in files]]
+    return "\n".join(lines) + "\n"
+
+
+def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
+    """compute -> plot -> report for the variants (name -> Parameters) of one contact parameter."""
+    opts = scene.options
+    done = [compute_variant(name, p, opts) for name, p in variants.items()]
+    concl = conclusions(done)
+    files = plot(out, done)
+    points = time_domain_points(done, opts)
+    write_records(out / "td_points_by_branch.csv", points)
+    write_records(out / "resonances_over_gap.csv", [r for v in done for r in v.gap_rows()])
+    write_records(out / "resonances_over_preload.csv", [r for v in done for r in v.preload_rows()])
+    (out / "report.md").write_text(report(scene, done, concl, points, files, describe))
+    return {"conclusions": concl,
+            "variants": {v.name: {"gaps": v.gap_rows(), "preloads": v.preload_rows(),
+                                  "peak_curve": v.preload.curve.to_json(),
+                                  "branches": {c[0]: b.to_json() for c, b in zip(v.cases, v.branches)}}
+                         for v in done},
+            "time_domain_points": points,
+            "cost_s": {v.name: {"branches": sum(b.elapsed_s for b in v.branches),
+                                "peak_tracking": v.preload.curve.elapsed_s,
+                                "time_domain_cpu": sum(s.cpu_s for s in v.sweeps) if v.sweeps else None}
+                       for v in done}}
+
+
+def run(scene, out: Path) -> dict:
+    variants = {f"mu {v:g}": scene.params.updated({"contact.mu": v}) for v in scene.options["values"]}
+    return run_variants(scene, out, variants, "mu")
