@@ -13,8 +13,9 @@ isotropic steel, the centrifugal load *DLOAD CENTRIF (rho Omega^2 r about
 prestressed state (stress stiffening and spin softening), then *COMPLEX
 FREQUENCY, CORIOLIS for the gyroscopic frequencies (CalculiX projects them
 onto the modes of the *FREQUENCY step: without the blade's axial modes in
-that basis, the Coriolis coupling of flap and axial motion, which DOLFINx's
-full gyroscopic problem holds, is lost). The tip nodes
+that basis, the Coriolis coupling of flap and axial motion is lost;
+DOLFINx's Ritz basis holds it through the static Coriolis responses
+K^-1 G Phi, reference_fe.modal). The tip nodes
 (meshes.blade.tip_points) are printed per mode so that modes are named by
 the same tip kinematics (shroud.core.modes).
 
