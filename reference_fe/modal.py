@@ -173,21 +173,34 @@ def _stiffness_factor(ops: RotatingOperators):
 
 
 def _gyroscopic(ops: RotatingOperators, shapes, factor):
-    """(f Hz, damping ratio, xr, xi) of the gyroscopic modes of Rayleigh-Ritz on [Phi, K^-1 G Phi].
+    """Gyroscopic modes by Rayleigh-Ritz on [Phi, K^-1 G Phi]: (f Hz, damping ratio, MAC against Phi).
 
     ``shapes``: the undamped modes Phi (mass-normalized Vecs); ``factor``:
-    the factored K (a MUMPS factor Mat). lambda = -zeta omega + i omega sqrt(1 - zeta^2): zeta = -Re
-    lambda / |lambda| (0 to round-off: the reduced problem is gyroscopic too).
-    One mode per basis pair (Im lambda > 0), in ascending frequency.
+    the factored K (a MUMPS factor Mat). One mode per conjugate pair (Im
+    lambda > 0), in ascending frequency; lambda = -zeta omega + i omega
+    sqrt(1 - zeta^2): zeta = -Re lambda / |lambda| (0 to round-off: the
+    reduced problem is gyroscopic too). MAC[i, j] between shape i and mode
+    j (complex, xr + i xi), from this rank's rows summed over the ranks.
     """
     K, G, M = ops.K, ops.G, ops.M
+    comm = ops.model.comm
     basis = list(shapes)
     for phi in shapes:
         x, Gphi = K.createVecRight(), K.createVecLeft()
         G.mult(phi, Gphi)
         factor.solve(Gphi, x)
         basis.append(x)
-    Mb, Kb, Gb = (_products(A, basis) for A in (M, K, G))
+    V = np.column_stack([b.getArray(readonly=True) for b in basis])     # this rank's rows
+
+    def product(A) -> np.ndarray:                                       # V^T A V
+        y = A.createVecLeft()
+        AV = np.empty_like(V)
+        for j, b in enumerate(basis):
+            A.mult(b, y)
+            AV[:, j] = y.getArray(readonly=True)
+        return comm.allreduce(V.T @ AV, op=MPI.SUM)
+
+    Mb, Kb, Gb = (product(A) for A in (M, K, G))
     scale = 1.0 / np.sqrt(np.diag(Mb))               # unit M-norm first: K^-1 G phi is ~1e-6 of phi
     Mb, Kb, Gb = (scale[:, None] * A * scale[None, :] for A in (Mb, Kb, Gb))
     w, U = np.linalg.eigh(Mb)
@@ -196,31 +209,14 @@ def _gyroscopic(ops: RotatingOperators, shapes, factor):
     Kr, Gr = T.T @ Kb @ T, T.T @ Gb @ T
     m = Kr.shape[0]
     lam, Y = np.linalg.eig(np.block([[np.zeros((m, m)), np.eye(m)], [-Kr, -Gr]]))
-    found = []
-    for j in np.flatnonzero(lam.imag > 0):
-        c = scale * (T @ Y[:m, j])                     # coefficients on the basis vectors
-        xr, xi = K.createVecRight(), K.createVecRight()
-        xr.maxpy(c.real.tolist(), basis)
-        xi.maxpy(c.imag.tolist(), basis)
-        found.append((lam[j].imag / (2 * np.pi), -lam[j].real / abs(lam[j]), xr, xi))
-    found.sort(key=lambda t: t[0])
-    return found
-
-
-def _products(A, basis) -> np.ndarray:
-    """V^T A V for the Vecs V of ``basis``."""
-    Av = []
-    for b in basis:
-        y = A.createVecLeft()
-        A.mult(b, y)
-        Av.append(y)
-    return np.array([[b.dot(y) for y in Av] for b in basis])
-
-
-def _mac(phi, xr, xi) -> float:
-    """MAC between a real shape and a complex one (xr + i xi)."""
-    a, b = phi.dot(xr), phi.dot(xi)
-    return float((a * a + b * b) / (phi.dot(phi) * (xr.dot(xr) + xi.dot(xi))))
+    up = np.flatnonzero(lam.imag > 0)
+    up = up[np.argsort(lam[up].imag)]
+    X = V @ (scale[:, None] * (T @ Y[:m, up]))          # this rank's rows of the complex shapes
+    Phi = V[:, :len(shapes)]
+    cross = comm.allreduce(Phi.T @ X, op=MPI.SUM)
+    norms = np.outer(comm.allreduce(np.sum(Phi**2, axis=0), op=MPI.SUM),
+                     comm.allreduce(np.sum(np.abs(X)**2, axis=0), op=MPI.SUM))
+    return lam[up].imag / (2 * np.pi), -lam[up].real / np.abs(lam[up]), np.abs(cross)**2 / norms
 
 
 def solve_modes(params: Parameters, rpm: float | None = None, n_modes: int = 6,
@@ -241,12 +237,11 @@ def solve_modes(params: Parameters, rpm: float | None = None, n_modes: int = 6,
     labels, parts = label_modes(tip)
     f_cor = mac_cor = zeta_cor = None
     if gyroscopic:
-        gyro = _gyroscopic(ops, shapes, factor)[:len(shapes)]
-        macs = np.array([[_mac(phi, xr, xi) for _, _, xr, xi in gyro] for phi in vectors])
+        f_gyro, zeta_gyro, macs = _gyroscopic(ops, shapes, factor)
+        macs = macs[:n_modes, :len(shapes)]
         pick = pair_by_mac(macs)
-        f_cor = np.array([gyro[j][0] for j in pick])
-        zeta_cor = np.array([gyro[j][1] for j in pick])
-        mac_cor = macs[np.arange(len(vectors)), pick]
+        f_cor, zeta_cor = f_gyro[pick], zeta_gyro[pick]
+        mac_cor = macs[np.arange(n_modes), pick]
     elif coriolis:
         f_cor, mac_cor = f0.copy(), np.ones_like(f0)      # no rotation, no Coriolis
         zeta_cor = np.zeros_like(f0)
