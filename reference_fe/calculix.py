@@ -79,8 +79,8 @@ def ccx() -> str | None:
 PRESTRESS = ("linear", "nonlinear")
 
 
-def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, coriolis: bool = True,
-               prestress: str = "nonlinear", initial_stress: np.ndarray | None = None) -> dict:
+def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, coriolis: bool, prestress: str,
+               initial_stress: np.ndarray | None = None) -> dict:
     """Write ``path`` (.inp) for the solid of ``params`` at ``rpm``; return mesh facts.
 
     ``prestress = "nonlinear"``: the one-run deck (NLGEOM static step, then the
