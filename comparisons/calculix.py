@@ -13,8 +13,9 @@ linear prestress, the undamped and the gyroscopic eigenproblems. Modes are
 paired by their tip-kinematics label.
 
 Times: DOLFINx's is its in-process modal solve (operators and eigen-solves,
-mesh cached), CalculiX's the wall time of the ccx process (one thread);
-the whole-process comparison is benchmarks/bench_fe_modal.py.
+mesh cached), CalculiX's the wall time of its ccx runs (one thread; two on the
+linear-prestress path); the whole-process comparison is
+benchmarks/bench_fe_modal.py.
 """
 
 from __future__ import annotations
@@ -103,7 +104,7 @@ def _write_report(path: Path, scene, rows, summary) -> None:
              "*COMPLEX FREQUENCY, CORIOLIS; C3D10 (the same element as P2) or C3D20 (serendipity: the "
              "27-node brick without its face and centre nodes, a smaller space on the same mesh).", ""]
     lines.append(markdown_table(
-        ["mesh", "CalculiX element", "DOF DOLFINx", "DOF CalculiX", "DOLFINx solve (s)", "ccx process (s)",
+        ["mesh", "CalculiX element", "DOF DOLFINx", "DOF CalculiX", "DOLFINx solve (s)", "ccx runs (s)",
          "worst |diff| (%)"],
         [[f"{s['cell']} {1e3 * s['mesh_size_m']:g} mm", s["element_calculix"], s["dofs_dolfinx"],
           s["dofs_calculix"], f"{s['time_dolfinx_s']:.1f}", f"{s['time_calculix_s']:.1f}",
