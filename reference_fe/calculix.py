@@ -8,17 +8,36 @@ face and the centre bubble of Lagrange Q2). Node order: meshio's (VTK)
 order of tetra10 and of the first 20 nodes of hexahedron27 is CalculiX's.
 
 Steps, as the DOLFINx model (reference_fe.solid): root nodes clamped,
-isotropic steel; a geometrically nonlinear static step under the centrifugal
-load (*DLOAD CENTRIF, rho Omega^2 r about +Z through the origin), then a
-perturbation *FREQUENCY step about that state (stress stiffening and spin
-softening), then *COMPLEX FREQUENCY, CORIOLIS for the gyroscopic
-frequencies (CalculiX projects them onto the modes of the *FREQUENCY step:
-without the blade's axial modes in that basis, the Coriolis coupling of
-flap and axial motion, which DOLFINx's full gyroscopic problem holds, is
-lost). The tip nodes (meshes.blade.tip_points) are printed per mode
-so that modes are named by the same tip kinematics (shroud.core.modes).
-DOLFINx uses the linear prestress (K_e u0 = f_c); the nonlinear static
-state differs from it by O(strain) ~ 1e-3 in the stress.
+isotropic steel, the centrifugal load *DLOAD CENTRIF (rho Omega^2 r about
++Z through the origin); a perturbation *FREQUENCY step about the
+prestressed state (stress stiffening and spin softening), then *COMPLEX
+FREQUENCY, CORIOLIS for the gyroscopic frequencies (CalculiX projects them
+onto the modes of the *FREQUENCY step: without the blade's axial modes in
+that basis, the Coriolis coupling of flap and axial motion is lost;
+DOLFINx's Ritz basis holds it through the static Coriolis responses
+K^-1 G Phi, reference_fe.modal). The tip nodes
+(meshes.blade.tip_points) are printed per mode so that modes are named by
+the same tip kinematics (shroud.core.modes).
+
+The prestressed state, two ways (``prestress``):
+
+``"linear"`` (the documented model, docs/geometry.md: prestress from the
+    centrifugal load, and spin softening; DOLFINx's K_e + K_sigma + K_spin)
+    Two ccx runs. The first solves the linear centrifugal static step and
+    prints its stresses at every integration point; the second starts from
+    them (*INITIAL CONDITIONS, TYPE=STRESS) on the undeformed mesh, where
+    the same centrifugal load leaves them in equilibrium (its static step
+    moves the nodes by ~1e-9 m, 1e-4 of the first run's), and takes the
+    perturbation steps there. CalculiX's perturbation stiffness about a
+    displaced state also holds the initial-displacement matrix (the
+    material stiffness with F = I + grad u0 in the strain variations,
+    O(strain) ~ 5e-4 of K_e), which the documented model leaves out:
+    starting from zero displacement removes it and keeps K_sigma.
+``"nonlinear"``
+    One run: an NLGEOM static step, then the perturbation steps about the
+    deformed state (CalculiX's usual rotor path). It differs from the
+    linear prestress by the initial-displacement matrix, measured at
+    10000 r/min: torsion1 +0.019 % (short blade) to +0.06 % (default).
 """
 
 from __future__ import annotations
@@ -57,9 +76,49 @@ def ccx() -> str | None:
     return shutil.which("ccx") or shutil.which("ccx_2.20")
 
 
-def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, coriolis: bool = True,
-               nlgeom: bool = True) -> dict:
-    """Write ``path`` (.inp) for the solid of ``params`` at ``rpm``; return mesh facts."""
+PRESTRESS = ("linear", "nonlinear")
+
+
+def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, coriolis: bool, prestress: str,
+               initial_stress: np.ndarray | None = None) -> dict:
+    """Write ``path`` (.inp) for the solid of ``params`` at ``rpm``; return mesh facts.
+
+    ``prestress = "nonlinear"``: the one-run deck (NLGEOM static step, then the
+    perturbation steps). ``"linear"`` without ``initial_stress``: the first
+    deck of the linear path (a linear static step printing the stresses at
+    the integration points); with ``initial_stress`` (rows: element,
+    integration point, sxx, syy, szz, sxy, sxz, syz in Pa, as
+    :func:`read_stresses` returns them): the second (those stresses on the
+    undeformed mesh, the centrifugal static step that keeps them, then the
+    perturbation steps).
+    """
+    if prestress not in PRESTRESS:
+        raise ValueError(f"prestress {prestress!r}; allowed: {PRESTRESS}")
+    lines, facts = _model_lines(params)
+    omega = 2.0 * math.pi * rpm / 60.0
+    centrif = f"EALL, CENTRIF, {omega**2:.12e}, 0., 0., 0., 0., 0., 1."   # ccx reads <= 20 characters a number
+    perturbation = ["*FREQUENCY, STORAGE=YES", f"{n_modes}", "*NODE PRINT, NSET=NTIP", "U", "*END STEP"]
+    if coriolis and omega > 0:
+        perturbation += ["*STEP, PERTURBATION", "*COMPLEX FREQUENCY, CORIOLIS", f"{n_modes}",
+                         "*DLOAD", centrif, "*END STEP"]
+    if omega == 0:
+        lines += ["*STEP"] + perturbation
+    elif prestress == "nonlinear":
+        lines += ["*STEP, NLGEOM", "*STATIC", "1., 1.", "*DLOAD", centrif, "*END STEP",
+                  "*STEP, PERTURBATION"] + perturbation
+    elif initial_stress is None:
+        lines += ["*STEP", "*STATIC", "*DLOAD", centrif, "*EL PRINT, ELSET=EALL", "S", "*END STEP"]
+    else:
+        lines += ["*INITIAL CONDITIONS, TYPE=STRESS"]
+        lines += [f"{int(e)}, {int(g)}, " + ", ".join(f"{v:.7e}" for v in row)
+                  for e, g, *row in initial_stress.tolist()]
+        lines += ["*STEP", "*STATIC", "*DLOAD", centrif, "*END STEP", "*STEP, PERTURBATION"] + perturbation
+    path.write_text("\n".join(lines) + "\n")
+    return facts
+
+
+def _model_lines(params: Parameters) -> tuple[list[str], dict]:
+    """Deck lines of the mesh, root clamp, tip set and material; the mesh facts."""
     import meshio
     spec = MeshSpec.from_params(params)
     mesh = meshio.read(mesh_file(spec))
@@ -69,7 +128,6 @@ def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, corioli
     root = np.unique(np.concatenate([b.data[tag == ROOT].ravel() for b, tag in facets]))
     used = np.unique(np.concatenate([b.data[:, :n].ravel() for b, (_, n) in blocks]))
     tip = [int(np.argmin(np.linalg.norm(mesh.points - p, axis=1))) for p in tip_points(spec)]
-    omega = 2.0 * math.pi * rpm / 60.0
     m = params.material
     lines = ["*HEADING", "shrouded blade (shroud workbench, reference_fe.calculix)", "*NODE, NSET=NALL"]
     lines += [f"{i + 1}, {x:.12e}, {y:.12e}, {z:.12e}" for i, (x, y, z) in zip(used.tolist(), mesh.points[used].tolist())]
@@ -88,18 +146,7 @@ def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, corioli
               "*BOUNDARY", "NROOT, 1, 3, 0.",
               "*MATERIAL, NAME=STEEL", "*ELASTIC", f"{m.E!r}, {m.nu!r}", "*DENSITY", f"{m.rho!r}",
               "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL"]
-    centrif = f"EALL, CENTRIF, {omega**2:.12e}, 0., 0., 0., 0., 0., 1."   # ccx reads <= 20 characters a number
-    if omega > 0:
-        lines += ["*STEP, NLGEOM" if nlgeom else "*STEP", "*STATIC", "1., 1.", "*DLOAD", centrif, "*END STEP",
-                  "*STEP, PERTURBATION"]
-    else:
-        lines += ["*STEP"]
-    lines += ["*FREQUENCY, STORAGE=YES", f"{n_modes}", "*NODE PRINT, NSET=NTIP", "U", "*END STEP"]
-    if coriolis and omega > 0:
-        lines += ["*STEP, PERTURBATION", "*COMPLEX FREQUENCY, CORIOLIS", f"{n_modes}",
-                  "*DLOAD", centrif, "*END STEP"]
-    path.write_text("\n".join(lines) + "\n")
-    return {"element": blocks[0][1][0], "nodes": int(used.size), "tip_nodes": tip}
+    return lines, {"element": blocks[0][1][0], "nodes": int(used.size), "tip_nodes": tip}
 
 
 _NUMBER = r"[-+]?\d*\.?\d+(?:[EeDd][-+]?\d+)?"
@@ -144,23 +191,46 @@ def tip_kinematics(spec: MeshSpec, shapes: np.ndarray) -> np.ndarray:
     return np.column_stack([centre @ e_v, centre @ e_w, theta * 0.5 * spec.width, centre[:, 0]])
 
 
+def read_stresses(dat: str) -> np.ndarray:
+    """(n, 8) rows [element, integration point, sxx, syy, szz, sxy, sxz, syz] (Pa) of a ccx .dat."""
+    block = dat.split("stresses (elem, integ.pnt.,sxx,syy,szz,sxy,sxz,syz)")[1]
+    rows = [line.split() for line in block.splitlines()[1:]]
+    return np.array([[float(v) for v in r] for r in rows if len(r) == 8])
+
+
 def run_calculix(params: Parameters, rpm: float, n_modes: int, workdir: Path,
-                 coriolis: bool = True, nlgeom: bool = True) -> CalculixModes:
-    """Write the deck in ``workdir``, run ccx (one thread), read its frequencies and name the modes."""
+                 coriolis: bool = True, prestress: str = "linear") -> CalculixModes:
+    """Write the deck(s) in ``workdir``, run ccx (one thread), read its frequencies and name the modes.
+
+    ``prestress``: "linear" (the documented model, two runs) or "nonlinear"
+    (NLGEOM, one run); see the module docstring. ``wall_s`` sums the runs.
+    """
     exe = ccx()
     if exe is None:
         raise FileNotFoundError("ccx (CalculiX) is not installed")
     workdir.mkdir(parents=True, exist_ok=True)
-    facts = write_deck(params, rpm, n_modes, workdir / "blade.inp", coriolis, nlgeom)
-    env = {"OMP_NUM_THREADS": "1", "CCX_NPROC_EQUATION_SOLVER": "1", "PATH": "/usr/bin:/bin"}
-    t0 = time.perf_counter()
-    done = subprocess.run([exe, "-i", "blade"], cwd=workdir, capture_output=True, text=True, env=env)
-    wall = time.perf_counter() - t0
-    (workdir / "ccx.log").write_text(done.stdout + done.stderr)
-    if done.returncode != 0 or not (workdir / "blade.dat").exists():
-        raise RuntimeError(f"ccx failed (exit {done.returncode}); see {workdir / 'ccx.log'}")
+    wall = 0.0
+    stress = None
+    if prestress == "linear" and rpm > 0:
+        write_deck(params, rpm, n_modes, workdir / "prestress.inp", coriolis, prestress)
+        wall += _run(exe, workdir, "prestress")
+        stress = read_stresses((workdir / "prestress.dat").read_text())
+    facts = write_deck(params, rpm, n_modes, workdir / "blade.inp", coriolis, prestress, stress)
+    wall += _run(exe, workdir, "blade")
     dat = (workdir / "blade.dat").read_text()
     f0, fc = read_frequencies(dat)
     labels, _ = label_modes(tip_kinematics(MeshSpec.from_params(params), read_tip_shapes(dat, len(f0))))
     return CalculixModes(f_hz=f0, f_coriolis_hz=fc, labels=tuple(labels), element=facts["element"],
                          dofs=3 * facts["nodes"], wall_s=wall)
+
+
+def _run(exe: str, workdir: Path, job: str) -> float:
+    """Run ``ccx -i job`` in ``workdir`` on one thread; its wall time, s."""
+    env = {"OMP_NUM_THREADS": "1", "CCX_NPROC_EQUATION_SOLVER": "1", "PATH": "/usr/bin:/bin"}
+    t0 = time.perf_counter()
+    done = subprocess.run([exe, "-i", job], cwd=workdir, capture_output=True, text=True, env=env)
+    wall = time.perf_counter() - t0
+    (workdir / f"{job}.log").write_text(done.stdout + done.stderr)
+    if done.returncode != 0 or not (workdir / f"{job}.dat").exists():
+        raise RuntimeError(f"ccx failed (exit {done.returncode}); see {workdir / (job + '.log')}")
+    return wall

@@ -91,9 +91,15 @@ def normal_modes(K, M, count: int, lu=None) -> tuple[np.ndarray, np.ndarray]:
     return omega2, Phi
 
 
-def residual_attachment_modes(lu, Phi: np.ndarray, omega2: np.ndarray,
-                              R: np.ndarray) -> np.ndarray:
-    """``(K^-1 - Phi Lambda^-1 Phi^T) R``: static response to ``R`` not carried by the kept modes."""
+def residual_attachment_modes(lu, Phi: np.ndarray, omega2: np.ndarray, R) -> np.ndarray:
+    """``(K^-1 - Phi Lambda^-1 Phi^T) R``: static response to ``R`` not carried by the kept modes.
+
+    ``R`` dense, or scipy sparse (the contact directions W^T): a factorization
+    with ``solve_sparse`` (reference_fe.factor.MumpsFactor) takes it as it is.
+    """
+    if sp.issparse(R):
+        X = lu.solve_sparse(R) if hasattr(lu, "solve_sparse") else lu.solve(R.toarray())
+        return X - Phi @ (np.asarray((R.T @ Phi).T) / omega2[:, None])
     R = np.asarray(R, dtype=float)
     return lu.solve(R) - Phi @ ((Phi.T @ R) / omega2[:, None])
 
@@ -146,7 +152,7 @@ def free_interface_basis(K, M, n_modes: int, forces: np.ndarray, rtol: float = 1
     omega2, Phi = normal_modes(K, M, n_modes, lu)
     Psi = residual_attachment_modes(lu, Phi, omega2, np.atleast_2d(forces.T).T)
     if W is not None and W.shape[0]:
-        Psi_W = residual_attachment_modes(lu, Phi, omega2, sp.csr_matrix(W).T.toarray())
+        Psi_W = residual_attachment_modes(lu, Phi, omega2, sp.csc_matrix(sp.csr_matrix(W).T))
         Psi = np.hstack([principal_interface_modes(W, Psi_W, interface_modes)[0], Psi])
     # Scale each column to unit M-norm before the dependence test, so a load
     # vector in N and a unit nodal force are judged alike.

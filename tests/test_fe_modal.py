@@ -8,9 +8,9 @@
   lambda = omega sqrt(rho A L^4 / EI) = 3.5160, 4.1373, 6.4495 at speed
   parameter gamma = Omega sqrt(rho A L^4 / EI) = 0, 2, 5), out of the plane
   of rotation (no spin softening) and in it (lambda_in^2 = lambda^2 - gamma^2);
-* the gyroscopic (PEP) frequencies against a second method: scipy's
-  Arnoldi on the first-order (state-space) form built from the exported
-  CSR operators;
+* the gyroscopic frequencies (Rayleigh-Ritz on [Phi, K^-1 G Phi]) against
+  a second method: scipy's Arnoldi on the full first-order (state-space)
+  form built from the exported CSR operators;
 * mesh convergence towards the exact value;
 * the default blade at 8500 r/min against the paper's FE first frequency;
 * serial and `mpirun -n 2` runs of `shroud modal --model fe` agreeing.
@@ -105,8 +105,8 @@ def test_rotating_cantilever_matches_published_table(gamma, published, cell):
     assert in_plane / shear == pytest.approx(math.sqrt(published**2 - gamma**2), rel=5e-4)
 
 
-def test_coriolis_pep_matches_state_space_arnoldi():
-    """SLEPc PEP against scipy eigs on [[0, I], [-K, -G]] z = lambda [[I, 0], [0, M]] z."""
+def test_coriolis_ritz_matches_state_space_arnoldi():
+    """The Ritz gyroscopic modes against scipy eigs on the full [[0, I], [-K, -G]] z = lambda [[I, 0], [0, M]] z."""
     from reference_fe.modal import solve_modes
     params = beam(30.0, size=0.005)
     rpm = 20000.0
@@ -126,7 +126,7 @@ def test_coriolis_pep_matches_state_space_arnoldi():
     second = np.sort(lam.imag[lam.imag > 0]) / (2 * np.pi)
     assert np.allclose(np.sort(modes.f_coriolis), second[:4], rtol=1e-7)
     assert np.all(np.abs(lam.real) < 1e-6 * np.abs(lam))      # gyroscopic: no damping
-    assert np.all(np.abs(modes.damping_coriolis) < 1e-6)        # ... and so says the PEP's lambda
+    assert np.all(np.abs(modes.damping_coriolis) < 1e-6)        # ... and so says the Ritz lambda
     assert len(set(modes.f_coriolis)) == 4                      # one gyroscopic mode per undamped one
     # The in-plane bending mode is softened by Coriolis coupling to axial motion.
     assert np.any(np.abs(modes.coriolis_shift) > 1e-4)

@@ -1,4 +1,4 @@
-"""The MUMPS factorization of the solid's operators, against scipy's direct solve."""
+"""The MUMPS factorization of the solid's operators (dense and sparse right-hand sides), against scipy's direct solve."""
 
 import numpy as np
 import pytest
@@ -31,3 +31,7 @@ def test_vector_and_block_solves_match_a_direct_solve(symmetric):
     solver = MumpsFactor(A, symmetric=symmetric)
     np.testing.assert_allclose(solver.solve(B), direct, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(solver.solve(B[:, 2]), direct[:, 2], rtol=1e-10, atol=1e-12)
+    # sparse right-hand sides (unit nodal forces, as the contact directions W^T)
+    S = sp.csc_matrix((np.ones(3), ([5, 200, 399], [0, 1, 2])), shape=(400, 3))
+    np.testing.assert_allclose(solver.solve_sparse(S), spla.spsolve(sp.csc_matrix(A), S.toarray()),
+                               rtol=1e-10, atol=1e-12)

@@ -10,7 +10,6 @@ flap2, ... (docs/interface.md).
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 KINDS = ("flap", "chord", "torsion", "axial")
 
@@ -66,5 +65,6 @@ def pair_by_mac(macs: np.ndarray) -> np.ndarray:
     >>> pair_by_mac(np.array([[0.9, 0.8], [0.7, 0.1]]))      # argmax would pair both rows with column 0
     array([1, 0])
     """
+    from scipy.optimize import linear_sum_assignment     # scipy.optimize costs 0.3 s to import
     rows, cols = linear_sum_assignment(-np.asarray(macs))
     return cols[np.argsort(rows)]
