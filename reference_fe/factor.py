@@ -76,16 +76,31 @@ class MumpsFactor:
         self._x, self._b = self._A.createVecs()
 
     def solve_rows(self, b_rows: np.ndarray) -> np.ndarray:
-        """This rank's rows of x from this rank's rows of b (1-D; no gather: the time loop's step)."""
-        self._b.setArray(b_rows)
-        self._ksp.solve(self._b, self._x)
-        return self._x.getArray().copy()
+        """This rank's rows of x from this rank's rows of b, (rows,) or (rows, k) (no gather: the time
+        loop's step; a block of right-hand sides is solved at once, MatMatSolve)."""
+        if b_rows.ndim == 1:
+            self._b.setArray(b_rows)
+            self._ksp.solve(self._b, self._x)
+            return self._x.getArray().copy()
+        rows, k = b_rows.shape
+        sizes = ((rows, self.n), (k, k))
+        comm = self._A.getComm()
+        B = PETSc.Mat().createDense(sizes, array=np.asfortranarray(b_rows, dtype=float).copy(), comm=comm)
+        X = PETSc.Mat().createDense(sizes, comm=comm)
+        X.setUp()
+        B.assemble()
+        X.assemble()
+        self._factor.matSolve(B, X)
+        out = X.getDenseArray().copy()
+        B.destroy()
+        X.destroy()
+        return out
 
     def _own(self, b: np.ndarray) -> np.ndarray:
         return b if self._layout is None else self._layout.own(b)
 
     def _gather(self, x: np.ndarray) -> np.ndarray:
-        return x.copy() if self._layout is None else self._layout.gather(x)
+        return x if self._layout is None else self._layout.gather(x)
 
     def close(self) -> None:
         """Destroy the solver, its factor and work vectors (and A when this object made it)."""
@@ -99,22 +114,7 @@ class MumpsFactor:
         self.close()
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        b = np.asarray(b, dtype=float)
-        if b.ndim == 1:
-            return self._gather(self.solve_rows(self._own(b)))
-        rows = self._own(b)
-        sizes = ((rows.shape[0], b.shape[0]), (b.shape[1], b.shape[1]))
-        comm = self._A.getComm()
-        B = PETSc.Mat().createDense(sizes, array=np.asfortranarray(rows).copy(), comm=comm)
-        X = PETSc.Mat().createDense(sizes, comm=comm)
-        X.setUp()
-        B.assemble()
-        X.assemble()
-        self._factor.matSolve(B, X)
-        out = self._gather(X.getDenseArray())
-        B.destroy()
-        X.destroy()
-        return out
+        return self._gather(self.solve_rows(self._own(np.asarray(b, dtype=float))))
 
 
 def mumps_lu(A) -> MumpsFactor:
