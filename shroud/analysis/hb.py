@@ -183,7 +183,7 @@ class Checkpoint:
     Floquet multipliers (``stability`` says why). Times in s: ``linear_s``
     building the system and its linear part per harmonic (0 when an earlier
     point at the speed built them), ``start_s`` the reduced model's state,
-    ``newton_s`` the model's own Newton.
+    ``newton_s`` the model's own Newton (and a dense model's multipliers).
     """
 
     model: str
