@@ -111,7 +111,7 @@ def run(scene, out: Path) -> dict:
                      "complete": line.complete and solid.complete})
         curves[c.label] = {LINE: line.to_json(), POINTS: solid.to_json()}
     for ax, title in zip(axes[0], ("(a) initial gaps", "(b) small gap and initial preloads")):
-        ax.set_title(f"{title} (beam thick, solid thin, o solid TD, \u25c6 full solid)", fontsize=9)
+        ax.set_title(f"{title}\n(beam thick, solid thin, o solid TD, \u25c6 full solid HB)", fontsize=9)
         ax.legend(fontsize=6, ncol=2)
     save(fig, out / "hb_fig7.png")
     write_records(out / "td_points_by_branch.csv", points)
