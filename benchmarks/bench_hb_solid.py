@@ -39,7 +39,8 @@ def main() -> None:
     say(f"load average at start: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; {mpi_size()} rank(s)")
     runs = []
     for i in range(args.repeat):
-        harmonic._KEPT.clear()
+        while harmonic._KEPT:
+            harmonic._release(harmonic._KEPT.popitem()[1][0])
         cp = checkpoint(params, "fe", args.rpm, args.harmonics, args.samples)
         runs.append(cp)
         say(f"  run {i + 1}: condensation {cp.linear_s:.1f} s, start {cp.start_s:.1f} s, Newton {cp.newton_s:.1f} s "

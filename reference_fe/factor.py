@@ -103,8 +103,14 @@ class MumpsFactor:
         return x if self._layout is None else self._layout.gather(x)
 
     def close(self) -> None:
-        """Destroy the solver, its factor and work vectors (and A when this object made it)."""
-        for obj in (self._ksp, self._x, self._b) + ((self._A,) if self._owns_A else ()):
+        """Destroy the solver, its factor and work vectors (and A when this object made it).
+
+        The factor is destroyed by name: its Python handle holds a reference of its own, which petsc4py
+        does not drop for objects on a parallel communicator until an explicit clean-up; destroying the
+        solver alone left each factor alive under mpirun (0.45 GB per rank for each factorized harmonic
+        of the full solid, reference_fe.harmonic).
+        """
+        for obj in (self._ksp, self._factor, self._x, self._b) + ((self._A,) if self._owns_A else ()):
             obj.destroy()
 
     def __enter__(self) -> "MumpsFactor":

@@ -195,10 +195,19 @@ def condensed_at(params: Parameters, rpm: float, H: int) -> tuple[StructuralSyst
                       "load": dataclasses.asdict(params.load), "H": int(H)}, sort_keys=True)
     if key not in _KEPT:
         if len(_KEPT) >= KEEP:
-            _KEPT.pop(next(iter(_KEPT)))
+            _release(_KEPT.pop(next(iter(_KEPT)))[0])
         system = full_system(at)
         if system.contact is None:
             raise InputError("contact.enabled", "the full solid is condensed on its contact coordinates; "
                                                 "allowed: contact enabled on a shrouded blade")
         _KEPT[key] = (system, linear_harmonics(system, H))
     return _KEPT[key]
+
+
+def _release(system: StructuralSystem) -> None:
+    """Free a dropped system's PETSc objects: petsc4py leaves objects on a parallel communicator to an
+    explicit, collective clean-up instead of freeing them when Python lets them go."""
+    if system.layout is not None:
+        comm = system.K.mat.getComm()
+        del system
+        PETSc.garbage_cleanup(comm)

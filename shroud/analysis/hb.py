@@ -168,7 +168,6 @@ def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAUL
     return sol, point_details(speeds, law, basis, sol.X, rpm) if multipliers else {}
 
 
-
 NO_FLOQUET = ("not computed: the Floquet multipliers need the monodromy of the full M, C, K (2 n states), "
               "which a model condensed by its own solver does not offer")
 
@@ -260,7 +259,8 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
         sol, how = hb.solve(system, law, harmonics, n, lin=lin), f"linear solution, load homotopy ({how} failed)"
     stable, stability = None, NO_FLOQUET
     if speeds is not None:
-        stable, stability = bool(point_details(speeds, law, sol.basis, sol.X, rpm)["stable"]), "Floquet multipliers"
+        stable = bool(point_details(speeds, law, sol.basis, sol.X, rpm)["stable"])
+        stability = "Floquet multipliers"
     return Checkpoint(model=model, rpm=float(rpm), harmonics=harmonics, samples=n,
                       amplitude_v_L=float(sol.amplitude_v_L), amplitude_w_L=float(sol.amplitude_w_L),
                       converged=bool(sol.converged), residual=float(sol.residual), iterations=int(sol.iterations),
