@@ -28,15 +28,23 @@ def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) 
     """
     from shroud.analysis.hb import solve_at
     out = []
+    for X, stable in starts_at(branch, rpm):
+        sol, info = solve_at(params, model, rpm, harmonics=branch.harmonics, samples=branch.samples,
+                             X0=X, multipliers=multipliers)
+        if sol.converged:
+            out.append((sol.amplitude_v_L, info["stable"] if multipliers else stable))
+    return out
+
+
+def starts_at(branch, rpm: float) -> list[tuple[np.ndarray, bool]]:
+    """Every crossing of ``branch`` with ``rpm``: its coefficients interpolated there, and whether the two
+    branch points around it are stable."""
+    out = []
     for i in range(len(branch.rpm) - 1):
         r0, r1 = branch.rpm[i], branch.rpm[i + 1]
         if r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1):
             t = (rpm - r0) / (r1 - r0)
-            sol, info = solve_at(params, model, rpm, harmonics=branch.harmonics, samples=branch.samples,
-                                 X0=(1 - t) * branch.X[i] + t * branch.X[i + 1], multipliers=multipliers)
-            if sol.converged:
-                out.append((sol.amplitude_v_L, info["stable"] if multipliers else
-                            bool(branch.stable[i] and branch.stable[i + 1])))
+            out.append(((1 - t) * branch.X[i] + t * branch.X[i + 1], bool(branch.stable[i] and branch.stable[i + 1])))
     return out
 
 

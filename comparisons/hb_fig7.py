@@ -9,6 +9,14 @@ against the per-speed bases is measured and reported), stable solid,
 unstable dashed. The reduced solid's from-rest time-domain points (per-speed
 bases, as the fig7 study) are overlaid as circles and each is named by the
 reduced solid's HB state it landed on.
+
+Full-solid checkpoints (diamonds): at ``checkpoint_rpms``, for the cases
+named in ``checkpoint_cases``, every state of the reduced solid's branch is
+solved again on the full solid ("fe", condensed exactly on its contact
+coordinates per harmonic, reference_fe.harmonic), its Newton started from
+that state; the report gives their difference from the reduced solid's
+states and their cost. They carry no stability (the full solid's Floquet
+multipliers would need its dense monodromy).
 """
 
 from __future__ import annotations
@@ -19,8 +27,9 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import _families as fam
-from comparisons._hb import landed_on, on_stable, states_at
-from shroud.analysis.hb import run_hb
+from comparisons._hb import landed_on, on_stable, starts_at, states_at
+from shroud.analysis.hb import checkpoint, run_hb
+from shroud.base.errors import InputError
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
@@ -28,8 +37,36 @@ from shroud.base.tables import write_records
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "small_gap_um": 1.0, "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 6000.0, "rpm_to": 14000.0, "td_rpm_count": 17, "harmonics": 7, "samples": 256,
-           "match": 0.01}
-LINE, POINTS = "reduced", "fe-reduced"
+           "match": 0.01, "checkpoint_rpms": [8000.0, 12000.0], "checkpoint_cases": ["gap 100 um"]}
+LINE, POINTS, CHECK = "reduced", "fe-reduced", "fe"
+
+
+def check(scene) -> None:
+    o = scene.options
+    labels = [c.label for c in fam.cases(scene.params, o)]
+    if any(c not in labels for c in o["checkpoint_cases"]):
+        raise InputError("options.checkpoint_cases", f"{o['checkpoint_cases']!r}; allowed: labels among {labels}")
+    if any(not o["rpm_from"] <= r <= o["rpm_to"] for r in o["checkpoint_rpms"]):
+        raise InputError("options.checkpoint_rpms", f"{o['checkpoint_rpms']!r}; allowed: speeds within "
+                                                    f"rpm_from..rpm_to ({o['rpm_from']:g}..{o['rpm_to']:g} r/min)")
+
+
+def full_solid_checkpoints(cases, solids, o) -> list[dict]:
+    """The full solid's state from every state of the reduced solid's branch at each checkpoint speed.
+
+    Speeds outermost: the cases at one speed share one condensation of the solid.
+    """
+    out = []
+    for rpm in o["checkpoint_rpms"]:
+        for c, solid in zip(cases, solids):
+            if c.label not in o["checkpoint_cases"]:
+                continue
+            for X, stable in starts_at(solid, rpm):
+                cp = checkpoint(c.params, CHECK, rpm, harmonics=solid.harmonics, samples=solid.samples, start=X)
+                out.append({"case": c.label, "reduced_branch_stable": stable, **cp.to_json(),
+                            "difference": (cp.start_amplitude_v_L / cp.amplitude_v_L - 1
+                                           if cp.start_amplitude_v_L is not None else None)})
+    return out
 
 
 def run(scene, out: Path) -> dict:
@@ -46,6 +83,7 @@ def run(scene, out: Path) -> dict:
     hb_kw = dict(harmonics=int(o["harmonics"]), samples=int(o["samples"]))
     branches = {m: [run_hb(c.params, m, o["rpm_from"], o["rpm_to"], **hb_kw) for c in cases] for m in (LINE, POINTS)}
     sweeps = run_sweeps([c.params for c in cases], POINTS, td_rpms)
+    checks = full_solid_checkpoints(cases, branches[POINTS], o)
     fig, axes = figure(1, 2, width=10.0, height=4.2)
     rows, points, curves = [], [], {}
     for k, c in enumerate(cases):
@@ -55,6 +93,10 @@ def run(scene, out: Path) -> dict:
         line.plot(ax, label=f"{c.label} beam", colour=colour, linewidth=2.0, alpha=0.6)
         solid.plot(ax, label=f"{c.label} solid (reduced)", colour=colour, linewidth=0.8)
         ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, "o", ms=3.5, mfc="none", color=colour)
+        mine = [p for p in checks if p["case"] == c.label and p["converged"]]
+        if mine:
+            ax.plot([p["rpm"] for p in mine], [p["amplitude_v_L"] * 1e3 for p in mine], "D", ms=6, color=colour,
+                    mec="k", label=f"{c.label} full solid (HB checkpoints)")
         names = [landed_on(states_at(solid, c.params, POINTS, r, multipliers=False), a, per, o["match"])
                  for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
         points += [{"case": c.label, "rpm": float(r), "amplitude_m": float(a), "period": per, "branch": n}
@@ -69,12 +111,18 @@ def run(scene, out: Path) -> dict:
                      "complete": line.complete and solid.complete})
         curves[c.label] = {LINE: line.to_json(), POINTS: solid.to_json()}
     for ax, title in zip(axes[0], ("(a) initial gaps", "(b) small gap and initial preloads")):
-        ax.set_title(f"{title} (beam thick, solid thin, o solid TD)")
+        ax.set_title(f"{title}\n(beam thick, solid thin, o solid TD, \u25c6 full solid HB)", fontsize=9)
         ax.legend(fontsize=6, ncol=2)
     save(fig, out / "hb_fig7.png")
     write_records(out / "td_points_by_branch.csv", points)
+    write_records(out / "full_solid_checkpoints.csv",
+                  [{k: p[k] for k in ("case", "rpm", "amplitude_v_L", "amplitude_w_L", "start_amplitude_v_L",
+                                      "difference", "converged", "iterations", "linear_s", "newton_s")}
+                   for p in checks])
     cost = {"beam_hb_s": sum(r["beam_hb_s"] for r in rows), "solid_hb_s": sum(r["solid_hb_s"] for r in rows),
-            "solid_td_cpu_s": sum(r["solid_td_cpu_s"] for r in rows), "per_speed_bases_s": build_s}
+            "solid_td_cpu_s": sum(r["solid_td_cpu_s"] for r in rows), "per_speed_bases_s": build_s,
+            "full_solid_condensation_s": sum(p["linear_s"] for p in checks),
+            "full_solid_newton_s": sum(p["start_s"] + p["newton_s"] for p in checks)}
     lines = [f"# {scene.title}\n",
              f"Harmonic balance H = {o['harmonics']}, {o['samples']} samples, {o['rpm_from']:g}-{o['rpm_to']:g} r/min; "
              f"the reduced solid on one basis built at {params.speed.rpm:g} r/min. Against the per-speed bases: "
@@ -91,6 +139,30 @@ def run(scene, out: Path) -> dict:
                               ", ".join(f"{x:.0f}" for x in r["beam_folds_rpm"]) or "none",
                               ", ".join(f"{x:.0f}" for x in r["solid_folds_rpm"]) or "none",
                               f"{r['td_on_stable']}/{r['td_points']}") for r in rows]),
-             "", "![hb_fig7.png](hb_fig7.png)"]
+             "", "![hb_fig7.png](hb_fig7.png)", "", *checkpoint_report(checks, cost)]
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"cases": rows, "branches": curves, "time_domain_points": points, "basis_error": errors, "cost_s": cost}
+    return {"cases": rows, "branches": curves, "time_domain_points": points, "basis_error": errors, "cost_s": cost,
+            "full_solid_checkpoints": checks}
+
+
+def checkpoint_report(checks: list[dict], cost: dict) -> list[str]:
+    """The report's section on the full-solid checkpoints."""
+    if not checks:
+        return []
+    worst = max((abs(p["difference"]) for p in checks if p["difference"] is not None), default=float("nan"))
+    c = checks[0]
+    return ["## Full-solid checkpoints\n",
+            f"The full solid ({c['dofs']} DOF) condensed exactly on its {c['condensed_on']} contact coordinates "
+            f"per harmonic (H = {c['harmonics']}), its Newton started from each state of the reduced solid's "
+            f"branch at the speed: the reduced solid's states within {100 * worst:.3f} % of the full solid's "
+            f"(v_L). Cost: condensation {seconds(cost['full_solid_condensation_s'])} (once per speed, shared by "
+            f"the cases there), Newton {seconds(cost['full_solid_newton_s'])} (with the reduced start). No "
+            "stability: the full solid's Floquet multipliers would need its dense monodromy (2 n states).\n",
+            markdown_table(["case", "rpm", "reduced solid (um)", "full solid (um)", "difference (%)",
+                            "Newton iterations", "condensation (s)", "Newton (s)"],
+                           [(p["case"], f"{p['rpm']:.0f}",
+                             f"{p['start_amplitude_v_L'] * 1e6:.3f}" if p["start_amplitude_v_L"] else "-",
+                             f"{p['amplitude_v_L'] * 1e6:.3f}" + ("" if p["converged"] else " (not converged)"),
+                             f"{100 * p['difference']:.3f}" if p["difference"] is not None else "-",
+                             p["iterations"], f"{p['linear_s']:.1f}", f"{p['start_s'] + p['newton_s']:.1f}")
+                            for p in checks])]

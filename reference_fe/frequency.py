@@ -26,6 +26,7 @@ from typing import Callable
 import numpy as np
 
 from shroud.base.cache import cached
+from shroud.base.parallel import on_rank_zero
 from shroud.core.damping import rayleigh
 from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
@@ -62,8 +63,10 @@ def _build(params: Parameters, path: Path) -> None:
 def speed_range_operators(params: Parameters) -> Path:
     """Path of the cached .npz of the one-basis operators (K0, K2, G1, loads, W) built at params.speed.rpm."""
     from reference_fe.system import reduction_inputs
-    return cached("fe_speed_range", {**reduction_inputs(params, params.speed.rpm), "polynomial": 1}, ".npz",
-                  lambda path: _build(params, path), what="FE speed-range basis")
+    # Built serially, as the per-speed bases: under mpirun rank 0 builds it into the cache for all.
+    return on_rank_zero(lambda: cached("fe_speed_range", {**reduction_inputs(params, params.speed.rpm),
+                                                          "polynomial": 1}, ".npz",
+                                       lambda path: _build(params, path), what="FE speed-range basis"))
 
 
 def at_speed(params: Parameters) -> Callable[[float], StructuralSystem]:

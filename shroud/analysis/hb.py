@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -166,3 +167,119 @@ def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAUL
     sol = hb.solve(system, law, harmonics, n, X0=X0, condense=lin.condensed)
     return sol, point_details(speeds, law, basis, sol.X, rpm) if multipliers else {}
 
+
+NO_FLOQUET = ("not computed: the Floquet multipliers need the monodromy of the full M, C, K (2 n states), "
+              "which a model condensed by its own solver does not offer")
+
+
+@dataclass(frozen=True)
+class Checkpoint:
+    """One harmonic-balance point of a model at one speed, without continuation (a large model's check).
+
+    ``start``: where Newton began (the reduced model's state on the same
+    contact coordinates, or the load homotopy); ``start_amplitude_v_L`` that
+    state's amplitude, m. ``stable`` is None where the model offers no
+    Floquet multipliers (``stability`` says why). Times in s: ``linear_s``
+    building the system and its linear part per harmonic (0 when an earlier
+    point at the speed built them), ``start_s`` the reduced model's state,
+    ``newton_s`` the model's own Newton (and a dense model's multipliers).
+    """
+
+    model: str
+    rpm: float
+    harmonics: int
+    samples: int
+    amplitude_v_L: float
+    amplitude_w_L: float
+    converged: bool
+    residual: float
+    iterations: int
+    spectral_tail: float
+    start: str
+    start_amplitude_v_L: float | None
+    stable: bool | None
+    stability: str
+    dofs: int
+    condensed_on: int
+    linear_s: float
+    start_s: float
+    newton_s: float
+
+    @property
+    def elapsed_s(self) -> float:
+        return self.linear_s + self.start_s + self.newton_s
+
+    def to_json(self) -> dict:
+        return {**dataclasses.asdict(self), "elapsed_s": round(self.elapsed_s, 6)}
+
+
+def _start_on_contact(params: Parameters, model: str, rpm: float, harmonics: int, samples: int,
+                      X: np.ndarray | None) -> hb.HarmonicSolution:
+    """``model``'s state at ``rpm`` (Newton from its coefficients ``X``, or from its linear solution and a
+    load homotopy), with the coefficients of its contact coordinates in ``X`` (nh, m) of the result."""
+    system, lin, _, _ = SpeedModel(model_at_speed(params, model), harmonics).at(rpm)
+    law = contact_law_for(system, params.contact)
+    sol = hb.solve(system, law, harmonics, samples, X0=X, lin=lin)
+    return dataclasses.replace(sol, X=sol.X.reshape(2 * harmonics + 1, lin.nx) @ lin.Wx.T)
+
+
+def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
+               samples: int | None = None, start: np.ndarray | None = None) -> Checkpoint:
+    """The harmonic-balance state of ``model`` at ``rpm`` (r/min), one speed, no continuation.
+
+    A model with its own ``linear_harmonics`` (the full solid, condensed exactly
+    on its contact coordinates by its own sparse solver) starts Newton from
+    the state of the model that reduces it (``reduced_by``: the same contact
+    coordinates), reached from ``start`` (that model's coefficients, e.g. a
+    point of its branch) or from its linear solution and a load homotopy; if
+    Newton fails from there, from its own linear solution and load homotopy.
+    Other models start from ``start`` or their linear solution and get their
+    Floquet multipliers.
+    """
+    n = check_inputs(harmonics, samples, 0.5 * rpm, rpm)
+    entry = registry.model(model)
+    t0 = time.perf_counter()
+    speeds = None
+    if entry.linear_harmonics is not None:
+        system, lin = entry.linear_harmonics(params, rpm, harmonics)
+    else:
+        speeds = SpeedModel(model_at_speed(params, model), harmonics)
+        system, lin, _, _ = speeds.at(rpm)
+    t1 = time.perf_counter()
+    X0, how, start_amplitude = start, "given" if start is not None else "linear solution, load homotopy", None
+    if entry.reduced_by is not None:
+        reduced = _start_on_contact(params, entry.reduced_by, rpm, harmonics, n, start)
+        X0, how = None, "linear solution, load homotopy"
+        if reduced.converged and lin.condensed and reduced.X.shape[1] == lin.nx:
+            X0, how, start_amplitude = reduced.X.ravel(), f"{entry.reduced_by} state", reduced.amplitude_v_L
+    t2 = time.perf_counter()
+    law = contact_law_for(system, params.contact)
+    sol = hb.solve(system, law, harmonics, n, X0=X0, lin=lin)
+    if not sol.converged and X0 is not None:
+        sol, how = hb.solve(system, law, harmonics, n, lin=lin), f"linear solution, load homotopy ({how} failed)"
+    stable, stability = None, NO_FLOQUET
+    if speeds is not None:
+        stable = bool(point_details(speeds, law, sol.basis, sol.X, rpm)["stable"])
+        stability = "Floquet multipliers"
+    return Checkpoint(model=model, rpm=float(rpm), harmonics=harmonics, samples=n,
+                      amplitude_v_L=float(sol.amplitude_v_L), amplitude_w_L=float(sol.amplitude_w_L),
+                      converged=bool(sol.converged), residual=float(sol.residual), iterations=int(sol.iterations),
+                      spectral_tail=float(sol.spectral_tail), start=how,
+                      start_amplitude_v_L=None if start_amplitude is None else float(start_amplitude),
+                      stable=stable, stability=stability, dofs=system.dofs,
+                      condensed_on=lin.nx if lin.condensed else 0,
+                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=time.perf_counter() - t2)
+
+
+def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAULT_HARMONICS,
+                    samples: int | None = None) -> dict:
+    """:func:`checkpoint` at each speed of ``rpms`` (r/min), as the JSON of ``shroud sweep --checkpoints``."""
+    t0 = time.perf_counter()
+    for rpm in rpms:
+        check_inputs(harmonics, samples, 0.5 * rpm, rpm)
+    points = [checkpoint(params, model, float(rpm), harmonics, samples) for rpm in rpms]
+    return {"model": model, "method": "hb", "harmonics": harmonics, "samples": points[0].samples,
+            "rpm": [p.rpm for p in points], "amplitude_v_L": [p.amplitude_v_L for p in points],
+            "amplitude_w_L": [p.amplitude_w_L for p in points], "stable": [p.stable for p in points],
+            "converged": [p.converged for p in points], "checkpoints": [p.to_json() for p in points],
+            "elapsed_s": round(time.perf_counter() - t0, 6)}

@@ -54,9 +54,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("sweep", help="steady-state amplitude over a speed range")
     _common(p)
-    p.add_argument("--model", choices=registry.names("sweep"), default="reduced")
-    p.add_argument("--rpm-from", type=float, required=True)
-    p.add_argument("--rpm-to", type=float, required=True)
+    p.add_argument("--model", choices=registry.names(), default="reduced",
+                   help=f"time domain: {', '.join(registry.names('sweep'))}; hb: any, the full solid (fe) "
+                        "at --checkpoints only")
+    p.add_argument("--rpm-from", type=float, help="first speed, r/min (required but with --checkpoints)")
+    p.add_argument("--rpm-to", type=float, help="last speed, r/min (required but with --checkpoints)")
     p.add_argument("--rpm-count", type=int,
                    help="speeds of the time-domain sweep (required there); with --method hb the least "
                         "number of points on the branch")
@@ -69,6 +71,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "spectral tail above H is at most this share")
     p.add_argument("--samples", type=int, default=None,
                    help="time samples per period of --method hb's contact evaluation (default 8 H as a power of 2, >= 512)")
+    p.add_argument("--checkpoints", type=float, nargs="+", metavar="RPM",
+                   help="--method hb at these speeds only, no continuation (the full solid: condensed exactly "
+                        "on its contact coordinates, Newton started from the fe-reduced state)")
 
     p = sub.add_parser("run", help="run a whole scene (a study), or a campaign of scenes, into a folder")
     p.add_argument("scene", help="scene file, or campaign file (it has campaign = [...])")
@@ -137,10 +142,25 @@ def cmd_transient(args) -> None:
 
 
 def cmd_sweep(args) -> None:
+    from shroud.app.models import registry
     if args.method not in ("time", "hb"):
         raise InputError("--method", f"{args.method!r} is unknown; allowed: time, hb")
+    if args.method == "hb" and args.checkpoints is not None:
+        return _sweep_checkpoints(args)
+    if args.checkpoints is not None:
+        raise InputError("--checkpoints", "speeds solved one by one by harmonic balance; allowed: with --method hb")
+    for flag in ("rpm_from", "rpm_to"):
+        if getattr(args, flag) is None:
+            raise InputError("command line", f"the following arguments are required: --{flag.replace('_', '-')}")
     if args.method == "hb":
+        if registry.model(args.model).linear_harmonics is not None:
+            raise InputError("--model", f"{args.model} is solved by harmonic balance at single speeds; "
+                                        "allowed: --checkpoints RPM [RPM ...] instead of a range")
         return _sweep_hb(args)
+    if args.model not in registry.names("sweep"):
+        raise InputError("--model", f"{args.model} is too costly to rebuild at every speed of a time-domain "
+                                    f"sweep; allowed: {', '.join(registry.names('sweep'))}, or --method hb "
+                                    "--checkpoints")
     from shroud.analysis.api import sweep
     if args.rpm_count is None:
         raise InputError("command line", "the following arguments are required: --rpm-count "
@@ -181,6 +201,23 @@ def _sweep_hb(args) -> None:
     if not result.complete:
         from shroud.base.log import warn
         warn(f"the branch is incomplete: {result.stopped}")
+
+
+def _sweep_checkpoints(args) -> None:
+    from shroud.analysis.hb import DEFAULT_HARMONICS, run_checkpoints
+    for flag in ("rpm_from", "rpm_to", "rpm_count", "tail"):
+        if getattr(args, flag) is not None:
+            raise InputError(f"--{flag.replace('_', '-')}", "not used with --checkpoints (single speeds, no "
+                                                             "continuation); allowed: --harmonics, --samples")
+    if not all(r > 0 for r in args.checkpoints):
+        raise InputError("--checkpoints", "allowed: speeds > 0 r/min")
+    params = _params(args)
+    if params.speed.rpm_per_s != 0:
+        raise InputError("speed.rpm_per_s", "harmonic balance seeks periodic states at constant speed; "
+                                            "allowed: 0 with --method hb")
+    H = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
+    payload = run_checkpoints(params, args.model, args.checkpoints, harmonics=H, samples=args.samples)
+    _emit(args, payload, json.dumps(payload, indent=1))
 
 
 def cmd_run(args) -> int:

@@ -239,10 +239,16 @@ def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fou
     if act.size:
         Bn = -s[act, None, None] * Bn[act]                # the normal force acts as -s N
         Bt = Bt[act]
-        Wn, Wt = Wx[law.rows[act, 0]], Wx[law.rows[act, 1]]   # (touching elements, nx)
-        for B, Wa, Wb in ((Bn, Wn, Wn), (Bt[:, :, :nh], Wt, Wn), (Bt[:, :, nh:], Wt, Wt)):
-            outer = (Wa[:, :, None] * Wb[:, None, :]).reshape(act.size, nx * nx)
-            dLam += np.tensordot(B, outer, axes=(0, 0)).reshape(nh, nh, nx, nx).transpose(0, 2, 1, 3)
+        n_rows, t_rows = law.rows[act, 0], law.rows[act, 1]
+        blocks = ((Bn, n_rows, n_rows), (Bt[:, :, :nh], t_rows, n_rows), (Bt[:, :, nh:], t_rows, t_rows))
+        if Wx.shape[0] == nx and np.array_equal(Wx, np.eye(nx)):   # x = y (condensed): scatter
+            for B, a, b in blocks:
+                np.add.at(dLam, (slice(None), a, slice(None), b), B)
+        else:
+            for B, a, b in blocks:
+                Wa, Wb = Wx[a], Wx[b]                     # (touching elements, nx)
+                outer = (Wa[:, :, None] * Wb[:, None, :]).reshape(act.size, nx * nx)
+                dLam += np.tensordot(B, outer, axes=(0, 0)).reshape(nh, nh, nx, nx).transpose(0, 2, 1, 3)
     return ContactHarmonics(lam=lam, Lam=Lam, dLam_x=dLam.reshape(nh * nx, nh * nx), N=N, F=F,
                             state=state, passes=int(passes))
 
@@ -328,7 +334,7 @@ def dynamic_stiffness(system: StructuralSystem, H: int, omega: float | None = No
     return K[None] - (k * w) ** 2 * M[None] + 1j * k * w * C[None]
 
 
-def _load_harmonics(system: StructuralSystem, H: int) -> np.ndarray:
+def load_harmonics(system: StructuralSystem, H: int) -> np.ndarray:
     """f_const at k = 0 and f_aero sin(tau) (b_1 = f_aero, i.e. -i f_aero) at k = 1."""
     F = np.zeros((H + 1, system.dofs), complex)
     F[0] = system.f_const
@@ -348,7 +354,7 @@ def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = N
     m = W.shape[0]
     condense = (0 < m < n) if condense is None else condense
     Z = dynamic_stiffness(system, H)
-    F = _load_harmonics(system, H)
+    F = load_harmonics(system, H)
     if not condense:
         return LinearHarmonics(omega=system.omega_e, Z=Z, F=F, Wx=W,
                                tip_x=np.broadcast_to(tip.astype(complex), (H + 1, 2, n)),
@@ -356,11 +362,23 @@ def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = N
                                condensed=False)
     rhs = np.empty((H + 1, n, m + 1), complex)
     rhs[:, :, :m], rhs[:, :, m] = W.T, F
-    WS = np.vstack([W, tip]) @ np.linalg.solve(Z, rhs)   # [W; tip] Z_k^-1 [W^T, F_k]
-    Zc = np.linalg.inv(WS[:, :m, :m])                 # of the receptance on the contact coordinates
-    return LinearHarmonics(omega=system.omega_e, Z=Zc, F=(Zc @ WS[:, :m, m:])[:, :, 0], Wx=np.eye(m),
-                           tip_x=np.zeros((H + 1, 2, m), complex), tip_lam=WS[:, m:, :m],
-                           tip_f=WS[:, m:, m], condensed=True)
+    WS = np.vstack([W, tip]) @ np.linalg.solve(Z, rhs)   # [W; tip] Z_k^-1 [W^T, F_k] in one product
+    return condensed(system.omega_e, WS[:, :m], WS[:, m:])
+
+
+def condensed(omega: float, WS: np.ndarray, tipS: np.ndarray) -> LinearHarmonics:
+    """The linear part condensed exactly on y = W q, from the solved columns of each harmonic.
+
+    WS (H+1, m, m+1) = W Z_k^-1 [W^T, F_k] and tipS (H+1, 2, m+1) = tip Z_k^-1 [W^T, F_k]
+    (complex; however the model solves with Z_k): the receptance on the contact coordinates
+    R_k = W Z_k^-1 W^T gives Z = R_k^-1 and F = R_k^-1 W Z_k^-1 F_k (Petrov & Ewins 2003).
+    """
+    H1, m = WS.shape[0], WS.shape[1]
+    Zc = np.linalg.inv(WS[:, :, :m])
+    Fc = np.einsum("kij,kj->ki", Zc, WS[:, :, m])
+    return LinearHarmonics(omega=omega, Z=Zc, F=Fc, Wx=np.eye(m),
+                           tip_x=np.zeros((H1, 2, m), complex), tip_lam=tipS[:, :, :m],
+                           tip_f=tipS[:, :, m], condensed=True)
 
 
 # --- residual, Newton at one speed ---------------------------------------------------
@@ -461,16 +479,18 @@ def solution(X: np.ndarray, b: Balance, lin: LinearHarmonics, basis: Fourier, it
 
 
 def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None = None,
-          X0: np.ndarray | None = None, condense: bool | None = None, load_steps: int = 20) -> HarmonicSolution:
+          X0: np.ndarray | None = None, condense: bool | None = None, load_steps: int = 20,
+          lin: LinearHarmonics | None = None) -> HarmonicSolution:
     """The periodic steady state of ``system`` with contact ``law`` by harmonic balance (one speed).
 
     Newton from ``X0`` (default: the contact-free linear solution); when that
     fails, the loads are raised from 1/``load_steps`` of their value in
     ``load_steps`` Newton solves (a homotopy from the small, contact-free
-    motion).
+    motion). ``lin``: the linear part when the model supplies it (a large
+    model's own condensation); default :func:`linear_harmonics`.
     """
     basis = fourier(H, samples or default_samples(H))
-    lin = linear_harmonics(system, H, condense)
+    lin = linear_harmonics(system, H, condense) if lin is None else lin
     start = linear_solution(lin) if X0 is None else X0
     X, b, it, ok = newton(start, lin, law, basis)
     if not ok and X0 is None:
@@ -492,7 +512,7 @@ def state_vector(system: StructuralSystem, sol: HarmonicSolution, lin: LinearHar
     if lin.condensed:
         W = dense(system.contact.W)
         Z = dynamic_stiffness(system, H)
-        rhs = _load_harmonics(system, H) + _complex_coefficients(sol.contact.Lam) @ W
+        rhs = load_harmonics(system, H) + _complex_coefficients(sol.contact.Lam) @ W
         Q = _real_coefficients(np.linalg.solve(Z, rhs[:, :, None])[:, :, 0])
     else:
         Q = sol.X.reshape(nh, lin.nx)

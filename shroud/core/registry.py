@@ -35,6 +35,12 @@ class ModelEntry:
     # rebuild per speed (e.g. operators as polynomials in Omega on one basis),
     # for continuation in speed; None: build_system at each speed.
     at_speed: Callable[[Any], Callable[[float], StructuralSystem]] | None = None
+    # (params, rpm, H) -> (StructuralSystem, shroud.core.harmonic_balance.LinearHarmonics): the model's own
+    # linear part per harmonic (a large sparse model condensed on its contact coordinates by its own
+    # solver); None: the core's dense one.
+    linear_harmonics: Callable[[Any, float, int], tuple] | None = None
+    # A model on the same contact coordinates whose harmonic-balance states start this one's Newton.
+    reduced_by: str | None = None
 
 
 _MODELS: dict[str, ModelEntry] = {}
