@@ -11,6 +11,13 @@ as meshes and reduction bases are counted as reused). The Pareto front is
 the set of points no other point beats in both error and time. The
 reference is not one of the points (its error is 0 by definition): a point
 with the reference's own settings is left out.
+
+Beside them, the steady response by harmonic balance (shroud.analysis.hb,
+with its Floquet stability) of each dense model, the frequency-domain
+answer to the same question: a second picture puts every point's error in
+the steady amplitudes of v_L and w_L (against the reference's over its
+last periods) against its cost, time-domain runs and harmonic-balance
+points side by side.
 """
 
 from __future__ import annotations
@@ -25,12 +32,14 @@ import numpy as np
 
 from comparisons._agreement import agreement, signals_of
 from shroud.analysis import api
+from shroud.analysis.hb import solve_at
 from shroud.core import registry
 from shroud.base.errors import InputError, RunDiverged
 from shroud.base.log import info, warn
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.transient import simulate
+from shroud.core.signals import amplitude
 
 OPTIONS = {
     "reduced_nr": [2, 4, 6, 10],          # beam model, kept modes (at reduced.N)
@@ -42,6 +51,8 @@ OPTIONS = {
     "step_models": ["reduced", "fe-reduced"],
     "extended_nr": [6, 10],               # the extended beam (torsion, rigid shroud), kept modes
     "window_periods": 10,
+    "hb_models": ["reduced", "full", "extended", "fe-reduced"],   # harmonic balance at the scene's fidelity
+    "hb_harmonics": 15,
 }
 
 
@@ -64,6 +75,11 @@ def check(scene) -> None:
         raise InputError("options.step_models", f"allowed: models from {', '.join(registry.names("transient"))}")
     if not 1 <= o["window_periods"] <= scene.params.time.periods:
         raise InputError("options.window_periods", "allowed: 1 .. time.periods")
+    hb_models = set(registry.names("transient")) - {"fe"}      # the full solid has checkpoints, not these
+    if any(m not in hb_models for m in o["hb_models"]):
+        raise InputError("options.hb_models", f"{o['hb_models']!r}; allowed: models from {', '.join(sorted(hb_models))}")
+    if not isinstance(o["hb_harmonics"], int) or o["hb_harmonics"] < 1:
+        raise InputError("options.hb_harmonics", f"{o['hb_harmonics']!r}; allowed: an integer >= 1")
     for key in ("steps_per_period", "cms_modes", "beam_N"):
         if any(v < 1 for v in o[key]):
             raise InputError(f"options.{key}", f"{o[key]!r}; allowed: positive integers")
@@ -97,6 +113,26 @@ def pareto(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
     return front
 
 
+def steady_amplitudes(trajectory, steps_per_period: int) -> tuple[float, float]:
+    """(v_L, w_L) steady amplitudes (m) of a transient over its last periods."""
+    return tuple(amplitude(trajectory.tip[:, j], steps_per_period) for j in (0, 1))
+
+
+def amplitude_error(a: tuple[float, float], ref: tuple[float, float]) -> float:
+    """The larger relative error of the two steady amplitudes."""
+    return max(abs(x / r - 1.0) for x, r in zip(a, ref))
+
+
+def hb_point(params, model: str, harmonics: int) -> dict:
+    """The steady state of ``model`` at the scene's speed by harmonic balance with its stability, and its cost
+    (the model's system at the speed built as a continuation builds it, cached bases reused)."""
+    t0 = time.perf_counter()
+    sol, details = solve_at(params, model, params.speed.rpm, harmonics=harmonics)
+    return {"model": model, "setting": f"harmonic balance, H = {harmonics}", "time_s": time.perf_counter() - t0,
+            "amplitudes": (sol.amplitude_v_L, sol.amplitude_w_L), "converged": sol.converged,
+            "stable": details["stable"], "spectral_tail": sol.spectral_tail}
+
+
 def measure(params, point: Point):
     p = params.with_overrides(list(point.overrides))
     t0 = time.perf_counter()
@@ -114,6 +150,8 @@ def run(scene, out: Path) -> dict:
     ref_point = reference_point(o)
     ref, ref_dofs, ref_s = measure(params, ref_point)
     t_ref, s_ref = ref.trajectory.t, signals_of(ref.trajectory)
+    ref_spp = params.with_overrides(list(ref_point.overrides)).time.steps_per_period
+    ref_amp = steady_amplitudes(ref.trajectory, ref_spp)
     info(f"reference {ref_point.setting}: {ref_dofs} DOF, {ref_s:.1f} s")
     rows, runs = [], []
     for pt in points(o):
@@ -132,8 +170,10 @@ def run(scene, out: Path) -> dict:
             continue
         fit = agreement(result.trajectory.t, signals_of(result.trajectory), t_ref, s_ref, period,
                         o["window_periods"])
+        spp = params.with_overrides(list(pt.overrides)).time.steps_per_period
         rows.append({"model": pt.model, "setting": pt.setting, "dofs": dofs, "time_s": cost,
                      "error": fit.worst_nrmse, **{f"nrmse_{k}": v for k, v in fit.nrmse.items()},
+                     "amplitude_error": amplitude_error(steady_amplitudes(result.trajectory, spp), ref_amp),
                      "names": [f"{pt.model} {pt.setting}"]})
         runs.append((run_of, rows[-1]))
         info(f"{pt.model} {pt.setting}: {dofs} DOF, {cost:.2f} s, worst NRMSE {fit.worst_nrmse:.3g}")
@@ -146,12 +186,44 @@ def run(scene, out: Path) -> dict:
         w = csv.DictWriter(fh, fieldnames=[k for k in rows[0] if k != "names"], extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
+    hb_rows = []
+    for model in o["hb_models"]:
+        h = hb_point(params, model, o["hb_harmonics"])
+        h["amplitude_error"] = amplitude_error(h["amplitudes"], ref_amp)
+        hb_rows.append(h)
+        info(f"{model} harmonic balance: {h['time_s']:.2f} s, amplitude error {h['amplitude_error']:.3g}")
     fig_name = _figure(rows, front, ref_point, out)
-    found = conclusions(rows, scene)
-    (out / "report.md").write_text(_report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found))
-    return {"reference": {"setting": ref_point.setting, "dofs": ref_dofs, "time_s": ref_s},
+    amp_name = _amplitude_figure(rows, hb_rows, ref_point, out)
+    found = conclusions(rows, scene) | hb_conclusions(rows, hb_rows, scene)
+    (out / "report.md").write_text(_report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found)
+                                   + _hb_report(scene, rows, hb_rows, ref_amp, amp_name))
+    return {"reference": {"setting": ref_point.setting, "dofs": ref_dofs, "time_s": ref_s,
+                          "amplitudes": ref_amp},
             "points": rows, "pareto": [f"{r['model']} {r['setting']}" for r in rows if r["pareto"]],
-            "conclusions": found}
+            "harmonic_balance": hb_rows, "conclusions": found}
+
+
+def scene_point(rows: list[dict], model: str, scene) -> dict | None:
+    """The time-domain run of ``model`` at the scene's own fidelity (the one its HB point shares)."""
+    p = scene.params
+    own = {"reduced": f"reduced nr = {p.reduced.nr}", "extended": f"extended nr = {p.reduced.nr}",
+           "full": f"full N = {p.reduced.N} ({5 * p.reduced.N} DOF)",
+           "fe-reduced": f"fe-reduced {p.fe.cms_modes} modes"}.get(model)
+    return next((r for r in rows if own in r["names"]), None)
+
+
+def hb_conclusions(rows: list[dict], hb_rows: list[dict], scene) -> dict:
+    """Per model: whether its harmonic-balance point costs less than its time-domain run at the same
+    fidelity, and how its amplitude error compares (ordering; both against the same reference)."""
+    out = {}
+    for h in hb_rows:
+        td = scene_point(rows, h["model"], scene)
+        if td is None:
+            continue
+        out[f"harmonic balance of {h['model']} cheaper than its time-domain run"] = bool(h["time_s"] < td["time_s"])
+        out[f"amplitude error of {h['model']} by harmonic balance against its time-domain run"] = ordering(
+            td["amplitude_error"], h["amplitude_error"])
+    return out
 
 
 CLEARLY = 1.5     # one error is clearly smaller than another when smaller by this factor
@@ -269,3 +341,54 @@ def _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found) -> str:
         + ("still holds the start-up transient, so errors measure the transient as much as the steady response."
            if p.time.periods < 2 * scene.options["window_periods"] else "lies after the start-up transient.") + "\n",
         "\nData: `error_vs_time.csv`.\n"])
+
+
+def _amplitude_figure(rows, hb_rows, ref_point, out: Path) -> str:
+    fig, axes = figure(1, 1, width=7.0, height=4.4)
+    ax = axes[0, 0]
+    for model in dict.fromkeys([r["model"] for r in rows] + [h["model"] for h in hb_rows]):
+        td = [r for r in rows if r["model"] == model]
+        if td:
+            ax.loglog([r["time_s"] for r in td], [r["amplitude_error"] for r in td], "o", mfc="none", ms=6,
+                      color=MODEL_COLOURS[model], label=f"{model}, time domain")
+        for h in (h for h in hb_rows if h["model"] == model):
+            ax.loglog(h["time_s"], h["amplitude_error"], "D", ms=7, color=MODEL_COLOURS[model],
+                      label=f"{model}, harmonic balance")
+    ax.set_xlabel("run time: build + solution (s)")
+    ax.set_ylabel("error of the steady amplitudes of v_L, w_L")
+    ax.set_title(f"steady amplitudes against the full solid FE, {ref_point.setting.replace(' (reference)', '')}",
+                 fontsize=8)
+    ax.margins(0.15)
+    ax.legend(fontsize=7, loc="best", ncol=2)
+    fig.tight_layout()
+    return save(fig, out / "amplitude_error_vs_time.png").name
+
+
+def _hb_report(scene, rows, hb_rows, ref_amp, fig_name) -> str:
+    lines = ["\n## Steady response: time domain and harmonic balance\n",
+             f"The reference's steady amplitudes over its last periods: v_L {ref_amp[0] * 1e6:.4g} um, "
+             f"w_L {ref_amp[1] * 1e6:.4g} um. Harmonic balance finds the periodic steady state directly (no "
+             f"start-up transient, with its Floquet stability); its cost is the model's system at the speed and "
+             f"the Newton solve. Below, each model's harmonic-balance point beside its time-domain run at the "
+             f"same fidelity ({scene.params.time.periods} periods from rest).\n",
+             f"![amplitude error against run time]({fig_name})\n"]
+    table = []
+    for h in hb_rows:
+        td = scene_point(rows, h["model"], scene)
+        table.append((h["model"], seconds(h["time_s"]), h["amplitude_error"],
+                      "yes" if h["stable"] else "no", f"{h['spectral_tail']:.2g}",
+                      seconds(td["time_s"]) if td else "-", td["amplitude_error"] if td else "-",
+                      f"{td['time_s'] / h['time_s']:.1f}x" if td else "-"))
+    lines.append(markdown_table(("model", "HB time", "HB amplitude error", "stable", "force tail above H",
+                                 "time-domain time", "time-domain amplitude error", "HB faster by"), table))
+    spp = max(scene.options["steps_per_period"])
+    lines.append("\nThe amplitude error of a time-domain run also holds what is left of its start-up "
+                 "transient; the harmonic-balance point's holds the truncation at H harmonics (the contact "
+                 "forces' spectral tail above H is listed). The reference is itself a time-domain run at "
+                 f"{spp} steps per period, and a time-domain point at that step shares its time-discretization "
+                 "error, which the harmonic balance (the periodic solution of the semi-discrete equations) "
+                 "does not have: errors of the order of the reference's own step error do not say which "
+                 "answer is nearer the exact one. A single speed is the time domain's best case: harmonic "
+                 "balance pays off over a speed range (continuation reuses each point; "
+                 "`benchmarks/bench_hb.py`).\n")
+    return "\n".join(lines)
