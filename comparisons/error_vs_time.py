@@ -214,15 +214,15 @@ def scene_point(rows: list[dict], model: str, scene) -> dict | None:
 
 def hb_conclusions(rows: list[dict], hb_rows: list[dict], scene) -> dict:
     """Per model: whether its harmonic-balance point costs less than its time-domain run at the same
-    fidelity, and how its amplitude error compares (ordering; both against the same reference)."""
+    fidelity. Their amplitude errors are reported, not ranked: the reference shares the time-domain runs'
+    step error, which moves their difference by as much as it is (quick 128 against full 256 steps per
+    period turned the extended beam's from "smaller" into "about the same")."""
     out = {}
     for h in hb_rows:
         td = scene_point(rows, h["model"], scene)
         if td is None:
             continue
         out[f"harmonic balance of {h['model']} cheaper than its time-domain run"] = bool(h["time_s"] < td["time_s"])
-        out[f"amplitude error of {h['model']} by harmonic balance against its time-domain run"] = ordering(
-            td["amplitude_error"], h["amplitude_error"])
     return out
 
 
