@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from comparisons._agreement import agreement, signals_of
+from comparisons._bands import CHEAPER, cost_versus, versus
 from shroud.analysis import api
 from shroud.analysis.hb import solve_at
 from shroud.core import registry
@@ -213,8 +214,9 @@ def scene_point(rows: list[dict], model: str, scene) -> dict | None:
 
 
 def hb_conclusions(rows: list[dict], hb_rows: list[dict], scene) -> dict:
-    """Per model: whether its harmonic-balance point costs less than its time-domain run at the same
-    fidelity. Their amplitude errors are reported, not ranked: the reference shares the time-domain runs'
+    """Per model: how its harmonic-balance point's cost compares with its time-domain run's at the same
+    fidelity ("cheaper", "costlier", "comparable": comparisons._bands.cost_versus; both are single runs of
+    milliseconds on the quick scene, whose times one page fault can multiply). Their amplitude errors are reported, not ranked: the reference shares the time-domain runs'
     step error, which moves their difference by as much as it is (quick 128 against full 256 steps per
     period turned the extended beam's from "smaller" into "about the same")."""
     out = {}
@@ -222,7 +224,8 @@ def hb_conclusions(rows: list[dict], hb_rows: list[dict], scene) -> dict:
         td = scene_point(rows, h["model"], scene)
         if td is None:
             continue
-        out[f"harmonic balance of {h['model']} cheaper than its time-domain run"] = bool(h["time_s"] < td["time_s"])
+        out[f"cost of harmonic balance of {h['model']} against its time-domain run"] = cost_versus(h["time_s"],
+                                                                                                   td["time_s"])
     return out
 
 
@@ -232,9 +235,7 @@ CLEARLY = 1.5     # one error is clearly smaller than another when smaller by th
 def ordering(error_a: float, error_b: float) -> str:
     """How the second error compares with the first: "smaller", "larger" or "about the same"
     (within a factor CLEARLY: differences the reference's own error and the window can shift)."""
-    if error_b * CLEARLY < error_a:
-        return "smaller"
-    return "larger" if error_b > CLEARLY * error_a else "about the same"
+    return versus(error_b, error_a, CLEARLY, ("larger", "smaller", "about the same"))
 
 
 def conclusions(rows: list[dict], scene) -> dict:
@@ -333,7 +334,8 @@ def _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found) -> str:
                        [(i + 1, r["model"], r["setting"], r["dofs"], seconds(r["time_s"]), r["error"],
                          r["nrmse_v_L"], "yes" if r["pareto"] else "") for i, r in enumerate(rows)]),
         "\nThe reference is not a point of its own front (its error is 0 by definition). Comparisons "
-        f"(errors within a factor {CLEARLY:g} count as about the same): "
+        f"(errors within a factor {CLEARLY:g} count as about the same, run times within {CHEAPER:g}x as "
+        f"comparable): "
         + "; ".join(f"{k}: {({True: 'yes', False: 'no'}).get(v, v)}" for k, v in found.items()) + ".\n",
         f"What these settings cannot resolve: errors below the reference's own time-step and mesh error "
         f"(it is one mesh, {ref_point.setting.replace(' (reference)', '')}), and with {p.time.periods} periods "

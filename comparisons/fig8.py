@@ -39,6 +39,7 @@ from pathlib import Path
 
 from comparisons import convergence
 from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
+from comparisons._bands import CHEAPER, cost_versus, versus
 from comparisons.paper import TABLE3_SECONDS
 from shroud.analysis import api
 from shroud.core import registry
@@ -66,12 +67,10 @@ LABELS = {"reduced": "reduced beam (nr modes)", "full": "full beam (5N DOF)",
           "extended": "extended beam (torsion, rigid shroud; nr modes)"}
 # Bands of the conclusions. Amplitudes within 0.5 % are the same (a settled amplitude is known to the
 # settling tolerance, 0.2 %); a model is closer to the reference than another when its worst NRMSE is
-# below 1/1.5 of the other's; cheaper when its total time is below 1/3 of the other's (timings of
-# one run on the shared machine vary by up to 2x between runs); contact-state shares within 0.02 of
-# the window are the same.
+# below 1/1.5 of the other's; cost in the band of comparisons._bands; contact-state shares within
+# 0.02 of the window are the same.
 SAME_AMPLITUDE = 0.005
 CLOSER = 1.5
-CHEAPER = 3.0
 SAME_SHARE = 0.02
 # Paper Fig. 8(d, h): States 1-3 are separation, slip, stick.
 PAPER_STATE = {STATE_NAMES.index("separate"): 1, STATE_NAMES.index("slip"): 2, STATE_NAMES.index("stick"): 3}
@@ -167,13 +166,6 @@ def run(scene, out: Path) -> dict:
     return results
 
 
-def _versus(a: float, b: float, factor: float, words: tuple[str, str, str]) -> str:
-    """words[0] if a > factor b, words[1] if a < b / factor, else words[2] (a, b > 0)."""
-    if a > b * factor:
-        return words[0]
-    return words[1] if a < b / factor else words[2]
-
-
 def _state_order(shares: dict[str, float]) -> str:
     """The states by falling share, "=" between shares within SAME_SHARE: "separate > slip > stick"."""
     ranked = sorted(STATE_NAMES, key=lambda k: -shares[k])
@@ -208,10 +200,10 @@ def conclusions(results: dict) -> dict:
         "pairs_met": {k: v["met"] for k, v in results["pairs"].items()},
         "settled": dict(results["settled"]),
         "closest_to_reference": sorted(m for m, w in worst.items() if w <= CLOSER * best),
-        "closer_to_reference": {f"{a} vs {b}": _versus(worst[a], worst[b], CLOSER,
+        "closer_to_reference": {f"{a} vs {b}": versus(worst[a], worst[b], CLOSER,
                                                       ("farther", "closer", "as close"))
                                 for a, b in pairs if a in worst and b in worst},
-        "amplitude_vs_reference": {m: {s: _versus(a[s], results["amplitude"][ref][s], 1 + SAME_AMPLITUDE,
+        "amplitude_vs_reference": {m: {s: versus(a[s], results["amplitude"][ref][s], 1 + SAME_AMPLITUDE,
                                                   ("larger", "smaller", "the same")) for s in ("v_L", "w_L")}
                                    for m, a in results["amplitude"].items() if m != ref and ref in slip},
         "slip_vs_reference": {m: "more" if s > slip[ref] + SAME_SHARE else
@@ -219,7 +211,7 @@ def conclusions(results: dict) -> dict:
                               for m, s in slip.items() if m != ref and ref in slip},
         "state_order": {m: _state_order({k: (st["side1"][k] + st["side2"][k]) / 2 for k in STATE_NAMES})
                         for m, st in results["state_fraction"].items()},
-        "cost": {f"{a} vs {b}": _versus(total[a], total[b], CHEAPER, ("costlier", "cheaper", "comparable"))
+        "cost": {f"{a} vs {b}": costversus(total[a], total[b])
                  for a, b in pairs if a in total and b in total},
     }
 

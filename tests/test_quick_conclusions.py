@@ -118,7 +118,10 @@ def test_campbell_quick_agrees_with_full(tmp_path):
 def test_error_vs_time_quick_agrees_with_full(tmp_path):
     got, _ = quick("error_vs_time", tmp_path)
     full = FULL["error_vs_time"]["conclusions"]
-    shared = got.keys() & full.keys()
+    # Costs of harmonic balance against the time domain are single runs of milliseconds on the quick scene
+    # and a few times that on the full one: their order is benchmarks/bench_hb.py's to measure, not a
+    # conclusion a quick run can hold.
+    shared = {k for k in got.keys() & full.keys() if not k.startswith("cost of")}
     assert len(shared) >= 3
     for key in shared:
         assert got[key] == full[key], key
