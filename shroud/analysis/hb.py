@@ -67,17 +67,32 @@ class SpeedModel:
         return got
 
 
-def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 1e-6):
-    """R(X, rpm), dR/dX (analytic through the law) and, on demand, dR/drpm (a forward difference of the
-    linear part over ``step`` times the speed; the law does not depend on the speed)."""
+def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 1e-6, reuse: float = 1e-3):
+    """R(X, rpm), dR/dX (analytic through the law) and, on demand, dR/drpm = dL/drpm X - dF/drpm (the law
+    does not depend on the speed).
+
+    dL/drpm and dF/drpm are a forward difference of the linear part over ``step`` times the speed, taken
+    afresh only when the speed has moved by more than ``reuse`` (relative) since they were last taken: a
+    corrector's iterates and the tangent at its converged point then share the predictor's (the derivative
+    changes by ~``reuse`` of itself over that distance; the equations solved, R = 0, are exact).
+    """
+    cached: dict[str, tuple] = {}
+
+    def derivative(rpm, L, F):
+        got = cached.get("d")
+        if got is None or abs(rpm - got[0]) > reuse * rpm:
+            h = step * rpm
+            _, _, Lp, Fp = speeds.at(rpm + h)
+            got = cached["d"] = (rpm, (Lp - L) / h, (Fp - F) / h)
+        return got[1], got[2]
+
     def residual(X, rpm):
         _, lin, L, F = speeds.at(rpm)
         b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx))
 
         def d_rpm():
-            h = step * rpm
-            _, _, Lp, Fp = speeds.at(rpm + h)
-            return ((Lp - L) @ X - (Fp - F)) / h
+            dL, dF = derivative(rpm, L, F)
+            return dL @ X - dF
         return b.R, b.J, d_rpm
     return residual
 
@@ -89,7 +104,8 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = hb.amplitude_over_period(tip)
     W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))
-    Phi = floquet.monodromy(system.M, system.C, system.K, W, law, b.contact.state, b.contact.F, lin.omega)
+    y_rate = basis.rates(X.reshape(basis.nh, lin.nx) @ lin.Wx.T, lin.omega)
+    Phi = floquet.monodromy(system.M, system.C, system.K, W, law, b.contact.state, b.contact.F, lin.omega, y_rate)
     mult = floquet.multipliers(Phi)
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),

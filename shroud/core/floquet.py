@@ -10,7 +10,9 @@ in its state at each sample of the harmonic-balance solution
 (shroud.core.harmonic_balance's AFT record): separated 0; normal contact
 dlam_n = -kn dy_n; stick dF = kt (dz - dw) with the slider perturbation dz
 held from the start of the stick; slip dF = sigma mu s kn dv and the slider
-slaved, dz = dw + dF / kt. The state
+slaved, dz = dw + dF / kt; a slider that sticks from the instant of touching
+keeps the tangential position of that instant, which moves with the touch
+(``onset_capture``). The state
 is [dq, dq', dz] (dz of the elements that both stick and release during the
 period; a slider stuck all period only adds the neutral multiplier 1 of its
 arbitrary offset, which is left out). Over each sample interval the states
@@ -37,13 +39,14 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from shroud.core.contact import SIGN, SLIP, STICK, ContactLaw, tangents
+from shroud.core.contact import SEPARATE, SIGN, SLIP, STICK, ContactLaw, tangents
 from shroud.core.linear_solvers import dense
 
 UNIT_CIRCLE_TOL = 1e-6
 
 
-def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float) -> np.ndarray:
+def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float,
+              y_rate: np.ndarray | None = None) -> np.ndarray:
     """Monodromy matrix of the linearized motion over one period 2 pi / omega.
 
     ``state``, ``F`` (elements, samples): each element's state and friction
@@ -53,6 +56,12 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     sticking slider's dz unchanged, a released one set at the run's end
     from the blade; so a run costs the exponential of a matrix of order
     2 n + (at most n), whatever the number of sliders.
+
+    ``y_rate`` (samples, m): the projected velocities dy/dt along the orbit
+    (m/s). With it, a slider that sticks from the instant of touching
+    captures the tangential position of that instant, z = w(t_c), whose
+    perturbation holds the shift of t_c itself (``onset_capture``);
+    without it that term is left out.
     """
     M, C, K, W = dense(M), dense(C), dense(K), dense(W)
     n, (k, nt) = M.shape[0], state.shape
@@ -70,6 +79,7 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     starts = np.r_[0, change]
     lengths = np.diff(np.r_[starts, nt])
     runs: dict[bytes, Linearized] = {}
+    touch = (state[hist] == SEPARATE) & (np.roll(state[hist], -1, axis=1) == STICK)   # stuck from the touch
     for i, length in zip(starts, lengths):              # runs of samples with the same states
         tag = key[:, i].tobytes()
         lin = runs.get(tag)
@@ -82,8 +92,29 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
             top += P @ Phi[2 * n + lin.held]
         if lin.free.size:                               # released sliders follow the blade
             Phi[2 * n + lin.free] = lin.release @ top[:n]
+        last = i + length - 1
+        if y_rate is not None and touch[:, last].any():
+            slots = np.flatnonzero(touch[:, last])
+            rate = y_rate[(last + 1) % nt]
+            Phi[2 * n + slots] += onset_capture(rate, law.rows[hist[slots]])[:, None] * (Wn[hist[slots]] @ top[:n])
         Phi[:2 * n] = top
     return Phi
+
+
+def onset_capture(y_rate: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """d z / d v at the touch of elements that stick from it: -w' / v' (1), per element.
+
+    A separated slider follows the blade, z = w; an element that sticks from
+    the instant t_c it touches keeps z = w(t_c). Perturbed by dv, dw the
+    touch moves by dt_c = -dv / v' (the normal force N0 + s kn v is zero at
+    it), so dz = dw + w' dt_c = dw - (w' / v') dv: the captured slider
+    depends on the normal perturbation too (a saltation term: the force is
+    continuous at the touch but the slider's memory is not). Without it the
+    monodromy of an orbit that sticks from the touch is off by as much as
+    its neighbour's that slides first (tests/test_hb.py).
+    """
+    v_rate, w_rate = y_rate[rows[:, 0]], y_rate[rows[:, 1]]
+    return -w_rate / v_rate
 
 
 @dataclass(frozen=True)

@@ -76,6 +76,14 @@ class Fourier:
     def tau(self) -> np.ndarray:
         return 2 * np.pi * np.arange(self.samples) / self.samples
 
+    def rates(self, X: np.ndarray, omega: float) -> np.ndarray:
+        """Samples (samples, n) of dx/dt from the coefficients X (nh, n) of x(omega t), omega in rad/s:
+        a_k cos + b_k sin differentiates to k omega (b_k cos - a_k sin)."""
+        D = np.zeros_like(X)
+        k = np.arange(1, self.H + 1)[:, None] * omega
+        D[1::2], D[2::2] = k * X[2::2], -k * X[1::2]
+        return self.E @ D
+
 
 @functools.lru_cache(maxsize=16)
 def fourier(H: int, samples: int) -> Fourier:
