@@ -44,13 +44,15 @@ def main() -> None:
         cp = checkpoint(params, "fe", args.rpm, args.harmonics, args.samples)
         runs.append(cp)
         say(f"  run {i + 1}: condensation {cp.linear_s:.1f} s, start {cp.start_s:.1f} s, Newton {cp.newton_s:.1f} s "
-            f"({cp.iterations} iterations), total {cp.elapsed_s:.1f} s; v_L {cp.amplitude_v_L:.6e} m")
-    med = {k: statistics.median(getattr(r, k) for r in runs) for k in ("linear_s", "start_s", "newton_s", "elapsed_s")}
+            f"({cp.iterations} iterations), stability {cp.stability_s:.1f} s, total {cp.elapsed_s:.1f} s; "
+            f"v_L {cp.amplitude_v_L:.6e} m, {'stable' if cp.stable else 'unstable'} {cp.largest_multiplier}")
+    med = {k: statistics.median(getattr(r, k) for r in runs)
+           for k in ("linear_s", "start_s", "newton_s", "stability_s", "elapsed_s")}
     cp = runs[-1]
     say(f"fe checkpoint at {args.rpm:g} r/min, {cp.dofs} DOF condensed on {cp.condensed_on} contact coordinates, "
         f"H = {args.harmonics}, {args.samples} samples, {mpi_size()} rank(s), medians of {args.repeat}: "
         f"condensation {med['linear_s']:.1f} s, start (fe-reduced) {med['start_s']:.1f} s, "
-        f"Newton {med['newton_s']:.1f} s, total {med['elapsed_s']:.1f} s")
+        f"Newton {med['newton_s']:.1f} s, stability {med['stability_s']:.1f} s, total {med['elapsed_s']:.1f} s")
 
 
 if __name__ == "__main__":

@@ -15,8 +15,10 @@ named in ``checkpoint_cases``, every state of the reduced solid's branch is
 solved again on the full solid ("fe", condensed exactly on its contact
 coordinates per harmonic, reference_fe.harmonic), its Newton started from
 that state; the report gives their difference from the reduced solid's
-states and their cost. They carry no stability (the full solid's Floquet
-multipliers would need its dense monodromy).
+states, their stability (the full solid's orbit, perturbations projected on
+the reduced solid's basis and on one twice as large:
+shroud.analysis.hb.projected_multipliers; filled diamonds stable, open
+unstable) and their cost.
 """
 
 from __future__ import annotations
@@ -94,9 +96,11 @@ def run(scene, out: Path) -> dict:
         solid.plot(ax, label=f"{c.label} solid (reduced)", colour=colour, linewidth=0.8)
         ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, "o", ms=3.5, mfc="none", color=colour)
         mine = [p for p in checks if p["case"] == c.label and p["converged"]]
-        if mine:
-            ax.plot([p["rpm"] for p in mine], [p["amplitude_v_L"] * 1e3 for p in mine], "D", ms=6, color=colour,
-                    mec="k", label=f"{c.label} full solid (HB checkpoints)")
+        for stable, fill, word in ((True, colour, "stable"), (False, "none", "unstable")):
+            these = [p for p in mine if bool(p["stable"]) == stable]
+            if these:
+                ax.plot([p["rpm"] for p in these], [p["amplitude_v_L"] * 1e3 for p in these], "D", ms=6,
+                        color=colour, mfc=fill, mec="k", label=f"{c.label} full solid (HB checkpoints, {word})")
         names = [landed_on(states_at(solid, c.params, POINTS, r, multipliers=False), a, per, o["match"])
                  for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
         points += [{"case": c.label, "rpm": float(r), "amplitude_m": float(a), "period": per, "branch": n}
@@ -111,18 +115,21 @@ def run(scene, out: Path) -> dict:
                      "complete": line.complete and solid.complete})
         curves[c.label] = {LINE: line.to_json(), POINTS: solid.to_json()}
     for ax, title in zip(axes[0], ("(a) initial gaps", "(b) small gap and initial preloads")):
-        ax.set_title(f"{title}\n(beam thick, solid thin, o solid TD, \u25c6 full solid HB)", fontsize=9)
+        ax.set_title(f"{title}\n(beam thick, solid thin, o solid TD, \u25c6/\u25c7 full solid HB stable/unstable)",
+                     fontsize=9)
         ax.legend(fontsize=6, ncol=2)
     save(fig, out / "hb_fig7.png")
     write_records(out / "td_points_by_branch.csv", points)
     write_records(out / "full_solid_checkpoints.csv",
                   [{k: p[k] for k in ("case", "rpm", "amplitude_v_L", "amplitude_w_L", "start_amplitude_v_L",
-                                      "difference", "converged", "iterations", "linear_s", "newton_s")}
+                                      "difference", "converged", "iterations", "stable", "reduced_branch_stable",
+                                      "linear_s", "newton_s", "stability_s")}
                    for p in checks])
     cost = {"beam_hb_s": sum(r["beam_hb_s"] for r in rows), "solid_hb_s": sum(r["solid_hb_s"] for r in rows),
             "solid_td_cpu_s": sum(r["solid_td_cpu_s"] for r in rows), "per_speed_bases_s": build_s,
             "full_solid_condensation_s": sum(p["linear_s"] for p in checks),
-            "full_solid_newton_s": sum(p["start_s"] + p["newton_s"] for p in checks)}
+            "full_solid_newton_s": sum(p["start_s"] + p["newton_s"] for p in checks),
+            "full_solid_stability_s": sum(p["stability_s"] for p in checks)}
     lines = [f"# {scene.title}\n",
              f"Harmonic balance H = {o['harmonics']}, {o['samples']} samples, {o['rpm_from']:g}-{o['rpm_to']:g} r/min; "
              f"the reduced solid on one basis built at {params.speed.rpm:g} r/min. Against the per-speed bases: "
@@ -156,13 +163,24 @@ def checkpoint_report(checks: list[dict], cost: dict) -> list[str]:
             f"per harmonic (H = {c['harmonics']}), its Newton started from each state of the reduced solid's "
             f"branch at the speed: the reduced solid's states within {100 * worst:.3f} % of the full solid's "
             f"(v_L). Cost: condensation {seconds(cost['full_solid_condensation_s'])} (once per speed, shared by "
-            f"the cases there), Newton {seconds(cost['full_solid_newton_s'])} (with the reduced start). No "
-            "stability: the full solid's Floquet multipliers would need its dense monodromy (2 n states).\n",
+            f"the cases there), Newton {seconds(cost['full_solid_newton_s'])} (with the reduced start), "
+            f"stability {seconds(cost['full_solid_stability_s'])}. Stability: the Floquet multipliers of the full "
+            "solid's own orbit (its contact states along the period), the perturbations projected on the reduced "
+            "solid's basis and on one with twice its modes; the largest |multiplier| on each is listed, the "
+            "verdict is the larger basis'.\n",
             markdown_table(["case", "rpm", "reduced solid (um)", "full solid (um)", "difference (%)",
-                            "Newton iterations", "condensation (s)", "Newton (s)"],
+                            "reduced branch", "full solid", "largest |multiplier| by basis (DOF)",
+                            "Newton iterations", "condensation (s)", "Newton (s)", "stability (s)"],
                            [(p["case"], f"{p['rpm']:.0f}",
                              f"{p['start_amplitude_v_L'] * 1e6:.3f}" if p["start_amplitude_v_L"] else "-",
                              f"{p['amplitude_v_L'] * 1e6:.3f}" + ("" if p["converged"] else " (not converged)"),
                              f"{100 * p['difference']:.3f}" if p["difference"] is not None else "-",
-                             p["iterations"], f"{p['linear_s']:.1f}", f"{p['start_s'] + p['newton_s']:.1f}")
+                             _word(p["reduced_branch_stable"]), _word(p["stable"]),
+                             ", ".join(f"{d}: {m:.4f}" for d, m in p["largest_multiplier"].items()) or "-",
+                             p["iterations"], f"{p['linear_s']:.1f}", f"{p['start_s'] + p['newton_s']:.1f}",
+                             f"{p['stability_s']:.1f}")
                             for p in checks])]
+
+
+def _word(stable: bool | None) -> str:
+    return "-" if stable is None else "stable" if stable else "unstable"

@@ -45,7 +45,7 @@ def test_a_gap_never_reached_gives_the_solids_own_harmonic_response():
     from shroud.core import harmonic_balance as hb
     p = _params(**{"contact.gap": 1e-3})                  # 1 mm: the free blade moves by 0.1 mm at most
     cp = checkpoint(p, "fe", 10000.0, harmonics=2, samples=64)
-    assert cp.converged and cp.condensed_on == 396 and cp.stable is None
+    assert cp.converged and cp.condensed_on == 396 and cp.stable      # the free damped blade is stable
     system, lin = condensed_at(p, 10000.0, 2)
     sol = hb.solve(system, contact_law_for(system, p.contact), 2, 64, lin=lin)
     assert not sol.contact.N.any()                        # never touches
@@ -76,15 +76,42 @@ def test_full_solid_hb_matches_its_transient_at_the_fig8_point():
                          ids=["fig8-in-touch", "gap-0.1mm-9000rpm"])
 def test_reduced_solid_hb_matches_the_full_solid_at_checkpoints(overrides):
     """The reduced solid on its basis built at the checkpoint's speed (its state starts the full solid's
-    Newton, whose converged state is the full solid's own)."""
+    Newton, whose converged state is the full solid's own). The full solid's multipliers (its orbit, the
+    perturbations on the reduced solid's basis and on one twice as large) agree with each other and with
+    the reduced solid's on its own orbit: the projection has converged."""
     from shroud.analysis.hb import checkpoint, solve_at
     p = _params(**overrides)
     rpm = p.speed.rpm
     cp = checkpoint(p, "fe", rpm, harmonics=7, samples=256)
-    reduced, _ = solve_at(p, "fe-reduced", rpm, harmonics=7, samples=256, multipliers=False)
+    reduced, details = solve_at(p, "fe-reduced", rpm, harmonics=7, samples=256)
     assert cp.converged and reduced.converged
     assert reduced.amplitude_v_L == pytest.approx(cp.amplitude_v_L, rel=0.005)
     assert reduced.amplitude_w_L == pytest.approx(cp.amplitude_w_L, rel=0.005)
+    one, twice = cp.largest_multiplier.values()
+    assert twice == pytest.approx(one, abs=0.01)
+    assert twice == pytest.approx(float(np.abs(details["multipliers"]).max()), abs=0.01)
+    assert cp.stable == details["stable"]
+
+
+@pytest.mark.fe
+@pytest.mark.slow
+def test_the_full_solids_three_states_at_12000_rpm_carry_the_reduced_solids_stability():
+    """Gap 0.1 mm, 12000 r/min: the reduced solid's branch (9000-16000 r/min) folds back at ~14400 and
+    ~9900 r/min, so three P1 states coexist there. The full solid's Newton from each lands on a state
+    within 0.5 %, and its multipliers (its own orbit, perturbations on 33- and 57-DOF bases) give the
+    branch's verdicts: stable, unstable (|multiplier| ~1.9), stable."""
+    from comparisons._hb import starts_at
+    from shroud.analysis.hb import checkpoint, run_hb
+    p = _params(**{"contact.gap": 1e-4})
+    branch = run_hb(p, "fe-reduced", 9000.0, 16000.0, harmonics=5, samples=256)
+    starts = starts_at(branch, 12000.0)
+    assert [stable for _, stable in starts] == [True, False, True]
+    for X, stable in starts:
+        cp = checkpoint(p, "fe", 12000.0, harmonics=5, samples=256, start=X)
+        assert cp.converged and cp.amplitude_v_L == pytest.approx(cp.start_amplitude_v_L, rel=0.005)
+        one, twice = cp.largest_multiplier.values()
+        assert twice == pytest.approx(one, abs=0.01)
+        assert cp.stable == stable and (twice > 1.5 if not stable else twice < 0.95)
 
 
 @pytest.mark.fe

@@ -185,7 +185,38 @@ def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAUL
 
 
 NO_FLOQUET = ("not computed: the Floquet multipliers need the monodromy of the full M, C, K (2 n states), "
-              "which a model condensed by its own solver does not offer")
+              "which a model condensed by its own solver does not offer, and it names no model to project on")
+PROJECTED_TOLERANCE = 0.01     # the largest |multiplier| on two bases this close: the projection has converged
+
+
+def projected_multipliers(params: Parameters, model: str, rpm: float, X: np.ndarray, basis: hb.Fourier) -> dict:
+    """Floquet multipliers of an orbit given on contact coordinates, its perturbations projected on ``model``.
+
+    ``X`` (nh, m): the harmonics of a (large) model's periodic orbit on the
+    contact coordinates ``model`` shares with it. The law is evaluated along
+    that orbit (its contact states and friction at the samples), and the
+    motion linearized about it is integrated over the period with ``model``'s
+    M, C, K and W at ``rpm`` (floquet.monodromy): exact but for the
+    perturbation living in ``model``'s subspace. Done on ``model``'s own
+    basis and, where it has one, on its ``refined`` (larger) basis: the
+    largest |multiplier| on each, keyed by the basis' DOF count, the
+    verdict of the larger, and whether the two agree within
+    PROJECTED_TOLERANCE.
+    """
+    entry = registry.model(model)
+    largest: dict[int, float] = {}
+    for p in [params] + ([entry.refined(params)] if entry.refined is not None else []):
+        system = entry.build_system(p.updated({"speed.rpm": float(rpm)}))
+        law = contact_law_for(system, p.contact)
+        c = hb.contact_harmonics(X, np.eye(X.shape[1]), law, basis, jacobian=False)
+        Phi = floquet.monodromy(system.M, system.C, system.K, system.contact.W, law, c.state, c.F,
+                                system.omega_e, basis.rates(X, system.omega_e))
+        mult = floquet.multipliers(Phi)
+        largest[system.dofs] = float(np.abs(mult).max(initial=0.0))
+        stable = floquet.is_stable(mult)
+    values = list(largest.values())
+    return {"stable": stable, "largest": largest,
+            "converged": len(values) < 2 or abs(values[-1] - values[0]) <= PROJECTED_TOLERANCE}
 
 
 @dataclass(frozen=True)
@@ -195,10 +226,14 @@ class Checkpoint:
     ``start``: where Newton began (the reduced model's state on the same
     contact coordinates, or the load homotopy); ``start_amplitude_v_L`` that
     state's amplitude, m. ``stable`` is None where the model offers no
-    Floquet multipliers (``stability`` says why). Times in s: ``linear_s``
+    Floquet multipliers (``stability`` says why, or how they were found);
+    ``largest_multiplier``: the largest |multiplier| per basis (DOF count)
+    for a model whose perturbations are projected on the model reducing it
+    (:func:`projected_multipliers`), or on its own DOFs. Times in s: ``linear_s``
     building the system and its linear part per harmonic (0 when an earlier
     point at the speed built them), ``start_s`` the reduced model's state,
-    ``newton_s`` the model's own Newton (and a dense model's multipliers).
+    ``newton_s`` the model's own Newton, ``stability_s`` its multipliers
+    (with the bases they are projected on, where not cached).
     """
 
     model: str
@@ -215,15 +250,17 @@ class Checkpoint:
     start_amplitude_v_L: float | None
     stable: bool | None
     stability: str
+    largest_multiplier: dict[int, float]
     dofs: int
     condensed_on: int
     linear_s: float
     start_s: float
     newton_s: float
+    stability_s: float
 
     @property
     def elapsed_s(self) -> float:
-        return self.linear_s + self.start_s + self.newton_s
+        return self.linear_s + self.start_s + self.newton_s + self.stability_s
 
     def to_json(self) -> dict:
         return {**dataclasses.asdict(self), "elapsed_s": round(self.elapsed_s, 6)}
@@ -249,8 +286,9 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     coordinates), reached from ``start`` (that model's coefficients, e.g. a
     point of its branch) or from its linear solution and a load homotopy; if
     Newton fails from there, from its own linear solution and load homotopy.
-    Other models start from ``start`` or their linear solution and get their
-    Floquet multipliers.
+    Its Floquet multipliers are those of its own orbit, the perturbations
+    projected on that model (:func:`projected_multipliers`). Other models
+    start from ``start`` or their linear solution and get their own.
     """
     n = check_inputs(harmonics, samples, 0.5 * rpm, rpm)
     entry = registry.model(model)
@@ -273,18 +311,26 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     sol = hb.solve(system, law, harmonics, n, X0=X0, lin=lin)
     if not sol.converged and X0 is not None:
         sol, how = hb.solve(system, law, harmonics, n, lin=lin), f"linear solution, load homotopy ({how} failed)"
-    stable, stability = None, NO_FLOQUET
+    t3 = time.perf_counter()
+    stable, stability, largest = None, NO_FLOQUET, {}
     if speeds is not None:
-        stable = bool(point_details(speeds, law, sol.basis, sol.X, rpm)["stable"])
-        stability = "Floquet multipliers"
+        details = point_details(speeds, law, sol.basis, sol.X, rpm)
+        stable, stability = bool(details["stable"]), "Floquet multipliers"
+        largest = {system.dofs: float(np.abs(details["multipliers"]).max(initial=0.0))}
+    elif entry.reduced_by is not None and sol.converged and lin.condensed:
+        proj = projected_multipliers(params, entry.reduced_by, rpm, sol.X.reshape(sol.basis.nh, lin.nx), sol.basis)
+        stable, largest = bool(proj["stable"]), proj["largest"]
+        stability = (f"Floquet multipliers of this orbit, perturbations on {entry.reduced_by}'s basis ("
+                     + ", ".join(f"{d} DOF: {m:.4f}" for d, m in largest.items()) + ")"
+                     + ("" if proj["converged"] else f"; not converged within {PROJECTED_TOLERANCE:g}"))
     return Checkpoint(model=model, rpm=float(rpm), harmonics=harmonics, samples=n,
                       amplitude_v_L=float(sol.amplitude_v_L), amplitude_w_L=float(sol.amplitude_w_L),
                       converged=bool(sol.converged), residual=float(sol.residual), iterations=int(sol.iterations),
                       spectral_tail=float(sol.spectral_tail), start=how,
                       start_amplitude_v_L=None if start_amplitude is None else float(start_amplitude),
-                      stable=stable, stability=stability, dofs=system.dofs,
+                      stable=stable, stability=stability, largest_multiplier=largest, dofs=system.dofs,
                       condensed_on=lin.nx if lin.condensed else 0,
-                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=time.perf_counter() - t2)
+                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=t3 - t2, stability_s=time.perf_counter() - t3)
 
 
 def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAULT_HARMONICS,

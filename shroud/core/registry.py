@@ -39,8 +39,11 @@ class ModelEntry:
     # linear part per harmonic (a large sparse model condensed on its contact coordinates by its own
     # solver); None: the core's dense one.
     linear_harmonics: Callable[[Any, float, int], tuple] | None = None
-    # A model on the same contact coordinates whose harmonic-balance states start this one's Newton.
+    # A model on the same contact coordinates whose harmonic-balance states start this one's Newton, and
+    # on whose basis the perturbations of this one's orbit are projected for its Floquet multipliers.
     reduced_by: str | None = None
+    # params -> the parameters of this model on a larger basis (a reduction's convergence check)
+    refined: Callable[[Any], Any] | None = None
 
 
 _MODELS: dict[str, ModelEntry] = {}
