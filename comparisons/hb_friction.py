@@ -310,8 +310,12 @@ def report(scene, variants: list[Variant], concl: dict, points: list[dict], file
     return "\n".join(lines) + "\n"
 
 
-def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
-    """compute -> plot -> report for the variants (name -> Parameters) of one contact parameter."""
+def run_variants(scene, out: Path, variants: dict, describe: str, explain=None) -> dict:
+    """compute -> plot -> report for the variants (name -> Parameters) of one contact parameter.
+
+    ``explain(variants, conclusions) -> (report lines, results)``: a study's own section after the
+    report, its data under "explanation" in the results.
+    """
     opts = scene.options
     done = [compute_variant(name, p, opts) for name, p in variants.items()]
     concl = conclusions(done)
@@ -320,8 +324,10 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
     write_records(out / "td_points_by_branch.csv", points)
     write_records(out / "resonances_over_gap.csv", [r for v in done for r in v.gap_rows()])
     write_records(out / "resonances_over_preload.csv", [r for v in done for r in v.preload_rows()])
-    (out / "report.md").write_text(report(scene, done, concl, points, files, describe))
-    return {"conclusions": concl,
+    lines, explained = explain(done, concl) if explain is not None else ([], None)
+    (out / "report.md").write_text(report(scene, done, concl, points, files, describe)
+                                   + "".join(line + "\n" for line in lines))
+    return {"conclusions": concl, **({"explanation": explained} if explained is not None else {}),
             "variants": {v.name: {"gaps": v.gap_rows(), "preloads": v.preload_rows(),
                                   "peak_curve": v.preload.curve.to_json(),
                                   "branches": {c[0]: b.to_json() for c, b in zip(v.cases, v.branches)}}

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from shroud.core.contact import (SEPARATE, SLIP, STICK, contact_law, evaluate, friction_return_map,
-                            normal_force, solve_contact, tangent, workspace)
+                                 harmonic_stiffness, normal_force, solve_contact, tangent, workspace)
 from shroud.core.system import ContactElements
 
 
@@ -212,3 +212,31 @@ def test_low_rank_compliance_solve_matches_the_dense_solve_over_a_sequence():
         states_seen.update(np.unique(out["dense"][2]).tolist())
         z_old = out["dense"][1]
     assert states_seen == {SEPARATE, STICK, SLIP}
+
+
+@pytest.mark.parametrize("ratio", [0.5, 1.2, 3.0, 30.0, 1000.0])
+def test_harmonic_stiffness_is_the_first_harmonic_of_the_marched_law(ratio):
+    """The closed form (Jenkins element, Caughey / Iwan) against the law itself marched around a cosine
+    (the one return mapping, 20 000 samples, second cycle), kt a / (mu N) from stuck to gross slip."""
+    kt, mu, N = 2e6, 0.3, 10.0
+    a = ratio * mu * N / kt
+    tau = np.linspace(0.0, 4 * np.pi, 40001)[:-1]
+    w = a * np.cos(tau)
+    z, F = w[0], np.zeros(w.size)
+    for i, wi in enumerate(w):
+        F[i], z, _ = friction_return_map(wi, z, N, kt, mu)
+    second = slice(w.size // 2, None)
+    c = np.exp(-1j * tau[second])
+    measured = -(F[second] @ c) / (w[second] @ c)           # -F = k w on the first harmonic
+    exact = harmonic_stiffness(kt, mu * N, a)
+    assert measured.real == pytest.approx(exact.real, rel=2e-3, abs=1e-6 * kt)
+    assert measured.imag == pytest.approx(exact.imag, rel=2e-3, abs=1e-6 * kt)
+
+
+def test_a_stiffer_tangential_spring_softens_an_element_in_gross_slip():
+    """At fixed amplitude and slip force, k' rises with kt near stick and falls in gross slip (the
+    turn at mu N / (kt a) = 0.769): why a larger xi can lower a sliding shroud's resonant speed."""
+    F_s, a = 3.0, 5e-6
+    near_stick = [harmonic_stiffness(kt, F_s, a).real for kt in (2e5, 3e5, 3.8e5)]      # mu N / (kt a) > 0.79
+    gross_slip = [harmonic_stiffness(kt, F_s, a).real for kt in (2e6, 5e6, 1e7)]        # < 0.3
+    assert near_stick == sorted(near_stick) and gross_slip == sorted(gross_slip, reverse=True)

@@ -522,3 +522,30 @@ def friction_dissipation(F_old, F_new, z_old, z_new):
     for j in range(F_old.size):
         D -= 0.5 * (F_old[j] + F_new[j]) * (z_new[j] - z_old[j])
     return D
+
+
+def harmonic_stiffness(kt: float, slip_force: float, amplitude: float) -> complex:
+    """First-harmonic (describing-function) stiffness of one friction element, N/m.
+
+    The tangential spring kt in series with the slider of limit ``slip_force``
+    = mu N (constant N), driven by w = a cos(tau) with amplitude a (m) once
+    the loop is periodic: the first harmonic of the force the element exerts,
+    -F = (k' + i k'') w. It sticks over the angle beta after each reversal,
+    cos beta = 1 - 2 mu N / (kt a), so
+
+        k'  = kt / pi (beta - sin(2 beta) / 2),
+        k'' = 4 mu N / (pi a) (1 - mu N / (kt a))   (pi a^2 k'' = the loop's area);
+
+    for a <= mu N / kt it sticks throughout (k' = kt, k'' = 0). In gross slip
+    (kt a >> mu N) k' = 16 / (3 pi) (mu N)^(3/2) / (kt^(1/2) a^(3/2)): a stiffer
+    tangential spring makes the element softer, since the force tends to the
+    square wave mu N sign(w'), all damping and no stiffness. At fixed a and
+    mu N, k' rises with kt only while kt a < mu N / 0.769 (d k'/d kt = 0 at
+    r = mu N / (kt a) = 0.769).
+    """
+    if amplitude <= 0.0 or kt * amplitude <= slip_force:
+        return complex(kt, 0.0)
+    r = slip_force / (kt * amplitude)
+    beta = np.arccos(1.0 - 2.0 * r)
+    return complex(kt / np.pi * (beta - 0.5 * np.sin(2.0 * beta)),
+                   4.0 * slip_force / (np.pi * amplitude) * (1.0 - r))
