@@ -211,7 +211,7 @@ def conclusions(results: dict) -> dict:
                               for m, s in slip.items() if m != ref and ref in slip},
         "state_order": {m: _state_order({k: (st["side1"][k] + st["side2"][k]) / 2 for k in STATE_NAMES})
                         for m, st in results["state_fraction"].items()},
-        "cost": {f"{a} vs {b}": costversus(total[a], total[b])
+        "cost": {f"{a} vs {b}": cost_versus(total[a], total[b])
                  for a, b in pairs if a in total and b in total},
     }
 
