@@ -1,7 +1,8 @@
 """The Fig. 8 response of the solid on both cell kinds, side by side in one process.
 
-The hexahedral default mesh against the P2 tetrahedra of 3.5 mm (the solid
-before fe.cell existed): each model of ``--models`` runs on both meshes;
+The hexahedral default mesh (5 mm; the Fig. 8 scene itself runs on 10 mm)
+against the P2 tetrahedra of 3.5 mm (the solid before fe.cell existed), or
+against ``--candidates``: each model of ``--models`` runs on every mesh;
 reported per run DOF, contact elements, build and per-step times, and the
 hexahedral run's agreement with the tetrahedral one (NRMSE and peak error of
 the Fig. 8 signals over the last ``--window`` periods, comparisons/_agreement).
@@ -9,6 +10,14 @@ the Fig. 8 signals over the last ``--window`` periods, comparisons/_agreement).
     python benchmarks/bench_fe_cells.py                               # fe-reduced, 100 periods
     python benchmarks/bench_fe_cells.py --models fe --periods 4       # the full solid, per step
     python benchmarks/bench_fe_cells.py --factor                      # factor size, back-substitution
+
+``--candidates``: other meshes (each a comma-separated list of overrides of
+the 5 mm hexahedra) against those instead of the tetrahedra, with the
+errors of the steady amplitudes too; how the Fig. 8 scene's own mesh (10 mm)
+was chosen:
+
+    python benchmarks/bench_fe_cells.py --candidates fe.mesh_size=0.01 fe.hex_span_ratio=2 \
+        fe.mesh_size=0.007,fe.hex_span_ratio=1.5
 
 ``--factor``: the MUMPS Cholesky factor of K + M at 10000 r/min on each mesh
 (entries) and the median time of 20 back-substitutions, the meshes
@@ -22,13 +31,13 @@ import json
 import math
 import time
 
-from comparisons._agreement import agreement, signals_of
+from comparisons._agreement import agreement, signals_of, window
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from shroud.app.scene import load_scene
 from shroud.core.newmark import NewmarkScheme, integrate
 
-CELLS = {"hex": [], "tet": ["fe.cell=tet", "fe.mesh_size=0.0035"]}
+CELLS = {"hex": ["fe.cell=hex", "fe.mesh_size=0.005"], "tet": ["fe.cell=tet", "fe.mesh_size=0.0035"]}
 
 
 def run(params, model: str):
@@ -78,20 +87,39 @@ def main() -> None:
     parser.add_argument("--models", nargs="+", default=["fe-reduced"])
     parser.add_argument("--factor", action="store_true")
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--candidates", nargs="+", default=[], metavar="KEY=VALUE,...",
+                        help="meshes (comma-separated overrides each) compared with the default hex mesh instead")
     args = parser.parse_args()
     if args.factor:
         factor(args.repeats)
         return
+    meshes = ({"hex": CELLS["hex"], **{c: CELLS["hex"] + c.split(",") for c in args.candidates}} if args.candidates
+              else CELLS)
+    reference = "hex" if args.candidates else "tet"
     for model in args.models:
         runs = {}
-        for cell, overrides in CELLS.items():
+        for cell, overrides in meshes.items():
             params = load_scene("scenes/fig8.toml", overrides + [f"time.periods={args.periods}"]).params
             row, runs[cell] = run(params, model)
             print(json.dumps({"model": model, "cell": cell, **row}), flush=True)
         period = 2 * math.pi / (params.load.ke * params.speed.omega)
-        fit = agreement(runs["hex"].t, signals_of(runs["hex"]), runs["tet"].t, signals_of(runs["tet"]),
-                        period, min(args.window, args.periods))
-        print(json.dumps({"model": model, "hex_against_tet": fit.to_json()}), flush=True)
+        ref = runs[reference]
+        for cell, got in runs.items():
+            if cell == reference:
+                continue
+            fit = agreement(got.t, signals_of(got), ref.t, signals_of(ref), period, min(args.window, args.periods))
+            print(json.dumps({"model": model, f"{cell}_against_{reference}": fit.to_json(),
+                              "amplitude_error": amplitude_error(got, ref, period, min(args.window, args.periods))}),
+                  flush=True)
+
+
+def amplitude_error(got, ref, period: float, periods: int) -> dict[str, float]:
+    """Relative error of the steady amplitudes (max - min) / 2 of v_L and w_L over the last ``periods``."""
+    def amplitude(tr):
+        tip = tr.tip[window(tr.t, period, periods)]
+        return 0.5 * (tip.max(axis=0) - tip.min(axis=0))
+    a, b = amplitude(got), amplitude(ref)
+    return {name: round(float(x / y - 1.0), 5) for name, x, y in zip(("v_L", "w_L"), a, b)}
 
 
 if __name__ == "__main__":

@@ -1,18 +1,22 @@
 """Speed and size of the solid FE transients ("fe" and "fe-reduced") on the Fig. 8 case.
 
-Goals: "fe" 100 excitation periods on the default mesh in 10 min or
-less on 2 cores and under 4 GB (the paper's ANSYS beam model: 3260 s);
-"fe-reduced" 5 s or less (paper: 2329 s). Reported per model: DOFs, contact
+Goals: "fe" 100 excitation periods of the Fig. 8 scene (its own 10 mm
+hexahedra, scenes/fig8.toml) in 300 s or less on 2 ranks, 11.5 ms a step
+(the paper's ANSYS beam model: 3260 s); "fe-reduced" 5 s or less (paper:
+2329 s). Reported per model: DOFs, contact
 elements, build time (mesh, operators, reduction basis; cached on disk
 after a first run: run twice to see both), set-up of the time loop (the
 factorization of the Newmark operator and its condensation on the contact
-coordinates: a zero-step integration), time per step, total, peak memory.
+coordinates: a zero-step integration), time and CPU time per step (with the
+load average: the machine is shared), total, peak memory.
 
     python benchmarks/bench_fe_transient.py                 # 100 periods, both models
     python benchmarks/bench_fe_transient.py --periods 5     # per-step figures, extrapolated
     python benchmarks/bench_fe_transient.py --set fe.order=1
     python benchmarks/bench_fe_transient.py --models fe --superlu  # SuperLU instead of the model's MUMPS LU
     OMP_NUM_THREADS=1 mpirun -n 2 python benchmarks/bench_fe_transient.py --models fe   # over 2 ranks
+    python benchmarks/bench_fe_transient.py --models fe --periods 4 --profile 12   # where the step goes
+    python benchmarks/bench_fe_transient.py --models fe --set fe.mesh_size=0.005  # the default mesh
 
 Interface reduction of fe-reduced (fe.interface_modes): ``--interface-modes
 0 8 16 32`` runs "fe" once and "fe-reduced" with each count of kept
@@ -25,8 +29,11 @@ Fig. 8 signals over the last ``--window`` periods, comparisons/_agreement).
 from __future__ import annotations
 
 import argparse
+import cProfile
 import json
 import math
+import os
+import pstats
 import resource
 import time
 
@@ -39,10 +46,11 @@ from shroud.base.parallel import mpi_rank, mpi_size
 from shroud.app.scene import load_scene
 
 
-def measure(params, model: str, factorize=None):
+def measure(params, model: str, factorize=None, profile: int = 0):
     """The figures of one model's run, and its trajectory.
 
     ``factorize``: of the step operator (None: the model's own, else shroud.core.newmark's default).
+    ``profile``: print this many functions of the timed run by own time (cProfile, rank 0).
     """
     t0 = time.perf_counter()
     system = build_system(params, model)
@@ -53,14 +61,27 @@ def measure(params, model: str, factorize=None):
     implicit = params.time.contact == "implicit"
     # twice: the first zero-step run also compiles the kernels, which the timed run then finds ready
     # (measured once, the set-up exceeded a 1-period run and the time per step came out negative)
+    cpu0 = time.process_time()
     setup = [integrate(system, law, scheme, 0, implicit=implicit, factorize=factorize) for _ in range(2)][-1]
+    cpu1 = time.process_time()
+    profiler = cProfile.Profile() if profile else None
+    if profiler:
+        profiler.enable()
     run = integrate(system, law, scheme, steps, implicit=implicit, bound=params.blade.length,
                     factorize=factorize, label=f"bench {model}")
+    if profiler:
+        profiler.disable()
+        if mpi_rank() == 0:
+            pstats.Stats(profiler).sort_stats("tottime").print_stats(profile)
     per_step = (run.elapsed_s - setup.elapsed_s) / steps
+    # CPU of this process (rank 0) per step: on a shared machine the wall time also counts the
+    # time the process waited for a core (and, under mpirun, MPI's busy-waiting counts as CPU)
+    cpu_per_step = (time.process_time() - cpu1 - 0.5 * (cpu1 - cpu0)) / steps
     return {
         "model": model, "interface_modes": params.fe.interface_modes, "dofs": system.dofs,
         "contact_elements": law.count, "build_s": build_s,
         "setup_s": setup.elapsed_s, "steps": steps, "run_s": run.elapsed_s, "per_step_ms": 1e3 * per_step,
+        "cpu_per_step_ms": 1e3 * cpu_per_step, "load_1min": os.getloadavg()[0],
         "run_100_periods_s": setup.elapsed_s + per_step * 100 * params.time.steps_per_period,
         "contact_iterations_max": run.contact_iterations,
         "ranks": mpi_size(), "peak_rss_gb": peak_rss_gb(),
@@ -91,11 +112,13 @@ def main() -> None:
     parser.add_argument("--window", type=int, default=10, help="periods compared (--interface-modes)")
     parser.add_argument("--superlu", action="store_true",
                         help="factorize the sparse step operator with SuperLU (default: the model's MUMPS LU)")
+    parser.add_argument("--profile", type=int, default=0, metavar="N",
+                        help="print the N functions of the timed run that take the most own time (cProfile)")
     args = parser.parse_args()
     params = load_scene("scenes/fig8.toml", args.set + [f"time.periods={args.periods}"]).params
     if not args.interface_modes:
         for model in args.models:
-            show(measure(params, model, default_factorization if args.superlu else None)[0])
+            show(measure(params, model, default_factorization if args.superlu else None, args.profile)[0])
         return
     row, fe = measure(params, "fe")
     show(row)
