@@ -27,7 +27,7 @@ from shroud.analysis.hb import model_at_speed
 from shroud.analysis.transient import contact_law_for
 from shroud.base.markdown import markdown_table
 from shroud.core import harmonic_balance as hb
-from shroud.core.contact import harmonic_stiffness
+from shroud.core.contact import KN, KT, MU, harmonic_stiffness
 from shroud.core.states import SEPARATE, SLIP
 
 OPTIONS = {**hb_friction.OPTIONS, "values": [0.2, 0.5, 1.0]}
@@ -41,15 +41,14 @@ def run(scene, out: Path) -> dict:
                                     explain=lambda done, concl: explain(done, concl, scene.options))
 
 
-def friction_at_resonance(variant, value: float, params, opts: dict) -> dict | None:
+def friction_at_resonance(variant, case: str, value: float, params, opts: dict) -> dict | None:
     """Side 1's friction element along the tracked resonant orbit at preload ``value`` (N): the first
     harmonic's tangential amplitude (m), the share of its contact time in slip, and k' (N/m) measured
     along the orbit and by the closed form at the same amplitude with N = N0."""
     curve = variant.preload.curve
-    hit = np.flatnonzero(np.isclose(curve.n0, value, rtol=0.0, atol=1e-9 * (1.0 + abs(value))))
-    if hit.size == 0:
+    i = curve.index(value)
+    if i is None:
         return None
-    i = int(hit[-1])
     H, n = curve.harmonics, curve.samples
     system = model_at_speed(params, opts["model"])(float(curve.rpm[i]))
     lin = hb.linear_harmonics(system, H)
@@ -63,11 +62,11 @@ def friction_at_resonance(variant, value: float, params, opts: dict) -> dict | N
     w1, F1 = w @ phase, c.F[j] @ phase
     touching = c.state[j] != SEPARATE
     a = 2.0 * abs(w1) / n
-    kt, mu = law.props[j, 2], law.props[j, 3]
-    return {"variant": variant.name, "N0": value, "rpm": float(curve.rpm[i]), "tangential_amplitude_m": a,
+    kt, mu = law.props[j, KT], law.props[j, MU]
+    return {"variant": variant.name, "case": case, "N0": value, "rpm": float(curve.rpm[i]), "tangential_amplitude_m": a,
             "slip_share": float(np.mean(c.state[j][touching] == SLIP)) if touching.any() else 0.0,
             "k_orbit": float(-(F1 / w1).real), "k_jenkins": harmonic_stiffness(kt, mu * value, a).real, "kt": kt,
-            "stick_ratio": mu * value / (kt * a) if a > 0 else float("inf"), "kn": law.props[j, 1]}
+            "stick_ratio": mu * value / (kt * a) if a > 0 else float("inf"), "kn": law.props[j, KN]}
 
 
 def _trend(values: list[float]) -> str:
@@ -76,7 +75,7 @@ def _trend(values: list[float]) -> str:
 
 def explain(done, concl: dict, opts: dict) -> tuple[list[str], list[dict]]:
     rows = [r for v in done for label, kind, value, p in v.cases if kind == "preload" and value >= 0
-            for r in [friction_at_resonance(v, value, p, opts)] if r is not None]
+            for r in [friction_at_resonance(v, label, value, p, opts)] if r is not None]
     if not rows:
         return [], []
     falls = [c for c, t in concl["preload_cases"].items() if t["speed_trend"] != 1]
@@ -96,8 +95,7 @@ def explain(done, concl: dict, opts: dict) -> tuple[list[str], list[dict]]:
                               f"{r['stick_ratio']:.3g}",
                               f"{r['k_orbit'] / 1e6:.3f}", f"{r['k_jenkins'] / 1e6:.3f}") for r in rows])]
     for case in falls:
-        n0 = float(case.split()[1])
-        mine = [r for r in rows if r["N0"] == n0]
+        mine = [r for r in rows if r["case"] == case]
         if len(mine) < 2:
             continue
         orbit, closed = [r["k_orbit"] for r in mine], [r["k_jenkins"] for r in mine]
@@ -110,8 +108,8 @@ def explain(done, concl: dict, opts: dict) -> tuple[list[str], list[dict]]:
                   + ("does the same (" if _trend(closed) == _trend(orbit) else "would not (")
                   + " -> ".join(f"{k / 1e6:.3g}" for k in closed) + " MN/m)"
                   + ("." if _trend(closed) == _trend(orbit) else
-                     f": here the normal load swings with the normal motion ({n0:g} N is "
-                     f"{n0 / mine[0]['kn'] * 1e6:.3g} um of normal travel), and the friction limit with it, which "
-                     "the constant-N element leaves out.")
+                     f": here the normal load swings with the normal motion ({mine[0]['N0']:g} N is "
+                     f"{mine[0]['N0'] / mine[0]['kn'] * 1e6:.3g} um of normal travel), and the friction limit "
+                     "with it, which the constant-N element leaves out.")
                   + " The paper's rise holds where the contact mostly sticks (the other cases)."]
     return lines, rows

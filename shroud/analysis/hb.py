@@ -103,14 +103,20 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx), jacobian=False)
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = hb.amplitude_over_period(tip)
-    W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))
-    y_rate = basis.rates(X.reshape(basis.nh, lin.nx) @ lin.Wx.T, lin.omega)
-    Phi = floquet.monodromy(system.M, system.C, system.K, W, law, b.contact.state, b.contact.F, lin.omega, y_rate)
-    mult = floquet.multipliers(Phi)
+    mult = orbit_multipliers(system, law, b.contact, basis.rates(X.reshape(basis.nh, lin.nx) @ lin.Wx.T, lin.omega))
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
             "multipliers": mult,
             "stable": floquet.is_stable(mult)}
+
+
+def orbit_multipliers(system: StructuralSystem, law, contact: hb.ContactHarmonics, y_rate: np.ndarray) -> np.ndarray:
+    """Floquet multipliers of ``system`` (its M, C, K, W; excitation frequency system.omega_e) linearized
+    about the orbit whose contact states and friction ``contact`` holds, ``y_rate`` its contact velocities
+    at the samples (floquet.monodromy)."""
+    W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))
+    return floquet.multipliers(floquet.monodromy(system.M, system.C, system.K, W, law, contact.state, contact.F,
+                                                 system.omega_e, y_rate))
 
 
 def model_at_speed(params: Parameters, model: str) -> Callable[[float], StructuralSystem]:
@@ -209,9 +215,7 @@ def projected_multipliers(params: Parameters, model: str, rpm: float, X: np.ndar
         system = entry.build_system(p.updated({"speed.rpm": float(rpm)}))
         law = contact_law_for(system, p.contact)
         c = hb.contact_harmonics(X, np.eye(X.shape[1]), law, basis, jacobian=False)
-        Phi = floquet.monodromy(system.M, system.C, system.K, system.contact.W, law, c.state, c.F,
-                                system.omega_e, basis.rates(X, system.omega_e))
-        mult = floquet.multipliers(Phi)
+        mult = orbit_multipliers(system, law, c, basis.rates(X, system.omega_e))
         largest[system.dofs] = float(np.abs(mult).max(initial=0.0))
         stable = floquet.is_stable(mult)
     values = list(largest.values())

@@ -81,12 +81,17 @@ class PeakCurve:
                 "bracket": [float(self.n0[max(i - 1, 0)]), float(self.n0[min(i + 1, len(self.n0) - 1)])],
                 "at_end": bool(i in (0, len(self.n0) - 1))}
 
-    def at(self, n0: float) -> dict[str, float] | None:
-        """The curve's point at exactly ``n0`` (one of the ``at`` preloads of :func:`track_peak`), or None."""
+    def index(self, n0: float) -> int | None:
+        """Index of the curve's point at exactly ``n0`` (one of the ``at`` preloads of :func:`track_peak`),
+        the last if the curve passes it more than once, or None."""
         hit = np.flatnonzero(np.isclose(self.n0, n0, rtol=0.0, atol=1e-9 * (1.0 + abs(n0))))
-        if hit.size == 0:
+        return int(hit[-1]) if hit.size else None
+
+    def at(self, n0: float) -> dict[str, float] | None:
+        """The curve's point at exactly ``n0`` (:meth:`index`), or None."""
+        i = self.index(n0)
+        if i is None:
             return None
-        i = int(hit[-1])
         return {"N0": float(self.n0[i]), "rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]),
                 "stable": bool(self.stable[i])}
 
