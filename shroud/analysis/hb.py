@@ -89,18 +89,27 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 
     def residual(X, rpm):
         _, lin, L, F = speeds.at(rpm)
         b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx))
+        residual.last = (X, rpm, b)
 
         def d_rpm():
             dL, dF = derivative(rpm, L, F)
             return dL @ X - dF
         return b.R, b.J, d_rpm
+    residual.last = None       # (X, rpm, Balance) of the latest evaluation: a converged point's own
     return residual
 
 
-def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float) -> dict:
-    """Amplitudes, spectral tail and Floquet multipliers of a converged point."""
+def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float,
+                  evaluated: tuple | None = None) -> dict:
+    """Amplitudes, spectral tail and Floquet multipliers of a converged point.
+
+    ``evaluated``: (X, rpm, Balance) of an evaluation already made, used if it is this point's.
+    """
     system, lin, L, F = speeds.at(rpm)
-    b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx), jacobian=False)
+    if evaluated is not None and evaluated[1] == rpm and np.array_equal(evaluated[0], X):
+        b = evaluated[2]
+    else:
+        b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx), jacobian=False)
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = hb.amplitude_over_period(tip)
     mult = orbit_multipliers(system, law, b.contact, basis.rates(X.reshape(basis.nh, lin.nx) @ lin.Wx.T, lin.omega))
@@ -150,7 +159,8 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     details: list[dict] = []
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
                              dp_max=(rpm_to - rpm_from) / (count - 1),
-                             on_point=lambda X, rpm: details.append(point_details(speeds, law, basis, X, rpm)))
+                             on_point=lambda X, rpm: details.append(point_details(speeds, law, basis, X, rpm,
+                                                                                  residual.last)))
     return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
                                 iterations=branch.iterations, complete=branch.complete,
                                 stopped=branch.stopped, dofs=system.dofs, condensed=lin.condensed,

@@ -208,6 +208,15 @@ def _aft_kernel(Ys, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
     return most
 
 
+@njit(cache=True)
+def _scatter(dLam, B, a, b):
+    """dLam[:, a[j], :, b[j]] += B[j] for every touching element j (repeated coordinates add up)."""
+    for j in range(B.shape[0]):
+        for r in range(B.shape[1]):
+            for c in range(B.shape[2]):
+                dLam[r, a[j], c, b[j]] += B[j, r, c]
+
+
 @dataclass(frozen=True)
 class ContactHarmonics:
     """The law along one period: forces, their harmonics and derivatives."""
@@ -251,7 +260,7 @@ def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fou
         blocks = ((Bn, n_rows, n_rows), (Bt[:, :, :nh], t_rows, n_rows), (Bt[:, :, nh:], t_rows, t_rows))
         if Wx.shape[0] == nx and np.array_equal(Wx, np.eye(nx)):   # x = y (condensed): scatter
             for B, a, b in blocks:
-                np.add.at(dLam, (slice(None), a, slice(None), b), B)
+                _scatter(dLam, np.ascontiguousarray(B), a, b)
         else:
             for B, a, b in blocks:
                 Wa, Wb = Wx[a], Wx[b]                     # (touching elements, nx)
@@ -319,18 +328,43 @@ def _complex_coefficients(X: np.ndarray) -> np.ndarray:
     return out
 
 
+@njit(cache=True)
 def _real_blocks(Z: np.ndarray) -> np.ndarray:
     """Block-diagonal real matrix of the complex Z_k on [a_k; b_k]: [[Zr, Zi], [-Zi, Zr]]."""
     H1, n = Z.shape[0], Z.shape[1]
     nh = 2 * H1 - 1
-    L = np.zeros((nh, n, nh, n))
-    k = np.arange(1, H1)
-    a, b = 2 * k - 1, 2 * k
-    L[0, :, 0, :] = Z[0].real
-    L[a, :, a, :] = L[b, :, b, :] = Z[1:].real
-    L[a, :, b, :] = Z[1:].imag
-    L[b, :, a, :] = -Z[1:].imag
-    return L.reshape(nh * n, nh * n)
+    L = np.zeros((nh * n, nh * n))
+    for i in range(n):
+        for j in range(n):
+            L[i, j] = Z[0, i, j].real
+    for k in range(1, H1):
+        a, b = (2 * k - 1) * n, 2 * k * n
+        for i in range(n):
+            for j in range(n):
+                zr, zi = Z[k, i, j].real, Z[k, i, j].imag
+                L[a + i, a + j] = L[b + i, b + j] = zr
+                L[a + i, b + j] = zi
+                L[b + i, a + j] = -zi
+    return L
+
+
+@njit(cache=True)
+def _solved_columns(M, C, K, O, W, f0, f1, omega, H):
+    """O Z_k^-1 [W^T, F_k] for k = 0..H, complex (H+1, o, m+1): each harmonic's dynamic stiffness
+    Z_k = K - (k omega)^2 M + i k omega C solved against the contact directions W^T (m, n) and
+    the load F_0 = f0, F_1 = -i f1 (zero above), and seen through the outputs O (o, n)."""
+    n, m, o = M.shape[0], W.shape[0], O.shape[0]
+    out = np.empty((H + 1, o, m + 1), np.complex128)
+    rhs = np.zeros((n, m + 1), np.complex128)
+    for k in range(H + 1):
+        w = k * omega
+        Z = (K - w * w * M) + 1j * (w * C)
+        for i in range(n):
+            for j in range(m):
+                rhs[i, j] = W[j, i]
+            rhs[i, m] = f0[i] if k == 0 else (-1j * f1[i] if k == 1 else 0.0)
+        out[k] = O.astype(np.complex128) @ np.linalg.solve(Z, rhs)
+    return out
 
 
 
@@ -361,16 +395,14 @@ def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = N
     tip = dense(system.tip)
     m = W.shape[0]
     condense = (0 < m < n) if condense is None else condense
-    Z = dynamic_stiffness(system, H)
-    F = load_harmonics(system, H)
     if not condense:
+        Z, F = dynamic_stiffness(system, H), load_harmonics(system, H)
         return LinearHarmonics(omega=system.omega_e, Z=Z, F=F, Wx=W,
                                tip_x=np.broadcast_to(tip.astype(complex), (H + 1, 2, n)),
                                tip_lam=np.zeros((H + 1, 2, m), complex), tip_f=np.zeros((H + 1, 2), complex),
                                condensed=False)
-    rhs = np.empty((H + 1, n, m + 1), complex)
-    rhs[:, :, :m], rhs[:, :, m] = W.T, F
-    WS = np.vstack([W, tip]) @ np.linalg.solve(Z, rhs)   # [W; tip] Z_k^-1 [W^T, F_k] in one product
+    WS = _solved_columns(dense(system.M), dense(system.C), dense(system.K), np.vstack([W, tip]), W,
+                         np.asarray(system.f_const, float), np.asarray(system.f_aero, float), system.omega_e, H)
     return condensed(system.omega_e, WS[:, :m], WS[:, m:])
 
 
@@ -382,11 +414,22 @@ def condensed(omega: float, WS: np.ndarray, tipS: np.ndarray) -> LinearHarmonics
     R_k = W Z_k^-1 W^T gives Z = R_k^-1 and F = R_k^-1 W Z_k^-1 F_k (Petrov & Ewins 2003).
     """
     H1, m = WS.shape[0], WS.shape[1]
-    Zc = np.linalg.inv(WS[:, :, :m])
-    Fc = np.einsum("kij,kj->ki", Zc, WS[:, :, m])
+    Zc, Fc = _inverse_receptance(np.ascontiguousarray(WS))
     return LinearHarmonics(omega=omega, Z=Zc, F=Fc, Wx=np.eye(m),
                            tip_x=np.zeros((H1, 2, m), complex), tip_lam=tipS[:, :, :m],
                            tip_f=tipS[:, :, m], condensed=True)
+
+
+@njit(cache=True)
+def _inverse_receptance(WS):
+    """(R_k^-1, R_k^-1 w_k) per harmonic from WS[k] = [R_k, w_k] (m, m+1), complex."""
+    H1, m = WS.shape[0], WS.shape[1]
+    Zc = np.empty((H1, m, m), np.complex128)
+    Fc = np.empty((H1, m), np.complex128)
+    for k in range(H1):
+        Zc[k] = np.linalg.inv(WS[k, :, :m])
+        Fc[k] = Zc[k] @ np.ascontiguousarray(WS[k, :, m])
+    return Zc, Fc
 
 
 # --- residual, Newton at one speed ---------------------------------------------------
