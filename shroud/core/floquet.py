@@ -72,10 +72,14 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     hist = np.flatnonzero(sticks & released)           # elements whose slider carries a history
     nz = hist.size
     Minv = np.linalg.inv(M)
+    free_blade = np.zeros((2 * n, 2 * n))               # A without contact: [[0, I], [-M^-1 K, -M^-1 C]]
+    free_blade[:n, n:] = np.eye(n)
+    free_blade[n:, :n], free_blade[n:, n:] = -Minv @ K, -Minv @ C
     sigma = np.where(F > 0, 1.0, -1.0)
     key = state * 2 + (sigma > 0) * (state == SLIP)
     Phi = np.eye(2 * n + nz)
     Wn, Wt = W[law.rows[:, 0]], W[law.rows[:, 1]]
+    forced = (Minv @ Wn.T, Minv @ Wt.T)                 # M^-1 W_n^T, M^-1 W_t^T: where the contact forces act
     change = np.flatnonzero(np.any(key[:, 1:] != key[:, :-1], axis=0)) + 1
     starts = np.r_[0, change]
     lengths = np.diff(np.r_[starts, nt])
@@ -86,7 +90,7 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
         lin = runs.get(tag)
         if lin is None:
             tan = tangents(state[:, i], F[:, i], law.props)
-            lin = runs[tag] = linearized(Minv, K, C, Wn, Wt, law.props[:, SIGN], tan, hist)
+            lin = runs[tag] = linearized(free_blade, forced, Wn, Wt, law.props[:, SIGN], tan, hist)
         E, P = _flow(lin.A, lin.Bv, dt * length)
         top = E @ Phi[:2 * n]
         if lin.held.size:
@@ -134,7 +138,7 @@ class Linearized:
     release: np.ndarray      # (free, n)
 
 
-def linearized(Minv, K, C, Wn, Wt, s, tan, hist) -> Linearized:
+def linearized(free_blade, forced, Wn, Wt, s, tan, hist) -> Linearized:
     """The flow in one set of states from the law's tangent ``tan`` (elements, 7; shroud.core.contact.tangent).
 
     The contact force on the projected coordinates, dlam_n = -s dN,
@@ -142,18 +146,18 @@ def linearized(Minv, K, C, Wn, Wt, s, tan, hist) -> Linearized:
     forcing W_t^T dF/dz; ``s`` the elements' sides (-1, +1), ``hist`` the
     elements whose slider is carried (slot = position in ``hist``). A slider
     that does not stick is slaved to the blade, dz = dz/dv dv + dz/dw dw.
+    ``free_blade``: the first-order matrix without contact, ``forced``:
+    (M^-1 W_n^T, M^-1 W_t^T), so that the contact is a low-rank change of it.
     """
-    n = K.shape[0]
+    n = Wn.shape[1]
+    MWn, MWt = forced
     dN_dv, dF_dv, dF_dw, dF_dz, dz_dv, dz_dw, dz_dz = tan.T
-    Kc = Wn.T @ ((s * dN_dv)[:, None] * Wn) - Wt.T @ (dF_dv[:, None] * Wn) - Wt.T @ (dF_dw[:, None] * Wt)
-    A = np.zeros((2 * n, 2 * n))
-    A[:n, n:] = np.eye(n)
-    A[n:, :n] = -Minv @ (K + Kc)
-    A[n:, n:] = -Minv @ C
+    A = free_blade.copy()
+    A[n:, :n] -= MWn @ ((s * dN_dv)[:, None] * Wn) - MWt @ (dF_dv[:, None] * Wn + dF_dw[:, None] * Wt)
     held = np.flatnonzero(dF_dz[hist] != 0.0)
     free = np.flatnonzero(dz_dz[hist] == 0.0)
     h, f = hist[held], hist[free]
-    return Linearized(A=A, Bv=Minv @ (Wt[h].T * dF_dz[h]), held=held, free=free,
+    return Linearized(A=A, Bv=MWt[:, h] * dF_dz[h], held=held, free=free,
                       release=dz_dv[f, None] * Wn[f] + dz_dw[f, None] * Wt[f])
 
 
