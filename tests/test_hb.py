@@ -280,3 +280,35 @@ def test_an_orbit_that_sticks_from_the_touch_is_as_stable_as_the_time_domain_say
     q0, v0, _ = hb.state_vector(system, sol, lin)
     tr, spp = _time_domain(p, "full", rpm, periods=400, q0=q0, v0=v0)
     assert amplitude(tr.tip[:, 0], spp) == pytest.approx(sol.amplitude_v_L, rel=0.01)
+
+
+def test_a_small_gap_whose_first_point_folds_in_the_load_runs_the_whole_range():
+    """Fig. 11 contact (alpha 30 deg, kt 5e6 N/m), 10 um gap, mu 0.1: at 4000 r/min Newton fails from the
+    linear solution and the solution folds back in the load (near 0.69 of it, down to 0.60, ...), so raising
+    the load in fixed steps stopped there and the branch had no first point. Followed through the folds
+    the first point is found; the branch runs 4000-60000 r/min, every point solves R = 0, and where the
+    time domain settles on P1 (8000 and 30000 r/min) an HB state agrees with it within 1 %."""
+    p = Parameters().updated({"contact.alpha_deg": 30.0, "contact.kt": 5e6, "contact.mu": 0.1,
+                              "contact.gap": 1e-5})
+    system = build_system(p.updated({"speed.rpm": 4000.0}), "reduced")
+    law = contact_law_for(system, p.contact)
+    lin = hb.linear_harmonics(system, 10)
+    basis = hb.fourier(10, 512)
+    assert not hb.newton(hb.linear_solution(lin), lin, law, basis)[3]      # the case in point
+    first = hb.solve(system, law, 10, 512)
+    assert first.converged and first.residual <= 1e-10
+    branch = run_hb(p, "reduced", 4000.0, 60000.0, harmonics=10, samples=512, min_points=60)
+    assert branch.complete and branch.rpm[0] == 4000.0 and branch.rpm[-1] == 60000.0
+    for k in range(0, len(branch.rpm), 10):
+        at = p.updated({"speed.rpm": float(branch.rpm[k])})
+        s = build_system(at, "reduced")
+        b = hb.balance(branch.X[k], hb.linear_harmonics(s, 10), contact_law_for(s, at.contact), basis,
+                       jacobian=False)
+        assert np.linalg.norm(b.R) <= 1e-8 * np.linalg.norm(hb.linear_harmonics(s, 10).load())
+    from shroud.core.signals import detect_period
+    for rpm in (8000.0, 30000.0):
+        tr, spp = _time_domain(p, "reduced", rpm)
+        assert detect_period(tr.tip[:, 0], spp) == 1
+        a = amplitude(tr.tip[:, 0], spp)
+        near = crossings(branch, rpm, stable=True) + crossings(branch, rpm, stable=False)
+        assert near and min(abs(x / a - 1) for x in near) < 0.01, (rpm, a, near)
