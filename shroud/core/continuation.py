@@ -9,11 +9,8 @@ a tangent predictor u + ds t, then Newton on the extended system
 other point: p may go back, it is never jumped. The step grows after an
 easy corrector (few iterations) and shrinks after a hard one, and a step
 whose tangent turns by more than ``max_turn`` is retried shorter, so that
-folds are resolved. A kink of the branch (the contact law is piecewise
-linear: grazing, the onset of stick) is stepped over at a short step, after
-which the step it had before goes on: the branch beyond a kink is as smooth
-as before it. When the corrector fails at the smallest step the branch so
-far is returned, marked incomplete with where and why.
+folds are resolved. When the corrector fails at the smallest step the
+branch so far is returned, marked incomplete with where and why.
 """
 
 from __future__ import annotations
@@ -69,8 +66,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     ``dp_max`` bounds the parameter's advance per step. A step whose tangent
     turns by more than ``max_turn`` (rad) is retried shorter, down to
     ``ds_kink``: below it the turn is a kink of the branch (the contact law
-    is piecewise linear: grazing, the onset of stick) and is stepped over,
-    and the step the branch had before the kink goes on after it.
+    is piecewise linear: grazing, the onset of stick) and is stepped over.
     The last point is
     put exactly at p_end. ``on_point(x, p)`` is called for every accepted point.
     ``p_scale`` scales the parameter in the arclength (default |p0|; give it
@@ -103,20 +99,16 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     if t[-1] < 0:
         t = -t
     u = scaled(x, p0)
-    ds_smooth = 0.0                            # the step before a run of retries (restored past a kink)
     while len(branch.p) < max_points:
         if dp_max is not None and abs(t[-1]) * ds * p_scale > dp_max:
             ds = dp_max / (abs(t[-1]) * p_scale)
         u_pred = u + ds * t
         u_new, it, ok, R, J, Rp = _corrector(residual, u_pred, t, x_scale, p_scale)
-        kink = False
         if ok:
             t_new = _tangent(J * x_scale, Rp() * p_scale, t)
             turn = math.acos(min(1.0, max(-1.0, float(t_new @ t))))
-            kink = turn > max_turn and ds <= ds_kink
-            ok = turn <= max_turn or kink              # a kink (grazing, stick onset) is passed, not resolved
+            ok = turn <= max_turn or ds <= ds_kink     # a kink (grazing, stick onset) is passed, not resolved
         if not ok:
-            ds_smooth = max(ds_smooth, ds)
             ds *= 0.5
             if ds < ds_min:
                 branch.complete = False
@@ -145,11 +137,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
         branch.x.append(x), branch.p.append(p_new), branch.iterations.append(it)
         if on_point:
             on_point(x, p_new)
-        if kink:                               # past the kink: the step the smooth branch had
-            ds = max(ds, ds_smooth)
-        else:
-            ds = min(ds_max, ds * (1.5 if it <= GROW_ITERATIONS else 1.0 if it <= 6 else 0.6))
-        ds_smooth = 0.0
+        ds = min(ds_max, ds * (1.5 if it <= GROW_ITERATIONS else 1.0 if it <= 6 else 0.6))
     branch.complete = False
     branch.stopped = f"{max_points} points reached at p = {branch.p[-1]:g} before p = {p_end:g}"
     return branch
@@ -157,14 +145,14 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
 
 def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: float, p_scale: float,
                max_iterations: int = 10):
-    """Newton on [R(u); t . (u - u_pred)] = 0 from the predictor: (u, Newton steps, converged, R, J, R_p).
+    """Newton on [R(u); t . (u - u_pred)] = 0 from the predictor: (u, iterations, converged, R, J, R_p).
 
-    Converged when a Newton step from u would move it by less than 1e-10
-    (scaled); the law is piecewise linear, so once the contact states settle
-    the steps shrink by orders of magnitude each. The u returned is that
-    last point evaluated, with its R, J and R_p (a callable): the tangent
-    and whatever the caller records at the point need no evaluation of
-    their own. A corrector whose steps stay above ``STALL`` and do not
+    Converged when a Newton step moves u by less than 1e-10 (scaled); the
+    law is piecewise linear, so once the contact states settle the steps
+    shrink by orders of magnitude each. The returned R, J, R_p (a callable)
+    are those of the point that last step was solved at, within 1e-10 of
+    u: the tangent needs no evaluation of its own (nor what the caller
+    records at the point). A corrector whose steps stay above ``STALL`` and do not
     halve over two iterations from the
     ``STALL_FROM``-th on is cycling between sets of contact states and is
     given up (measured on the 0.1 mm gap branches: such a corrector never
@@ -180,10 +168,10 @@ def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: f
             return u, it, False, R, J, Rp
         A[:n, :n], A[:n, n], A[n] = J * x_scale, Rp() * p_scale, t
         du = np.linalg.solve(A, -np.r_[R, t @ (u - u_pred)])
+        u = u + du
         steps.append(np.linalg.norm(du) / (1.0 + np.linalg.norm(u)))
         if steps[-1] <= 1e-10:
-            return u, it - 1, True, R, J, Rp           # the Newton steps taken to reach u
-        u = u + du
+            return u, it, True, R, J, Rp
         if it >= STALL_FROM and steps[-1] > STALL and steps[-1] > 0.5 * steps[-3]:
             break
     return u, it, False, R, J, Rp
