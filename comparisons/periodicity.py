@@ -508,7 +508,9 @@ def plot(result: PeriodicityResult, scene, out: Path) -> list[Path]:
 
 
 KIND_MARKS = {"Neimark-Sacker": ("^", "tab:red"), "period-doubling": ("s", "tab:blue"), "fold": ("o", "tab:gray")}
-VERDICT_COLOURS = {"agree": "#9fd89f", "disagree": "#f08080", "marginal": "#f5d76e", "no HB state": "#cccccc"}
+VERDICT_COLOURS = {"agree": "#9fd89f", "predicted": "#8ecae6", "disagree": "#f08080", "marginal": "#f5d76e",
+                   "no HB state": "#cccccc"}
+MULTIPLIER_AXIS_TOP = 1.5    # the |multiplier| panels stop here (saddle branches reach 2-4)
 
 
 def _period_text(period) -> str:
@@ -560,10 +562,15 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
                 sel = [i for i, (kd, _) in enumerate(kinds) if kd == kind]
                 if sel:
                     axm.plot(br.rpm[sel], br.max_multiplier[sel], mark, color=col, ms=4, mfc="none",
-                             label=f"unstable: {kind}" if colour == "k" or not c.stretches() else None)
+                             label=f"unstable: {kind}" + (" (real > 1)" if kind == "fold" else ""))
         axm.axhline(1.0, color="0.3", lw=0.8)
         for y in (1 - result.margin, 1 + result.margin):
             axm.axhline(y, color="0.5", lw=0.6, ls=":")
+        top = max([float(b.max_multiplier.max()) for b in (c.branch, *c.seeded) if len(b.rpm)] or [1.0])
+        if top > MULTIPLIER_AXIS_TOP:
+            axm.set_ylim(top=MULTIPLIER_AXIS_TOP)
+            axm.text(0.99, 0.97, f"off scale: up to {top:.2f}", transform=axm.transAxes, ha="right", va="top",
+                     fontsize=7)
         ns = [s["n_range"] for s in c.stretches() if s["n_range"]]
         axm.set_title("largest |Floquet multiplier| (1 +- margin dotted)"
                       + (f"; NS pair: n ~ {min(n[0] for n in ns):.1f}-{max(n[1] for n in ns):.1f}" if ns else ""))
@@ -582,7 +589,8 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
     grid = np.ones((len(labels), len(result.map_rpm), 3))
     for r in readings:
         i, j = labels.index(r["case"]), int(np.argmin(np.abs(result.map_rpm - r["rpm"])))
-        grid[i, j] = to_rgb(VERDICT_COLOURS[r["verdict"]])
+        colour = "predicted" if r["verdict"] == "agree" and r["period"] != 1 else r["verdict"]
+        grid[i, j] = to_rgb(VERDICT_COLOURS[colour])
         ax.text(j, i, _period_text(r["period"]) + ("*" if not r["stable_at_speed"] else ""), ha="center",
                 va="center", fontsize=7)
     ax.imshow(grid, aspect="auto")
@@ -591,7 +599,8 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
     ax.set_yticks(range(len(labels)), labels, fontsize=7)
     ax.set_xlabel("speed (r/min)")
     ax.set_title(f"mu = {result.search_mu:g}: period found by the time domain (text; * HB has no stable P1 at "
-                 "that speed)\ngreen: HB agrees, red: disagrees, yellow: |mu| within the margin of 1",
+                 "that speed)\ngreen: P1 on a stable HB P1 state; blue: no P1, HB's nearest P1 state unstable; "
+                 "red: HB disagrees; yellow: |mu| within the margin of 1",
                  fontsize=8)
     paths.append(save(fig, out / "period_map_vs_hb.png"))
     return paths
@@ -657,6 +666,9 @@ def report_hb(result: PeriodicityResult, scene) -> list[str]:
              "(stable solid, unstable dashed; o fold, s period doubling, ^ Neimark-Sacker marks), time-domain "
              "points green (P1) or red crosses labelled with the period found ('none': no period up to P10). "
              "Right: the largest |multiplier| along each branch, unstable points marked by kind.\n",
+             "Kinds: 'Neimark-Sacker' a complex pair outside the unit circle; 'period-doubling' a real multiplier "
+             "below -1; 'fold' a real multiplier above +1 (a stretch between two folds, the saddle between "
+             "coexisting states). Stretches are bounded halfway between the branch points around them.\n",
              "![period_map_vs_hb.png](period_map_vs_hb.png)", ""]
     if locked:
         lines += ["Periods the time domain found where HB has a Neimark-Sacker pair (n ~ 2 pi / theta of the "
