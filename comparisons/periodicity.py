@@ -599,7 +599,7 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
     ax.set_yticks(range(len(labels)), labels, fontsize=7)
     ax.set_xlabel("speed (r/min)")
     ax.set_title(f"mu = {result.search_mu:g}: period found by the time domain (text; * HB has no stable P1 at "
-                 "that speed)\ngreen: P1 on a stable HB P1 state; blue: no P1, HB's nearest P1 state unstable; "
+                 "that speed)\ngreen: P1 on a stable HB P1 state; blue: no P1, HB's nearest P1 state unstable;\n"
                  "red: HB disagrees; yellow: |mu| within the margin of 1",
                  fontsize=8)
     paths.append(save(fig, out / "period_map_vs_hb.png"))
