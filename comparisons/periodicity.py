@@ -8,6 +8,11 @@ state the gap or preload of Figs. 14-15; this study runs every case in
 over the band where the paper sees P10 (Fig. 12(f): mu 0.5, preloads,
 22500-26000 r/min): every speed of ``search_rpms`` for small gaps and
 preloads, with ``search_periods`` periods per run so transients have died.
+Each map case's P1 branch is then continued by harmonic balance with its
+Floquet multipliers (:func:`hb_case`), so that where P1 is lost, and
+through which multiplier (-1: period doubling; a complex pair:
+Neimark-Sacker, n ~ 2 pi / arg mu), is predicted and read against the
+periods the runs found (:func:`reading`).
 
 The study is compute (:func:`compute` -> :class:`PeriodicityResult`) ->
 plot (:func:`plot`) -> report (:func:`report`). The waveforms shown for each
