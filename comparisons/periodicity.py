@@ -8,6 +8,11 @@ state the gap or preload of Figs. 14-15; this study runs every case in
 over the band where the paper sees P10 (Fig. 12(f): mu 0.5, preloads,
 22500-26000 r/min): every speed of ``search_rpms`` for small gaps and
 preloads, with ``search_periods`` periods per run so transients have died.
+Each map case's P1 branch is then continued by harmonic balance with its
+Floquet multipliers (:func:`hb_case`), so that where P1 is lost, and
+through which multiplier (-1: period doubling; a complex pair:
+Neimark-Sacker, n ~ 2 pi / arg mu), is predicted and read against the
+periods the runs found (:func:`reading`).
 
 The study is compute (:func:`compute` -> :class:`PeriodicityResult`) ->
 plot (:func:`plot`) -> report (:func:`report`). The waveforms shown for each
@@ -19,19 +24,26 @@ never by the paper's expected answer.
 from __future__ import annotations
 
 import csv
-from dataclasses import dataclass
+import dataclasses
+import os
+import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from comparisons import paper
+from comparisons._hb import starts_at
 from shroud.analysis.api import build_system
+from shroud.analysis.hb import SpeedModel, check_inputs, model_at_speed, point_details, residual_in_speed, run_hb
 from shroud.analysis.sweep import Settling, run_sweeps
-from shroud.analysis.transient import simulate
+from shroud.analysis.transient import contact_law_for, simulate
 from shroud.base.markdown import markdown_table, seconds
-from shroud.core import signals
+from shroud.core import floquet, signals
+from shroud.core import harmonic_balance as hb
+from shroud.core.continuation import continue_branch
 from shroud.core.plotting import figure, save
-from shroud.core.results import SweepResult, TransientResult
+from shroud.core.results import HBResult, SweepResult, TransientResult
 
 OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0, 50.0],
            "plot_periods": 20,
@@ -41,9 +53,21 @@ OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0,
            "search_preloads_N": [1.0, 2.0, 5.0, 10.0, 15.0, 20.0, 25.0, 35.0, 50.0, 100.0],
            "search_periods": 600,
            # (mu, gap in um, r/min): P10 points the family sweeps (friction scene) found outside the band
-           "confirm_points": [[0.5, 10.0, 12500.0], [0.3, 10.0, 21250.0]]}
+           "confirm_points": [[0.5, 10.0, 12500.0], [0.3, 10.0, 21250.0]],
+           # the P1 branch of every map case by harmonic balance, continued from hb_rpm_from (below the band,
+           # where the start is easy) to the band's end, with its Floquet multipliers (shroud.analysis.hb)
+           "hb": True, "hb_rpm_from": 20000.0, "harmonics": 10, "samples": 512,
+           "match": 0.01,        # a time-domain P1 point is on an HB state within this relative amplitude
+           "margin": 0.01,       # |multiplier| within this of 1: a verdict only as good as the law's sampling
+           # where a time-domain point is on no state of the branch: Newton from these multiples of the
+           # contact-free linear solution at that speed finds the coexisting P1 states the branch misses
+           "hb_seeds": [2.0, 3.0, 5.0, 8.0, 12.0, 20.0],
+           # a P1 time-domain point HB does not confirm is run again this long: is it a P1 orbit, or a small
+           # torus around an unstable P1 state that the period detector's tolerance calls P1?
+           "probe_periods": 1500}
 
 
+MIN_SEEDED_POINTS = 30   # points a seeded branch has at least over its range (as run_hb's MIN_POINTS)
 NO_PERIOD_RANK = 99      # a response without a period up to P10 outranks every periodic one
 
 
@@ -65,11 +89,91 @@ class Confirmation:
 
 
 @dataclass(frozen=True)
+class HBState:
+    """One P1 state by harmonic balance at one speed of the map: its v_L amplitude (m), Floquet verdict, the
+    largest |multiplier|, how that multiplier lies (``kind``: "fold" real > 0, "period-doubling" real < 0,
+    "Neimark-Sacker" a complex pair, whose angle gives ``n`` = 2 pi / |arg|) and where Newton started:
+    "branch" (the continued branch's crossing of the speed) or "seeded" (a multiple of the linear solution)."""
+
+    amplitude: float
+    stable: bool
+    largest: float
+    kind: str
+    n: float | None
+    source: str
+    X: np.ndarray | None = field(default=None, repr=False, compare=False)   # harmonic coefficients
+
+    def describe(self) -> str:
+        how = {"fold": "real > 0", "period-doubling": "real < 0",
+               "Neimark-Sacker": f"complex pair, n ~ {self.n:.1f}" if self.n else "complex pair"}[self.kind]
+        return (f"{self.amplitude * 1e6:.2f} um {'stable' if self.stable else 'unstable'} ({self.source}; "
+                f"|mu| {self.largest:.3f}, {how})")
+
+
+@dataclass(frozen=True)
+class HBCase:
+    """The P1 branch of one map case with its stability, and every P1 state found at the map's speeds."""
+
+    label: str
+    branch: HBResult
+    kinds: list[tuple[str, float | None]]     # per branch point: kind and n of its largest multiplier
+    states: list[list[HBState]]               # per map speed
+    branch_s: float                           # run_hb: continuation with the multipliers of every point
+    states_s: float                           # the kinds along the branch, the states at the map's speeds
+    seeded: list[HBResult] = ()               # branches continued from seeded states (coexisting P1 branches)
+    seeded_kinds: list[list[tuple[str, float | None]]] = ()
+
+    def stretches(self) -> list[dict]:
+        """Unstable stretches of the continued branch and of the seeded ones (:func:`unstable_stretches`)."""
+        out = [dict(s, branch="continued") for s in unstable_stretches(self.branch, self.kinds)]
+        for br, k in zip(self.seeded, self.seeded_kinds):
+            out += [dict(s, branch="seeded") for s in unstable_stretches(br, k)]
+        return out
+
+
+@dataclass(frozen=True)
 class PeriodicityResult:
     runs: list[CaseRun]
     map_rpm: np.ndarray
     period_map: list[tuple[str, SweepResult]]
     confirmed: list[Confirmation]
+    hb_cases: list[HBCase] = ()
+    band: tuple[float, float] = (0.0, 0.0)
+    match: float = 0.01
+    margin: float = 0.01
+    search_mu: float = paper.P10_MU
+    probes: list[dict] = ()
+
+    def readings(self) -> list[dict]:
+        """Every map point read against the HB states at its speed (:func:`reading`)."""
+        by_label = dict(self.period_map)
+        return [dict(case=c.label, rpm=float(r), **reading(per, amp, sts, self.match, self.margin))
+                for c in self.hb_cases
+                for r, per, amp, sts in zip(self.map_rpm, by_label[c.label].period,
+                                            by_label[c.label].amplitude_v_L, c.states)]
+
+    def hb_conclusions(self) -> dict:
+        """The prediction against the time domain, as data."""
+        rows = self.readings()
+        non_p1 = [r for r in rows if r["period"] != 1]
+        p1 = [r for r in rows if r["period"] == 1]
+        kinds = sorted({k for c in self.hb_cases for k in unstable_kinds(c, self.band)})
+        agree_non_p1 = sum(r["verdict"] == "agree" for r in non_p1)
+        agree_p1 = sum(r["verdict"] == "agree" for r in p1)
+        return {"every_td_non_p1_on_unstable_p1": bool(non_p1) and agree_non_p1 == len(non_p1),
+                "td_p1_on_stable_p1_at_least_95pct": bool(p1) and agree_p1 >= 0.95 * len(p1),
+                "period_doubling_in_band": "period-doubling" in kinds,
+                "p1_unstable_in_band": {f"mu {self.search_mu:g}, {c.label}": bool(unstable_kinds(c, self.band))
+                                        for c in self.hb_cases},
+                "instability_kinds_in_band": kinds,
+                "td_non_p1": len(non_p1),
+                "td_non_p1_on_unstable_p1": agree_non_p1,
+                "td_non_p1_without_stable_p1_at_speed": sum(not r["stable_at_speed"] for r in non_p1),
+                "td_p1": len(p1),
+                "td_p1_on_stable_p1": agree_p1,
+                "td_p1_where_hb_has_no_stable_p1": sum(not r["stable_at_speed"] for r in p1),
+                "disagreements": sum(r["verdict"] == "disagree" for r in rows),
+                "marginal": sum(r["verdict"] == "marginal" for r in rows)}
 
     def shown(self) -> dict[float, CaseRun]:
         """Per mu, the run whose waveforms the figures show (:func:`waveform_case`)."""
@@ -83,7 +187,8 @@ class PeriodicityResult:
         P10 appears there and anywhere on the band's map."""
         return {"periods": {f"mu {r.mu:g}, {r.label}": r.result.period for r in self.runs},
                 "p10_at_scene_speed": any(r.result.period == 10 for r in self.runs),
-                "p10_in_band": any(p == 10 for _, sw in self.period_map for p in sw.period)}
+                "p10_in_band": any(p == 10 for _, sw in self.period_map for p in sw.period),
+                **({"hb": self.hb_conclusions()} if self.hb_cases else {})}
 
     def to_json(self) -> dict:
         return {"conclusions": self.conclusions(),
@@ -94,7 +199,19 @@ class PeriodicityResult:
                 "period_map": {"rpm": [float(r) for r in self.map_rpm],
                                "cases": {label: {"period": list(sw.period),
                                                  "amplitude_v_L_m": [float(a) for a in sw.amplitude_v_L]}
-                                         for label, sw in self.period_map}}}
+                                         for label, sw in self.period_map}},
+                "hb": {"readings": self.readings(),
+                       "cases": {c.label: {"branch": c.branch.to_json(), "seeded": [b.to_json() for b in c.seeded],
+                                           "unstable": c.stretches(), "branch_s": c.branch_s,
+                                           "states_s": c.states_s} for c in self.hb_cases},
+                       "probes": list(self.probes), "cost_s": self.costs()}}
+
+    def costs(self) -> dict:
+        """Harmonic balance (wall, one process) against the map's time domain (summed CPU of its runs)."""
+        return {"hb_branches": sum(c.branch_s for c in self.hb_cases),
+                "hb_states": sum(c.states_s for c in self.hb_cases),
+                "td_map_cpu": sum(sw.cpu_s for _, sw in self.period_map),
+                "td_map_wall": sum(sw.elapsed_s for _, sw in self.period_map)}
 
 
 def waveform_case(runs: list[CaseRun]) -> CaseRun:
@@ -131,16 +248,199 @@ def confirm(params, points, periods: int) -> list[Confirmation]:
     return out
 
 
-def period_map(params, opts) -> tuple[np.ndarray, list[tuple[str, SweepResult]]]:
-    """Period (and amplitude) at every speed of the P10 band for every small gap and preload."""
+def map_cases(params, opts) -> list[tuple[str, object]]:
+    """(label, parameters) of every case of the period map: mu = search_mu, each small gap and preload."""
     base = params.updated({"contact.mu": opts["search_mu"], "time.periods": int(opts["search_periods"])})
     cases = [(f"gap {g:g} um", base.updated({"contact.gap": g * 1e-6})) for g in opts["search_gaps_um"]]
-    cases += [(f"N0 {n:g} N", base.updated({"contact.N0": n})) for n in opts["search_preloads_N"]]
+    return cases + [(f"N0 {n:g} N", base.updated({"contact.N0": n})) for n in opts["search_preloads_N"]]
+
+
+def period_map(params, opts) -> tuple[np.ndarray, list[tuple[str, SweepResult]]]:
+    """Period (and amplitude) at every speed of the P10 band for every small gap and preload."""
+    cases = map_cases(params, opts)
     rpms = np.linspace(opts["search_rpm_from"], opts["search_rpm_to"], int(opts["search_rpm_count"]))
     # exactly search_periods per run, as the report says (no extension until the amplitude settles)
     sweeps = run_sweeps([p for _, p in cases], "reduced", rpms,
                         settling=Settling(max_periods=int(opts["search_periods"])))
     return rpms, [(label, sw) for (label, _), sw in zip(cases, sweeps)]
+
+
+def largest_multiplier(multipliers: np.ndarray) -> tuple[str, float | None]:
+    """How the largest Floquet multiplier lies: "Neimark-Sacker" (a complex pair; n = 2 pi / |arg mu|, the
+    period in excitation periods of the motion it brings, quasi-periodic unless locked at a P-n nearby),
+    "period-doubling" (real, negative: P2, then P4 ...) or "fold" (real, positive). The test of complexness
+    is shroud.core.floquet.bifurcation's."""
+    m = multipliers[int(np.argmax(np.abs(multipliers)))]
+    if abs(m.imag) > 1e-6 * abs(m):
+        return "Neimark-Sacker", float(2 * np.pi / abs(np.angle(m)))
+    return ("fold" if m.real > 0 else "period-doubling"), None
+
+
+class _Orbits:
+    """One case's model over speed with its contact law and Fourier basis: P1 states and their multipliers."""
+
+    def __init__(self, params, harmonics: int, samples: int, rpm: float):
+        self.H, self.n = harmonics, check_inputs(harmonics, samples, 0.5 * rpm, rpm)
+        self.speeds = SpeedModel(model_at_speed(params, "reduced"), harmonics)
+        self.law = contact_law_for(self.speeds.at(rpm)[0], params.contact)
+        self.basis = hb.fourier(harmonics, self.n)
+
+    def details(self, X: np.ndarray, rpm: float) -> dict:
+        return point_details(self.speeds, self.law, self.basis, X, rpm)
+
+    def state(self, X0: np.ndarray, rpm: float, source: str) -> HBState | None:
+        """The P1 state Newton reaches from ``X0`` at exactly ``rpm``, or None."""
+        system, lin, _, _ = self.speeds.at(rpm)
+        sol = hb.solve(system, self.law, self.H, self.n, X0=X0, condense=lin.condensed, lin=lin)
+        if not sol.converged:
+            return None
+        d = self.details(sol.X, rpm)
+        kind, n = largest_multiplier(d["multipliers"])
+        return HBState(amplitude=d["amplitude_v_L"], stable=bool(d["stable"]),
+                       largest=float(np.abs(d["multipliers"]).max()), kind=kind, n=n, source=source, X=sol.X)
+
+    def branch_from(self, X: np.ndarray, rpm_from: float, rpm_to: float, points: int) -> HBResult:
+        """The branch through the state ``X`` at ``rpm_from``, continued to ``rpm_to`` as run_hb continues
+        (shroud.core.continuation.continue_branch on shroud.analysis.hb.residual_in_speed), with the
+        multipliers of every point."""
+        t0, details = time.perf_counter(), []
+        system, lin, _, _ = self.speeds.at(rpm_from)
+        x_scale = max(float(np.abs(X).max()), 1e-7)
+        br = continue_branch(residual_in_speed(self.speeds, self.law, self.basis), X, rpm_from, rpm_to, x_scale,
+                             ds=0.05, ds_max=0.5, dp_max=(rpm_to - rpm_from) / (points - 1),
+                             on_point=lambda x, r: details.append(self.details(x, r)))
+        return HBResult.from_points(model="reduced", harmonics=self.H, samples=self.n, rpm=br.p, details=details,
+                                    iterations=br.iterations, complete=br.complete, stopped=br.stopped,
+                                    dofs=system.dofs, condensed=lin.condensed, elapsed_s=time.perf_counter() - t0,
+                                    X=br.x)
+
+    def linear(self, rpm: float) -> np.ndarray:
+        return hb.linear_solution(self.speeds.at(rpm)[1])
+
+
+def hb_case(label: str, params, rpm_from: float, rpm_to: float, td: SweepResult, opts) -> HBCase:
+    """The P1 branch from ``rpm_from`` to ``rpm_to`` and the P1 states at the time domain's speeds.
+
+    At each speed of ``td`` the branch's crossings are converged there; where the time-domain point lies
+    on none of them as a stable state within ``match`` (every non-P1 point, and P1 points on a coexisting
+    state the branch misses), Newton is also started from ``hb_seeds`` multiples of the contact-free
+    linear solution. The distinct states so found at the lowest such speed are continued to ``rpm_to``
+    (coexisting branches), and their crossings join the states at every later speed.
+    """
+    H, n = int(opts["harmonics"]), int(opts["samples"])
+    branch = run_hb(params, "reduced", rpm_from, rpm_to, harmonics=H, samples=n)
+    t0 = time.perf_counter()
+    orbits = _Orbits(params, H, n, rpm_from)
+    kinds = [largest_multiplier(orbits.details(X, r)["multipliers"]) if not s else ("", None)
+             for X, r, s in zip(branch.X if branch.X is not None else [], branch.rpm, branch.stable)]
+    seeded: list[HBResult] = []
+    states = []
+    for rpm, amp in zip(td.rpm, td.amplitude_v_L):
+        found: list[HBState] = []
+
+        def add(st):
+            if st and all(abs(st.amplitude / o.amplitude - 1) > 1e-4 for o in found):
+                found.append(st)
+        for X, _ in starts_at(branch, rpm):
+            add(orbits.state(X, rpm, "branch"))
+        for other in seeded:
+            for X, _ in starts_at(other, rpm):
+                add(orbits.state(X, rpm, "seeded branch"))
+        if not any(st.stable and abs(st.amplitude / amp - 1) <= opts["match"] for st in found):
+            lin, known = orbits.linear(rpm), len(found)
+            for c in opts["hb_seeds"]:
+                add(orbits.state(c * lin, rpm, "seeded"))
+            if not seeded and rpm < rpm_to:
+                seeded = [orbits.branch_from(st.X, float(rpm), rpm_to, MIN_SEEDED_POINTS) for st in found[known:]]
+        states.append(sorted(found, key=lambda st: st.amplitude))
+    seeded_kinds = [[largest_multiplier(orbits.details(X, r)["multipliers"]) if not s else ("", None)
+                     for X, r, s in zip(br.X, br.rpm, br.stable)] for br in seeded]
+    return HBCase(label=label, branch=branch, kinds=kinds, states=states, branch_s=branch.elapsed_s,
+                  states_s=time.perf_counter() - t0, seeded=seeded, seeded_kinds=seeded_kinds)
+
+
+def unstable_kinds(case: HBCase, band: tuple[float, float]) -> list[str]:
+    """Kinds of the largest multiplier at the continued branch's unstable points inside ``band`` (r/min)."""
+    return sorted({k for (k, _), r, s in zip(case.kinds, case.branch.rpm, case.branch.stable)
+                   if not s and band[0] <= r <= band[1]})
+
+
+def unstable_stretches(branch: HBResult, kinds: list[tuple[str, float | None]]) -> list[dict]:
+    """Contiguous unstable stretches of a branch: from / to (r/min, halfway to the stable neighbours), the
+    kinds of their largest multipliers, the range of n = 2 pi / |arg mu| of complex ones, the largest |mu|."""
+    out, i, m = [], 0, len(branch.rpm)
+    kinds = kinds or [("", None)] * m
+    while i < m:
+        if branch.stable[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < m and not branch.stable[j + 1]:
+            j += 1
+        r = branch.rpm
+        ns = [k[1] for k in kinds[i:j + 1] if k[1] is not None]
+        out.append({"from_rpm": float(r[i] if i == 0 else 0.5 * (r[i - 1] + r[i])),
+                    "to_rpm": float(r[j] if j == m - 1 else 0.5 * (r[j] + r[j + 1])),
+                    "kinds": sorted({k[0] for k in kinds[i:j + 1]}),
+                    "n_range": [min(ns), max(ns)] if ns else None,
+                    "largest_multiplier": float(branch.max_multiplier[i:j + 1].max())})
+        i = j + 1
+    return out
+
+
+def reading(period, amplitude: float, states: list[HBState], match: float, margin: float) -> dict:
+    """A time-domain point (period, amplitude m) read against the P1 states HB finds at its speed.
+
+    The state it is read against is the nearest in amplitude (log ratio). A P1 point agrees when a stable
+    state lies within ``match``; a point without P1 (any other period, or none up to P10) agrees when
+    its nearest state is unstable (the run could not stay on it). A disagreement whose state has its
+    largest |multiplier| within ``margin`` of 1 is "marginal": the sampled law decides it only to ~1 %.
+    """
+    out = {"period": period, "amplitude_m": float(amplitude), "states": [st.describe() for st in states],
+           "stable_at_speed": any(st.stable for st in states)}
+    if not states or not np.isfinite(amplitude) or amplitude <= 0:
+        return {**out, "verdict": "no HB state", "nearest": None, "why": "no P1 state found at this speed"}
+    near = min(states, key=lambda st: abs(np.log(st.amplitude / amplitude)))
+    out["nearest"] = near.describe()
+    out["kind"], out["n"] = (near.kind, near.n) if not near.stable else ("", None)
+    if period == 1:
+        on = [st for st in states if st.stable and abs(st.amplitude / amplitude - 1) <= match]
+        if on:
+            return {**out, "verdict": "agree", "why": f"on the stable P1 state {on[0].describe()}"}
+        verdict = "marginal" if not near.stable and near.largest <= 1 + margin else "disagree"
+        return {**out, "verdict": verdict,
+                "why": f"P1 run on no stable HB state within {100 * match:g} %; nearest {near.describe()}"}
+    if not near.stable:
+        return {**out, "verdict": "agree", "why": f"nearest P1 state unstable: {near.describe()}"}
+    verdict = "marginal" if near.largest >= 1 - margin else "disagree"
+    return {**out, "verdict": verdict, "why": f"nearest P1 state stable: {near.describe()}"}
+
+
+def probe(params, opts, readings: list[dict]) -> list[dict]:
+    """Long runs at the P1 time-domain points HB does not confirm: the spread of the once-per-period samples
+    of v_L over the last 100 and the last 400 periods against the period detector's tolerance
+    (shroud.core.signals.detect_period: 2e-3 of the peak-to-peak range). A spread that persists (the same
+    over 100 and 400 periods) is a torus, not a P1 orbit, whatever the detector calls it."""
+    cases, out = dict(map_cases(params, opts)), []
+    for r in readings:
+        if r["period"] != 1 or r["verdict"] == "agree":
+            continue
+        p = cases[r["case"]].updated({"speed.rpm": r["rpm"], "time.periods": int(opts["probe_periods"])})
+        res = simulate(build_system(p, "reduced"), p)
+        x, spp = res.trajectory.tip[:, 0], p.time.steps_per_period
+        spread = {w: float(np.ptp(signals.poincare(signals.last_periods(x, spp, w), spp))) for w in (100, 400)}
+        out.append({"case": r["case"], "rpm": r["rpm"], "period": res.period, "amplitude_m": res.amplitude["v_L"],
+                    "spread_100_m": spread[100], "spread_400_m": spread[400],
+                    "tolerance_m": 2e-3 * float(np.ptp(signals.last_periods(x, spp, 30))),
+                    "time_s": res.elapsed_s})
+    return out
+
+
+def hb_map(params, opts, search: list[tuple[str, SweepResult]]) -> list[HBCase]:
+    """:func:`hb_case` for every case of the period map (its parameters as :func:`period_map` builds them)."""
+    cases = dict(map_cases(params, opts))
+    return [hb_case(label, cases[label], float(opts["hb_rpm_from"]), float(opts["search_rpm_to"]), sw, opts)
+            for label, sw in search]
 
 
 def compute(scene, out: Path) -> PeriodicityResult:
@@ -155,8 +455,13 @@ def compute(scene, out: Path) -> PeriodicityResult:
             res = simulate(build_system(p, "reduced"), p, csv_path=out / f"mu{mu:g}_{label.replace(' ', '')}.csv")
             runs.append(CaseRun(mu=mu, label=label, result=res))
     rpms, search = period_map(params, opts)
+    hb_cases = hb_map(params, opts, search) if opts["hb"] else []
     confirmed = confirm(params, opts["confirm_points"], opts["search_periods"]) if opts["confirm_points"] else []
-    return PeriodicityResult(runs=runs, map_rpm=rpms, period_map=search, confirmed=confirmed)
+    result = PeriodicityResult(runs=runs, map_rpm=rpms, period_map=search, confirmed=confirmed, hb_cases=hb_cases,
+                               band=(float(opts["search_rpm_from"]), float(opts["search_rpm_to"])),
+                               match=float(opts["match"]), margin=float(opts["margin"]),
+                               search_mu=float(opts["search_mu"]))
+    return dataclasses.replace(result, probes=probe(params, opts, result.readings())) if hb_cases else result
 
 
 def plot(result: PeriodicityResult, scene, out: Path) -> list[Path]:
@@ -207,6 +512,203 @@ def plot(result: PeriodicityResult, scene, out: Path) -> list[Path]:
     return paths
 
 
+KIND_MARKS = {"Neimark-Sacker": ("^", "tab:red"), "period-doubling": ("s", "tab:blue"), "fold": ("o", "tab:gray")}
+VERDICT_COLOURS = {"agree": "#9fd89f", "predicted": "#8ecae6", "disagree": "#f08080", "marginal": "#f5d76e",
+                   "no HB state": "#cccccc"}
+MULTIPLIER_AXIS_TOP = 1.5    # the |multiplier| panels stop here (saddle branches reach 2-4)
+
+
+def _period_text(period) -> str:
+    return f"P{period}" if period else "none"
+
+
+def shown_hb_cases(result: PeriodicityResult) -> list[HBCase]:
+    """The map cases drawn with their branches: those with an unstable P1 stretch or a time-domain point
+    without P1, then the first case without either (for contrast)."""
+    by_label = dict(result.period_map)
+    busy = [c for c in result.hb_cases if c.stretches() or any(p != 1 for p in by_label[c.label].period)]
+    calm = [c for c in result.hb_cases if c not in busy][:1]
+    return busy + calm
+
+
+def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
+    """Per shown case: the P1 branches with the time-domain points (left) and the largest |multiplier| along
+    them (right); then the whole map, each point coloured by how it reads against HB."""
+    by_label = dict(result.period_map)
+    cases = shown_hb_cases(result)
+    lo, hi = result.band
+    fig, axes = figure(len(cases), 2, width=11.0, height=2.9 * len(cases) + 0.6)
+    for row, c in zip(axes, cases):
+        ax, axm = row
+        sw = by_label[c.label]
+        for ax_ in (ax, axm):
+            ax_.axvspan(lo, hi, color="0.93", zorder=0)
+        c.branch.plot(ax, label="HB P1 branch, continued from below (stable -, unstable --)", colour="k",
+                      scale=1e6, lw=1.0)
+        for k, br in enumerate(c.seeded):
+            br.plot(ax, label="HB P1 branch through a seeded state" if k == 0 else None, colour="tab:purple",
+                    scale=1e6, lw=1.0)
+        p1 = np.array([p == 1 for p in sw.period])
+        ax.plot(sw.rpm[p1], sw.amplitude_v_L[p1] * 1e6, "o", color="tab:green", ms=4, label="time domain: P1")
+        if (~p1).any():
+            ax.plot(sw.rpm[~p1], sw.amplitude_v_L[~p1] * 1e6, "X", color="tab:red", ms=6,
+                    label="time domain: not P1 (label: period found)")
+        for r, a, p in zip(sw.rpm, sw.amplitude_v_L, sw.period):
+            if p != 1:
+                ax.annotate(_period_text(p), (r, a * 1e6), textcoords="offset points", xytext=(0, 6),
+                            ha="center", fontsize=7, color="tab:red")
+        ax.set_ylabel("amplitude of v_L (um)")
+        ax.set_title(f"mu = {result.search_mu:g}, {c.label}: amplitude (band shaded)")
+        ax.legend(fontsize=6, loc="best")
+        for br, kinds, colour in [(c.branch, c.kinds, "k")] + [(b, k, "tab:purple")
+                                                               for b, k in zip(c.seeded, c.seeded_kinds)]:
+            axm.plot(br.rpm, br.max_multiplier, "-", color=colour, lw=0.9)
+            for kind, (mark, col) in KIND_MARKS.items():
+                sel = [i for i, (kd, _) in enumerate(kinds) if kd == kind]
+                if sel:
+                    axm.plot(br.rpm[sel], br.max_multiplier[sel], mark, color=col, ms=4, mfc="none",
+                             label=f"unstable: {kind}" + (" (real > 1)" if kind == "fold" else ""))
+        axm.axhline(1.0, color="0.3", lw=0.8)
+        for y in (1 - result.margin, 1 + result.margin):
+            axm.axhline(y, color="0.5", lw=0.6, ls=":")
+        top = max([float(b.max_multiplier.max()) for b in (c.branch, *c.seeded) if len(b.rpm)] or [1.0])
+        if top > MULTIPLIER_AXIS_TOP:
+            axm.set_ylim(top=MULTIPLIER_AXIS_TOP)
+            axm.text(0.99, 0.97, f"off scale: up to {top:.2f}", transform=axm.transAxes, ha="right", va="top",
+                     fontsize=7)
+        ns = [s["n_range"] for s in c.stretches() if s["n_range"]]
+        axm.set_title("largest |Floquet multiplier| (1 +- margin dotted)"
+                      + (f"; NS pair: n ~ {min(n[0] for n in ns):.1f}-{max(n[1] for n in ns):.1f}" if ns else ""))
+        axm.set_xlabel("speed (r/min)")
+        axm.set_ylabel("|mu| max")
+        handles, labels = axm.get_legend_handles_labels()
+        if handles:
+            uniq = dict(zip(labels, handles))
+            axm.legend(uniq.values(), uniq.keys(), fontsize=6, loc="best")
+    paths = [save(fig, out / "hb_branches.png")]
+    labels = [c.label for c in result.hb_cases]
+    readings = result.readings()
+    fig, axes = figure(1, 1, width=max(6.0, 0.62 * len(result.map_rpm) + 2.2), height=0.36 * len(labels) + 1.6)
+    ax = axes[0][0]
+    from matplotlib.colors import to_rgb
+    grid = np.ones((len(labels), len(result.map_rpm), 3))
+    for r in readings:
+        i, j = labels.index(r["case"]), int(np.argmin(np.abs(result.map_rpm - r["rpm"])))
+        colour = "predicted" if r["verdict"] == "agree" and r["period"] != 1 else r["verdict"]
+        grid[i, j] = to_rgb(VERDICT_COLOURS[colour])
+        ax.text(j, i, _period_text(r["period"]) + ("*" if not r["stable_at_speed"] else ""), ha="center",
+                va="center", fontsize=7)
+    ax.imshow(grid, aspect="auto")
+    ax.grid(False)
+    ax.set_xticks(range(len(result.map_rpm)), [f"{r:.0f}" for r in result.map_rpm], rotation=60, fontsize=7)
+    ax.set_yticks(range(len(labels)), labels, fontsize=7)
+    ax.set_xlabel("speed (r/min)")
+    ax.set_title(f"mu = {result.search_mu:g}: period found by the time domain (text; * HB has no stable P1 at "
+                 "that speed)\ngreen: P1 on a stable HB P1 state; blue: no P1, HB's nearest P1 state unstable;\n"
+                 "red: HB disagrees; yellow: |mu| within the margin of 1",
+                 fontsize=8)
+    paths.append(save(fig, out / "period_map_vs_hb.png"))
+    return paths
+
+
+def report_hb(result: PeriodicityResult, scene) -> list[str]:
+    """The report's section on the harmonic-balance prediction."""
+    opts = scene.options
+    c = result.hb_conclusions()
+    cost = result.costs()
+    readings = result.readings()
+    by_label = dict(result.period_map)
+    lo, hi = result.band
+    locked = [r for r in readings if r["period"] not in (1, None) and r.get("n")]
+    other = [r for r in readings if r["verdict"] != "agree"]
+    rows = []
+    for case in result.hb_cases:
+        sw = by_label[case.label]
+        st = [s for s in case.stretches() if s["to_rpm"] >= lo and s["from_rpm"] <= hi]
+        rows.append((case.label,
+                     "; ".join(f"{s['from_rpm']:.0f}-{s['to_rpm']:.0f} {'/'.join(s['kinds'])}"
+                               + (f" (n {s['n_range'][0]:.1f}-{s['n_range'][1]:.1f})" if s["n_range"] else "")
+                               + f", |mu| <= {s['largest_multiplier']:.3f}"
+                               + (" [seeded branch]" if s["branch"] == "seeded" else "") for s in st) or "stable",
+                     ", ".join(f"{r:.0f} {_period_text(p)}" for r, p in zip(sw.rpm, sw.period) if p != 1) or "-",
+                     f"{sum(r['verdict'] == 'agree' for r in readings if r['case'] == case.label)}/{len(sw.rpm)}",
+                     seconds(case.branch_s), seconds(case.states_s), seconds(sw.cpu_s)))
+    pct = (lambda a, b: f"{a}/{b} ({100 * a / b:.0f} %)" if b else "none")
+    lines = [f"\n## Prediction by harmonic balance: where P1 loses stability, and how\n",
+             f"For every case of the map, the P1 branch (reduced beam, H = {opts['harmonics']}, {opts['samples']} "
+             f"samples per period, this scene's contact) is continued from {opts['hb_rpm_from']:g} r/min (below "
+             f"the band, where the start is easy) to {hi:g} r/min with the Floquet multipliers of every point "
+             "(shroud.analysis.hb.run_hb). Where the largest multiplier leaves the unit circle, its position says "
+             "what replaces P1: through -1 (period doubling) P2, then P4 ...; a complex pair mu = |mu| e^(i theta) "
+             "(Neimark-Sacker) a quasi-periodic motion, or a P-n locked near n ~ 2 pi / theta; through +1 a fold "
+             "(a jump to another state). At each speed of the map the branch's crossings are solved there; where a "
+             f"time-domain point lies on none of them as a stable state within {100 * result.match:g} %, Newton is "
+             f"also started from {', '.join(f'{x:g}' for x in opts['hb_seeds'])} times the contact-free linear "
+             "solution, and the states so found at the first such speed are continued over the band too "
+             "(coexisting branches, 'seeded'). Each time-domain point is read against the P1 state nearest to "
+             "it in amplitude: a P1 point agrees when a stable state lies within the match, a point without P1 "
+             "when its nearest state is unstable.\n",
+             "| what | measured |", "|---|---|",
+             f"| time-domain points without P1 whose nearest HB P1 state is unstable | "
+             f"{pct(c['td_non_p1_on_unstable_p1'], c['td_non_p1'])} |",
+             f"| ... at speeds where HB has no stable P1 state at all | "
+             f"{pct(c['td_non_p1_without_stable_p1_at_speed'], c['td_non_p1'])} |",
+             f"| time-domain P1 points on a stable HB P1 state within {100 * result.match:g} % | "
+             f"{pct(c['td_p1_on_stable_p1'], c['td_p1'])} |",
+             f"| time-domain P1 points at speeds where HB has no stable P1 state | "
+             f"{c['td_p1_where_hb_has_no_stable_p1']} |",
+             f"| how the continued P1 branches lose stability in the band | "
+             f"{', '.join(c['instability_kinds_in_band']) or 'they do not'} |",
+             f"| cost: HB branches / states at the map's speeds and seeded branches / time-domain map | "
+             f"{seconds(cost['hb_branches'])} / {seconds(cost['hb_states'])} wall (one process) / "
+             f"{seconds(cost['td_map_cpu'])} CPU ({seconds(cost['td_map_wall'])} wall on "
+             f"{os.cpu_count()} cores) |", "",
+             markdown_table(["case", "HB: unstable P1 (r/min, kind of the largest multiplier)",
+                             "time domain: speeds without P1", "points agreeing", "HB branch", "HB states",
+                             "time domain (CPU)"], rows), "",
+             "![hb_branches.png](hb_branches.png)", "",
+             "Left: amplitude over speed, the continued branch black, branches through seeded states purple "
+             "(stable solid, unstable dashed; o fold, s period doubling, ^ Neimark-Sacker marks), time-domain "
+             "points green (P1) or red crosses labelled with the period found ('none': no period up to P10). "
+             "Right: the largest |multiplier| along each branch, unstable points marked by kind.\n",
+             "Kinds: 'Neimark-Sacker' a complex pair outside the unit circle; 'period-doubling' a real multiplier "
+             "below -1; 'fold' a real multiplier above +1 (a stretch between two folds, the saddle between "
+             "coexisting states). Stretches are bounded halfway between the branch points around them.\n",
+             "![period_map_vs_hb.png](period_map_vs_hb.png)", ""]
+    if locked:
+        lines += ["Periods the time domain found where HB has a Neimark-Sacker pair (n ~ 2 pi / theta of the "
+                  "nearest P1 state's pair): a locked P-n need not have n equal to 2 pi / theta (it locks to a "
+                  "nearby rational rotation), but the two should be close.\n",
+                  markdown_table(["case", "speed (r/min)", "time domain", "HB n ~ 2 pi / theta", "|mu|"],
+                                 [(r["case"], f"{r['rpm']:.0f}", _period_text(r["period"]), f"{r['n']:.1f}",
+                                   r["nearest"].split("|mu| ")[1].split(",")[0]) for r in locked]), ""]
+    if other:
+        lines += [f"Points where HB and the time domain disagree ({len(other)}):\n",
+                  markdown_table(["case", "speed (r/min)", "time domain", "amplitude (um)", "verdict",
+                                  "P1 states HB finds at that speed"],
+                                 [(r["case"], f"{r['rpm']:.0f}", _period_text(r["period"]), r["amplitude_m"] * 1e6,
+                                   r["verdict"], "; ".join(r["states"]) or "none") for r in other]), ""]
+    if result.probes:
+        torus = [p for p in result.probes if p["spread_400_m"] > 0 and p["spread_100_m"] >= 0.5 * p["spread_400_m"]]
+        lines += [f"The P1 points HB does not confirm, run again for {opts['probe_periods']} periods: the spread "
+                  "of the once-per-period samples of v_L over the last 100 and the last 400 periods, against the "
+                  "period detector's tolerance (2e-3 of the peak-to-peak range, compared between samples p "
+                  "periods apart).\n",
+                  markdown_table(["case", "speed (r/min)", "period found", "amplitude (um)",
+                                  "spread, last 100 (um)", "spread, last 400 (um)", "detector tolerance (um)",
+                                  "time"],
+                                 [(p["case"], f"{p['rpm']:.0f}", _period_text(p["period"]), p["amplitude_m"] * 1e6,
+                                   p["spread_100_m"] * 1e6, p["spread_400_m"] * 1e6, p["tolerance_m"] * 1e6,
+                                   seconds(p["time_s"])) for p in result.probes]), "",
+                  (f"{len(torus)} of {len(result.probes)} keep their spread from 100 to 400 periods: not a P1 "
+                   "orbit still settling but a small torus around the unstable P1 state (the Neimark-Sacker "
+                   "pair's), whose samples move less from one period to the next than the detector's tolerance, "
+                   "so the time domain calls it P1. There HB is right and the period map's P1 is the "
+                   "detector's reading." if torus else
+                   "None keeps a spread: these are P1 orbits HB calls unstable (see the multipliers above)."), ""]
+    return lines
+
+
 def report(result: PeriodicityResult, scene) -> str:
     params, opts = scene.params, scene.options
     rpms, search, confirmed = result.map_rpm, result.period_map, [c.row for c in result.confirmed]
@@ -248,6 +750,8 @@ def report(result: PeriodicityResult, scene) -> str:
                   "\nThe paper's P10 has one impact every ten excitation periods; a P10 with an impact in every "
                   "period is a weak ten-period modulation of a P1-like motion.\n",
                   "![confirmed_periods.png](confirmed_periods.png)"]
+    if result.hb_cases:
+        lines += report_hb(result, scene)
     return "\n".join(lines) + "\n"
 
 
@@ -261,11 +765,21 @@ def write_csv(result: PeriodicityResult, out: Path) -> None:
         for label, sw in result.period_map:
             for k, r in enumerate(result.map_rpm):
                 w.writerow([label, r, sw.period[k] or "", sw.amplitude_v_L[k]])
+    if result.hb_cases:
+        with open(out / "hb_readings.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["case", "rpm", "td_period", "td_amplitude_v_L_m", "verdict", "hb_stable_p1_at_speed",
+                        "nearest_hb_state", "hb_states"])
+            for r in result.readings():
+                w.writerow([r["case"], r["rpm"], r["period"] or "", r["amplitude_m"], r["verdict"],
+                            int(r["stable_at_speed"]), r["nearest"] or "", "; ".join(r["states"])])
 
 
 def run(scene, out: Path) -> dict:
     result = compute(scene, out)
     write_csv(result, out)
     plot(result, scene, out)
+    if result.hb_cases:
+        plot_hb(result, scene, out)
     (out / "report.md").write_text(report(result, scene))
     return result.to_json()

@@ -149,6 +149,15 @@ def test_periodicity_quick_agrees_with_full(tmp_path):
         assert got["periods"][case] == full["periods"][case], case
     for key in ("p10_at_scene_speed", "p10_in_band"):
         assert got[key] == full[key], key
+    # the harmonic-balance prediction: where and how P1 loses stability, and how it reads against the time domain
+    q, f = got["hb"], full["hb"]
+    for key in ("every_td_non_p1_on_unstable_p1", "td_p1_on_stable_p1_at_least_95pct", "period_doubling_in_band",
+                "instability_kinds_in_band"):
+        assert q[key] == f[key], key
+    cases = q["p1_unstable_in_band"].keys() & f["p1_unstable_in_band"].keys()
+    assert len(cases) >= 3
+    for case in cases:
+        assert q["p1_unstable_in_band"][case] == f["p1_unstable_in_band"][case], case
 
 
 def test_fig3_quick_agrees_with_full(tmp_path):
