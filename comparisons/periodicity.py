@@ -35,13 +35,12 @@ import numpy as np
 from comparisons import paper
 from comparisons._hb import starts_at
 from shroud.analysis.api import build_system
-from shroud.analysis.hb import SpeedModel, check_inputs, model_at_speed, point_details, residual_in_speed, run_hb
+from shroud.analysis.hb import SpeedModel, check_inputs, model_at_speed, point_details, run_hb
 from shroud.analysis.sweep import Settling, run_sweeps
 from shroud.analysis.transient import contact_law_for, simulate
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core import floquet, signals
 from shroud.core import harmonic_balance as hb
-from shroud.core.continuation import continue_branch
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult, TransientResult
 
@@ -265,22 +264,11 @@ def period_map(params, opts) -> tuple[np.ndarray, list[tuple[str, SweepResult]]]
     return rpms, [(label, sw) for (label, _), sw in zip(cases, sweeps)]
 
 
-def largest_multiplier(multipliers: np.ndarray) -> tuple[str, float | None]:
-    """How the largest Floquet multiplier lies: "Neimark-Sacker" (a complex pair; n = 2 pi / |arg mu|, the
-    period in excitation periods of the motion it brings, quasi-periodic unless locked at a P-n nearby),
-    "period-doubling" (real, negative: P2, then P4 ...) or "fold" (real, positive). The test of complexness
-    is shroud.core.floquet.bifurcation's."""
-    m = multipliers[int(np.argmax(np.abs(multipliers)))]
-    if abs(m.imag) > 1e-6 * abs(m):
-        return "Neimark-Sacker", float(2 * np.pi / abs(np.angle(m)))
-    return ("fold" if m.real > 0 else "period-doubling"), None
-
-
 class _Orbits:
     """One case's model over speed with its contact law and Fourier basis: P1 states and their multipliers."""
 
     def __init__(self, params, harmonics: int, samples: int, rpm: float):
-        self.H, self.n = harmonics, check_inputs(harmonics, samples, 0.5 * rpm, rpm)
+        self.params, self.H, self.n = params, harmonics, check_inputs(harmonics, samples, 0.5 * rpm, rpm)
         self.speeds = SpeedModel(model_at_speed(params, "reduced"), harmonics)
         self.law = contact_law_for(self.speeds.at(rpm)[0], params.contact)
         self.basis = hb.fourier(harmonics, self.n)
@@ -295,24 +283,15 @@ class _Orbits:
         if not sol.converged:
             return None
         d = self.details(sol.X, rpm)
-        kind, n = largest_multiplier(d["multipliers"])
+        kind, n = floquet.crossing(d["multipliers"])
         return HBState(amplitude=d["amplitude_v_L"], stable=bool(d["stable"]),
                        largest=float(np.abs(d["multipliers"]).max()), kind=kind, n=n, source=source, X=sol.X)
 
     def branch_from(self, X: np.ndarray, rpm_from: float, rpm_to: float, points: int) -> HBResult:
-        """The branch through the state ``X`` at ``rpm_from``, continued to ``rpm_to`` as run_hb continues
-        (shroud.core.continuation.continue_branch on shroud.analysis.hb.residual_in_speed), with the
-        multipliers of every point."""
-        t0, details = time.perf_counter(), []
-        system, lin, _, _ = self.speeds.at(rpm_from)
-        x_scale = max(float(np.abs(X).max()), 1e-7)
-        br = continue_branch(residual_in_speed(self.speeds, self.law, self.basis), X, rpm_from, rpm_to, x_scale,
-                             ds=0.05, ds_max=0.5, dp_max=(rpm_to - rpm_from) / (points - 1),
-                             on_point=lambda x, r: details.append(self.details(x, r)))
-        return HBResult.from_points(model="reduced", harmonics=self.H, samples=self.n, rpm=br.p, details=details,
-                                    iterations=br.iterations, complete=br.complete, stopped=br.stopped,
-                                    dofs=system.dofs, condensed=lin.condensed, elapsed_s=time.perf_counter() - t0,
-                                    X=br.x)
+        """The branch through the state ``X`` at ``rpm_from``, continued to ``rpm_to`` as run_hb continues,
+        with the multipliers of every point."""
+        return run_hb(self.params, "reduced", rpm_from, rpm_to, harmonics=self.H, samples=self.n, min_points=points,
+                      start=X)
 
     def linear(self, rpm: float) -> np.ndarray:
         return hb.linear_solution(self.speeds.at(rpm)[1])
@@ -331,7 +310,7 @@ def hb_case(label: str, params, rpm_from: float, rpm_to: float, td: SweepResult,
     branch = run_hb(params, "reduced", rpm_from, rpm_to, harmonics=H, samples=n)
     t0 = time.perf_counter()
     orbits = _Orbits(params, H, n, rpm_from)
-    kinds = [largest_multiplier(orbits.details(X, r)["multipliers"]) if not s else ("", None)
+    kinds = [floquet.crossing(orbits.details(X, r)["multipliers"]) if not s else ("", None)
              for X, r, s in zip(branch.X if branch.X is not None else [], branch.rpm, branch.stable)]
     seeded: list[HBResult] = []
     states = []
@@ -353,7 +332,7 @@ def hb_case(label: str, params, rpm_from: float, rpm_to: float, td: SweepResult,
             if not seeded and rpm < rpm_to:
                 seeded = [orbits.branch_from(st.X, float(rpm), rpm_to, MIN_SEEDED_POINTS) for st in found[known:]]
         states.append(sorted(found, key=lambda st: st.amplitude))
-    seeded_kinds = [[largest_multiplier(orbits.details(X, r)["multipliers"]) if not s else ("", None)
+    seeded_kinds = [[floquet.crossing(orbits.details(X, r)["multipliers"]) if not s else ("", None)
                      for X, r, s in zip(br.X, br.rpm, br.stable)] for br in seeded]
     return HBCase(label=label, branch=branch, kinds=kinds, states=states, branch_s=branch.elapsed_s,
                   states_s=time.perf_counter() - t0, seeded=seeded, seeded_kinds=seeded_kinds)

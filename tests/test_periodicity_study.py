@@ -1,8 +1,11 @@
-"""Which waveform the periodicity study shows is decided by what its runs found."""
+"""The periodicity study: which waveform it shows, how it names a lost P1 and reads a time-domain point."""
 
 from types import SimpleNamespace
 
-from comparisons.periodicity import CaseRun, waveform_case
+import numpy as np
+
+from comparisons.periodicity import CaseRun, HBState, reading, waveform_case
+from shroud.core.floquet import crossing
 
 
 def _run(label, period, mu=0.1):
@@ -21,18 +24,13 @@ def test_a_response_without_a_period_outranks_every_periodic_one():
     assert waveform_case([_run("a", 1), _run("b", 1)]).label == "a"         # ties: the first case
 
 
-import numpy as np
-
-from comparisons.periodicity import HBState, largest_multiplier, reading
-
-
 def test_the_largest_multiplier_names_what_replaces_p1():
     # a complex pair at angle 2 pi / 5: Neimark-Sacker, a P5 if it locks
     pair = 1.05 * np.exp(2j * np.pi / 5)
-    kind, n = largest_multiplier(np.array([pair, np.conj(pair), 0.3]))
+    kind, n = crossing(np.array([pair, np.conj(pair), 0.3]))
     assert kind == "Neimark-Sacker" and abs(n - 5.0) < 1e-9
-    assert largest_multiplier(np.array([-1.2, 0.5]))[0] == "period-doubling"
-    assert largest_multiplier(np.array([0.2, 1.3]))[0] == "fold"
+    assert crossing(np.array([-1.2, 0.5]))[0] == "period-doubling"
+    assert crossing(np.array([0.2, 1.3]))[0] == "fold"
 
 
 def _state(a, stable, largest=0.9):

@@ -148,12 +148,15 @@ def model_at_speed(params: Parameters, model: str) -> Callable[[float], Structur
 
 def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmonics: int = DEFAULT_HARMONICS,
            samples: int | None = None, min_points: int | None = None,
-           build: Callable[[float], StructuralSystem] | None = None) -> HBResult:
+           build: Callable[[float], StructuralSystem] | None = None, start: np.ndarray | None = None) -> HBResult:
     """The steady-state branch of ``model`` from ``rpm_from`` to ``rpm_to`` (r/min) by harmonic balance.
 
     ``min_points``: the least number of points on the branch (bounds the
     speed step to (rpm_to - rpm_from) / (min_points - 1)). ``build(rpm)``
     replaces the registered model's system at a speed (raw systems, tests).
+    ``start``: the harmonics of a state at ``rpm_from`` the branch goes
+    through (default: the one reached from the linear solution, with a load
+    homotopy if need be), e.g. a coexisting state found otherwise.
     """
     t0 = time.perf_counter()
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
@@ -162,9 +165,9 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     system, lin, _, _ = speeds.at(rpm_from)
     law = contact_law_for(system, params.contact)
     residual = residual_in_speed(speeds, law, basis)
-    X0 = hb.solve(system, law, harmonics, n).X           # the first point, by a load homotopy if need be
+    X0 = hb.solve(system, law, harmonics, n).X if start is None else start   # by a load homotopy if need be
     gap = abs(params.contact.N0) / params.contact.kn if params.contact.enabled else 0.0
-    x_scale = max(float(np.abs(hb.linear_solution(lin)).max()), gap, 1e-7)
+    x_scale = max(float(np.abs(hb.linear_solution(lin) if start is None else start).max()), gap, 1e-7)
     count = max(min_points or MIN_POINTS, 2)
     details: list[dict] = []
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,

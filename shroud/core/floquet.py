@@ -227,8 +227,21 @@ def bifurcation(before: np.ndarray, after: np.ndarray) -> str | None:
     """
     if is_stable(before) == is_stable(after):
         return None
-    crit = after if not is_stable(after) else before      # the unstable side holds the critical one
-    m = crit[np.argmax(np.abs(crit))]
+    return crossing(after if not is_stable(after) else before)[0]   # the unstable side holds the critical one
+
+
+def crossing(mult: np.ndarray) -> tuple[str, float | None]:
+    """How the largest multiplier lies, and so what replaces P1 when it leaves the unit circle.
+
+    "Neimark-Sacker" (a complex pair; n = 2 pi / |arg mu| is the period, in
+    excitation periods, of the motion it brings: quasi-periodic unless locked
+    at a P-n nearby), "period-doubling" (real, negative: P2, then P4 ...) or
+    "fold" (real, positive); n is None for the real ones.
+
+    >>> crossing(np.array([1.1 * np.exp(2j * np.pi / 5), 1.1 * np.exp(-2j * np.pi / 5), 0.3]))
+    ('Neimark-Sacker', 5.0...)
+    """
+    m = mult[np.argmax(np.abs(mult))]
     if abs(m.imag) > 1e-6 * abs(m):
-        return "Neimark-Sacker"
-    return "fold" if m.real > 0 else "period-doubling"
+        return "Neimark-Sacker", float(2 * np.pi / abs(np.angle(m)))
+    return ("fold" if m.real > 0 else "period-doubling"), None
