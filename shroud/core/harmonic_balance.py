@@ -53,6 +53,7 @@ from shroud.core.linear_solvers import dense
 from shroud.core.system import StructuralSystem
 
 MAX_PASSES = 3          # periods the sliders are marched at most (2 make any slider periodic)
+NO_JACOBIAN, BLOCKS, DIRECT = 0, 1, 2   # what the AFT kernel derives (_aft_kernel)
 
 
 @dataclass(frozen=True)
@@ -118,14 +119,18 @@ def default_samples(H: int) -> int:
 # --- AFT: the contact law along one period, with its derivative -------------------
 
 @njit(cache=True)
-def _aft_kernel(Ys, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
+def _aft_kernel(Ys, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam, jacobian, dLam):
     """March every element's law around the period (shroud.core.contact's functions).
 
     Ys (samples, m): y at the samples; E (samples, nh) synthesis, A (nh,
     samples) analysis. Fills per element j and sample i N, F, state, and
     the harmonics' derivatives Bn[j] = d(N harmonics)/d(normal coefficients)
     (nh, nh) and Bt[j] = d(F harmonics)/d([normal, tangent] coefficients)
-    (nh, 2 nh) (added to: the caller zeroes them), and the forces lam (samples, m) on the projected
+    (nh, 2 nh) (``jacobian`` BLOCKS; added to: the caller zeroes them), or
+    their sum on the projected coordinates dLam (nh, m, nh, m) =
+    d(Lam harmonics)/d(Y harmonics) itself (``jacobian`` DIRECT: the
+    unknowns are y, a condensed model), or neither (NO_JACOBIAN), and the
+    forces lam (samples, m) on the projected
     coordinates (-s N on the normal row, F on the tangent row). The slider
     starts at the mean of w and is marched until it closes (after a slip or
     a separation z no longer depends on its start, so two periods suffice);
@@ -168,6 +173,8 @@ def _aft_kernel(Ys, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
         for i in range(nt):
             lam[i, nr] -= s * N[j, i]
             lam[i, tr] += F[j, i]
+        if jacobian == NO_JACOBIAN:
+            continue
         # the slider's derivative at the period's start: from its last release (where it no longer
         # depends on its past, dz/dz = 0), or that of the mean of w when it sticks all period
         for c in range(2 * nh):
@@ -201,20 +208,17 @@ def _aft_kernel(Ys, E, A, rows, props, passes_max, N, F, state, Bn, Bt, lam):
                 dz[nh + c] = dz_dw * e + dz_dz * dz[nh + c]
             for r in range(nh):
                 ar = A[r, i]
-                for c in range(nh):
-                    Bn[j, r, c] += ar * dN[c]
-                for c in range(2 * nh):
-                    Bt[j, r, c] += ar * dF[c]
+                if jacobian == DIRECT:      # the normal force acts as -s N on the normal row
+                    for c in range(nh):
+                        dLam[r, nr, c, nr] -= s * ar * dN[c]
+                        dLam[r, tr, c, nr] += ar * dF[c]
+                        dLam[r, tr, c, tr] += ar * dF[nh + c]
+                else:
+                    for c in range(nh):
+                        Bn[j, r, c] += ar * dN[c]
+                    for c in range(2 * nh):
+                        Bt[j, r, c] += ar * dF[c]
     return most
-
-
-@njit(cache=True)
-def _scatter(dLam, B, a, b):
-    """dLam[:, a[j], :, b[j]] += B[j] for every touching element j (repeated coordinates add up)."""
-    for j in range(B.shape[0]):
-        for r in range(B.shape[1]):
-            for c in range(B.shape[2]):
-                dLam[r, a[j], c, b[j]] += B[j, r, c]
 
 
 @dataclass(frozen=True)
@@ -234,38 +238,37 @@ def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fou
                       jacobian: bool = True) -> ContactHarmonics:
     """AFT of ``law`` at the coefficients X (nh, nx) of the unknown coordinates, y = Wx x.
 
-    The Jacobian is projected on x element by element, over the elements
-    that touch at some instant (the others contribute nothing); ``jacobian=False``
-    skips it (dLam_x is then None).
+    Where the unknowns are y themselves (Wx = I: a condensed model) the
+    kernel sums the Jacobian on y as it marches; otherwise it is projected on
+    x element by element, over the elements that touch at some instant (the
+    others contribute nothing). ``jacobian=False`` skips it (dLam_x is then None).
     """
     nh, nt, k, m = basis.nh, basis.samples, law.count, law.m
-    Ys = basis.E @ (X @ Wx.T)                          # y at the samples
+    nx = Wx.shape[1]
+    direct = Wx.shape[0] == nx and np.array_equal(Wx, np.eye(nx))   # x = y (condensed)
+    Ys = basis.E @ (X if direct else X @ Wx.T)           # y at the samples
     N, F = np.empty((k, nt)), np.empty((k, nt))
     state = np.empty((k, nt), np.int64)
-    Bn, Bt = np.zeros((k, nh, nh)), np.zeros((k, nh, 2 * nh))
+    blocks, direct = jacobian and not direct, jacobian and direct
+    mode = DIRECT if direct else BLOCKS if blocks else NO_JACOBIAN
+    Bn, Bt = np.zeros((k, nh, nh) if blocks else (0, 0, 0)), np.zeros((k, nh, 2 * nh) if blocks else (0, 0, 0))
+    dLam = np.zeros((nh, nx, nh, nx) if direct else (0, 0, 0, 0))
     lam = np.zeros((nt, m))
     passes = _aft_kernel(Ys, basis.E, basis.A, law.rows, law.props, MAX_PASSES, N, F, state, Bn, Bt,
-                         lam) if k else 0
-    s = law.props[:, SIGN]
+                         lam, mode, dLam) if k else 0
     Lam = basis.A @ lam
-    nx = Wx.shape[1]
     if not jacobian:
         return ContactHarmonics(lam=lam, Lam=Lam, dLam_x=None, N=N, F=F, state=state, passes=int(passes))
-    dLam = np.zeros((nh, nx, nh, nx))
-    act = np.flatnonzero(N.any(axis=1))
-    if act.size:
-        Bn = -s[act, None, None] * Bn[act]                # the normal force acts as -s N
-        Bt = Bt[act]
+    if blocks:                                            # per touching element, projected on x
+        dLam = np.zeros((nh, nx, nh, nx))
+        act = np.flatnonzero(N.any(axis=1))
+        s = law.props[act, SIGN]
         n_rows, t_rows = law.rows[act, 0], law.rows[act, 1]
-        blocks = ((Bn, n_rows, n_rows), (Bt[:, :, :nh], t_rows, n_rows), (Bt[:, :, nh:], t_rows, t_rows))
-        if Wx.shape[0] == nx and np.array_equal(Wx, np.eye(nx)):   # x = y (condensed): scatter
-            for B, a, b in blocks:
-                _scatter(dLam, np.ascontiguousarray(B), a, b)
-        else:
-            for B, a, b in blocks:
-                Wa, Wb = Wx[a], Wx[b]                     # (touching elements, nx)
-                outer = (Wa[:, :, None] * Wb[:, None, :]).reshape(act.size, nx * nx)
-                dLam += np.tensordot(B, outer, axes=(0, 0)).reshape(nh, nh, nx, nx).transpose(0, 2, 1, 3)
+        for B, a, b in ((-s[:, None, None] * Bn[act], n_rows, n_rows),   # the normal force acts as -s N
+                        (Bt[act, :, :nh], t_rows, n_rows), (Bt[act, :, nh:], t_rows, t_rows)):
+            Wa, Wb = Wx[a], Wx[b]                         # (touching elements, nx)
+            outer = (Wa[:, :, None] * Wb[:, None, :]).reshape(act.size, nx * nx)
+            dLam += np.tensordot(B, outer, axes=(0, 0)).reshape(nh, nh, nx, nx).transpose(0, 2, 1, 3)
     return ContactHarmonics(lam=lam, Lam=Lam, dLam_x=dLam.reshape(nh * nx, nh * nx), N=N, F=F,
                             state=state, passes=int(passes))
 
