@@ -52,9 +52,9 @@ def measure(params, model: str, factorize=None, profile: int = 0):
     ``factorize``: of the step operator (None: the model's own, else shroud.core.newmark's default).
     ``profile``: print this many functions of the timed run by own time (cProfile, rank 0).
     """
-    t0 = time.perf_counter()
+    t0, cpu_build = time.perf_counter(), time.process_time()
     system = build_system(params, model)
-    build_s = time.perf_counter() - t0
+    build_s, build_cpu_s = time.perf_counter() - t0, time.process_time() - cpu_build
     law = contact_law_for(system, params.contact)
     scheme = NewmarkScheme(dt=params.time_step)
     steps = params.time.periods * params.time.steps_per_period
@@ -79,7 +79,7 @@ def measure(params, model: str, factorize=None, profile: int = 0):
     cpu_per_step = (time.process_time() - cpu1 - 0.5 * (cpu1 - cpu0)) / steps
     return {
         "model": model, "interface_modes": params.fe.interface_modes, "dofs": system.dofs,
-        "contact_elements": law.count, "build_s": build_s,
+        "contact_elements": law.count, "build_s": build_s, "build_cpu_s": build_cpu_s,
         "setup_s": setup.elapsed_s, "steps": steps, "run_s": run.elapsed_s, "per_step_ms": 1e3 * per_step,
         "cpu_per_step_ms": 1e3 * cpu_per_step, "load_1min": os.getloadavg()[0],
         "run_100_periods_s": setup.elapsed_s + per_step * 100 * params.time.steps_per_period,

@@ -99,7 +99,8 @@ def residual_attachment_modes(lu, Phi: np.ndarray, omega2: np.ndarray, R) -> np.
     """
     if sp.issparse(R):
         X = lu.solve_sparse(R) if hasattr(lu, "solve_sparse") else lu.solve(R.toarray())
-        return X - Phi @ (np.asarray((R.T @ Phi).T) / omega2[:, None])
+        X -= Phi @ (np.asarray((R.T @ Phi).T) / omega2[:, None])     # in place: (n, hundreds) arrays
+        return X
     R = np.asarray(R, dtype=float)
     return lu.solve(R) - Phi @ ((Phi.T @ R) / omega2[:, None])
 

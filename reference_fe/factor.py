@@ -86,12 +86,10 @@ class MumpsFactor:
         sizes = ((rows, self.n), (k, k))
         comm = self._A.getComm()
         B = PETSc.Mat().createDense(sizes, array=np.asfortranarray(b_rows, dtype=float).copy(), comm=comm)
-        X = PETSc.Mat().createDense(sizes, comm=comm)
-        X.setUp()
+        out = np.empty((rows, k), order="F")
+        X = _dense_on(out, sizes, comm)
         B.assemble()
-        X.assemble()
         self._factor.matSolve(B, X)
-        out = X.getDenseArray().copy()
         B.destroy()
         X.destroy()
         return out
@@ -138,14 +136,20 @@ class MumpsFactor:
         Bt_mat = PETSc.Mat().createAIJ(size=Bt.shape, csr=(Bt.indptr, Bt.indices, Bt.data), comm=PETSc.COMM_SELF)
         Bt_mat.assemble()
         B_mat = PETSc.Mat().createTranspose(Bt_mat)
-        X = PETSc.Mat().createDense((self.n, k), comm=PETSc.COMM_SELF)
-        X.setUp()
-        X.assemble()
+        out = np.empty((self.n, k), order="F")
+        X = _dense_on(out, (self.n, k), PETSc.COMM_SELF)
         self._factor.matSolve(B_mat, X)
-        out = X.getDenseArray().copy()
         for obj in (Bt_mat, B_mat, X):
             obj.destroy()
         return out
+
+
+def _dense_on(out: np.ndarray, sizes, comm) -> PETSc.Mat:
+    """A PETSc dense Mat writing into ``out`` (column-major): MUMPS's solution lands in the array
+    returned, without a copy (a copy of the 396 contact directions' solutions cost 0.03-0.1 s of CPU)."""
+    X = PETSc.Mat().createDense(sizes, array=out, comm=comm)
+    X.assemble()
+    return X
 
 
 def mumps_lu(A) -> MumpsFactor:

@@ -37,7 +37,7 @@ Contract (used by engineer D's transient and CMS; names are stable)
     eigenvalue), ``K_e``, the load vectors ``f_c`` and ``f_aero`` (PETSc Vecs,
     zero on clamped rows) and ``u0`` (the prestatic displacement, a Function).
 ``RotatingOperators.free() -> FreeOperators``
-    ``M, K, G, K_e`` on the free DOFs (scipy CSR serially; under mpirun
+    ``M, K, G`` on the free DOFs (scipy CSR serially; under mpirun
     reference_fe.distributed matrices acting on replicated vectors) and
     arrays ``f_c, f_aero``; ``free`` (free -> global unrolled index),
     ``free_index`` (global unrolled -> free, -1 when clamped), ``coords``
@@ -117,7 +117,6 @@ class FreeOperators:
     M: Any                    # scipy CSR (serial) or reference_fe.distributed.DistributedMatrix
     K: Any
     G: Any
-    K_e: Any
     f_c: np.ndarray
     f_aero: np.ndarray
     free: np.ndarray          # (n_free,) global unrolled DOF index of each free DOF
@@ -159,17 +158,21 @@ class RotatingOperators:
         free_index = np.full(model.global_dofs, -1, dtype=np.int64)
         free_index[free] = np.arange(free.size)
         if comm.size == 1:
-            matrices = [_csr(A, mine) for A in (self.M, self.K, self.G, self.K_e)]
+            M, K, G = _free_csr((self.M, self.K, self.G), mine)
+            # DOLFINx stores a 3 x 3 block per node pair; the mass fills only its diagonal, the Coriolis
+            # operator two entries: M keeps a third of its entries, G two ninths (a product with M in
+            # 0.40 ms against 1.65 ms, the same numbers; the eigen-solve of the reduction takes 189)
+            M.eliminate_zeros()
+            G.eliminate_zeros()
             gather = np.asarray
         else:
             from reference_fe.distributed import Layout, free_rows
             layout = Layout.of(comm, mine.size)
-            matrices = [free_rows(A, offset + mine, layout) for A in (self.M, self.K, self.G, self.K_e)]
+            M, K, G = (free_rows(A, offset + mine, layout) for A in (self.M, self.K, self.G))
             gather = layout.gather
         nodes = model.V.tabulate_dof_coordinates()
-        M, K, G, K_e = matrices
         return FreeOperators(
-            M=M, K=K, G=G, K_e=K_e, f_c=gather(self.f_c.getArray()[mine]),
+            M=M, K=K, G=G, f_c=gather(self.f_c.getArray()[mine]),
             f_aero=gather(self.f_aero.getArray()[mine]), free=free, free_index=free_index,
             coords=gather(nodes[mine // 3]), component=free % 3)
 
@@ -181,10 +184,35 @@ def tip_centre_dofs(model: SolidModel) -> np.ndarray:
     return next(d for d in found if d is not None)
 
 
-def _csr(A, keep: np.ndarray) -> sp.csr_matrix:
-    indptr, indices, data = A.getValuesCSR()
-    full = sp.csr_matrix((data, indices, indptr), shape=A.getSize())
-    return full[keep][:, keep].tocsr()
+def _free_csr(mats, keep: np.ndarray) -> list[sp.csr_matrix]:
+    """Rows and columns ``keep`` (sorted) of each serial PETSc matrix, as scipy CSR.
+
+    The operators of one space share a sparsity pattern: which entries stay,
+    and where, is worked out once per distinct pattern and each matrix only
+    picks its values (about 0.02 s, against 0.13-0.21 s of scipy's row and
+    column slicing per matrix on the Fig. 8 solid). The result is entry for
+    entry what the slicing gives.
+    """
+    out, pattern, selection = [], None, None
+    for A in mats:
+        indptr, indices, data = A.getValuesCSR()
+        if pattern is None or not (np.array_equal(indptr, pattern[0]) and np.array_equal(indices, pattern[1])):
+            pattern, selection = (indptr, indices), _kept_entries(indptr, indices, keep)
+        kept_indptr, kept_indices, positions = selection
+        out.append(sp.csr_matrix((data[positions], kept_indices, kept_indptr), shape=(keep.size, keep.size)))
+    return out
+
+
+def _kept_entries(indptr: np.ndarray, indices: np.ndarray, keep: np.ndarray):
+    """(indptr, indices, positions in the old entries) of the CSR pattern restricted to ``keep`` x ``keep``."""
+    new_of = np.full(indptr.size - 1, -1, dtype=np.int64)
+    new_of[keep] = np.arange(keep.size)
+    rows = new_of[np.repeat(np.arange(indptr.size - 1), np.diff(indptr))]
+    cols = new_of[indices]
+    positions = np.flatnonzero((rows >= 0) & (cols >= 0))
+    counts = np.bincount(rows[positions], minlength=keep.size)
+    kept_indptr = np.concatenate([[0], np.cumsum(counts)])
+    return kept_indptr, cols[positions], positions
 
 
 def epsilon(u):

@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
+from shroud.base.blas import single_threaded_blas
 from shroud.base.cache import cached
 from shroud.core.damping import rayleigh
 from shroud.params import Parameters
@@ -144,6 +145,16 @@ def _check_npz(path: Path) -> None:
 
 
 def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
+    """The reduced operators into ``path``, on one BLAS thread (shroud.base.blas: the basis is a chain
+    of small BLAS calls between MUMPS solves, which the process's four OpenBLAS pools slowed 2-4x in
+    a third to a half of the runs on the 2-core machine)."""
+    import reference_fe.solid  # noqa: F401  (DOLFINx and PETSc, and the OpenBLAS each brings, loaded first)
+
+    with single_threaded_blas():
+        _write_reduction(params, rpm, path)
+
+
+def _write_reduction(params: Parameters, rpm: float, path: Path) -> None:
     from reference_fe.cms import free_interface_basis, project
     from reference_fe.factor import MumpsFactor
     from shroud.base.log import info
