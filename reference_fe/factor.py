@@ -82,17 +82,7 @@ class MumpsFactor:
             self._b.setArray(b_rows)
             self._ksp.solve(self._b, self._x)
             return self._x.getArray().copy()
-        rows, k = b_rows.shape
-        sizes = ((rows, self.n), (k, k))
-        comm = self._A.getComm()
-        B = PETSc.Mat().createDense(sizes, array=np.asfortranarray(b_rows, dtype=float).copy(), comm=comm)
-        out = np.empty((rows, k), order="F")
-        X = _dense_on(out, sizes, comm)
-        B.assemble()
-        self._factor.matSolve(B, X)
-        B.destroy()
-        X.destroy()
-        return out
+        return block_solve(self._factor, self.n, b_rows, self._A.getComm())
 
     def _own(self, b: np.ndarray) -> np.ndarray:
         return b if self._layout is None else self._layout.own(b)
@@ -142,6 +132,21 @@ class MumpsFactor:
         for obj in (Bt_mat, B_mat, X):
             obj.destroy()
         return out
+
+
+def block_solve(factor: PETSc.Mat, n: int, b_rows: np.ndarray, comm) -> np.ndarray:
+    """This rank's rows of A^-1 B from this rank's rows (rows, k) of a dense block B, with A (n x n)
+    factored in ``factor`` (a MUMPS factor Mat): one MatMatSolve for the k right-hand sides."""
+    rows, k = b_rows.shape
+    sizes = ((rows, n), (k, k))
+    B = PETSc.Mat().createDense(sizes, array=np.asfortranarray(b_rows, dtype=float).copy(), comm=comm)
+    out = np.empty((rows, k), order="F")
+    X = _dense_on(out, sizes, comm)
+    B.assemble()
+    factor.matSolve(B, X)
+    B.destroy()
+    X.destroy()
+    return out
 
 
 def _dense_on(out: np.ndarray, sizes, comm) -> PETSc.Mat:

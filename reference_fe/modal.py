@@ -46,9 +46,11 @@ from dataclasses import dataclass
 
 import numpy as np
 from mpi4py import MPI
+from petsc4py import PETSc
 from slepc4py import SLEPc
 
 from meshes.blade import section_frame
+from reference_fe.factor import block_solve
 from reference_fe.solid import RotatingOperators, SolidModel, lu_solver, rotating_operators
 from shroud.base.log import Progress, info
 from shroud.core.modes import label_modes, pair_by_mac
@@ -172,6 +174,20 @@ def _stiffness_factor(ops: RotatingOperators):
     return ksp, ksp.getPC().getFactorMatrix()
 
 
+def _block_product(A, V: np.ndarray) -> np.ndarray:
+    """This rank's rows of A V for this rank's rows (rows, k) of a dense block V: one pass over A
+    (MatMatMult) instead of k products with vectors, each of which reads all of A's entries."""
+    rows, k = V.shape
+    D = PETSc.Mat().createDense(((rows, A.getSize()[1]), (k, k)), array=np.asfortranarray(V).copy(),
+                                comm=A.getComm())
+    D.assemble()
+    AD = A.matMult(D)
+    out = AD.getDenseArray().copy()
+    D.destroy()
+    AD.destroy()
+    return out
+
+
 def _gyroscopic(ops: RotatingOperators, shapes, factor):
     """Gyroscopic modes by Rayleigh-Ritz on [Phi, K^-1 G Phi]: (f Hz, damping ratio, MAC against Phi).
 
@@ -184,23 +200,10 @@ def _gyroscopic(ops: RotatingOperators, shapes, factor):
     """
     K, G, M = ops.K, ops.G, ops.M
     comm = ops.model.comm
-    basis = list(shapes)
-    for phi in shapes:
-        x, Gphi = K.createVecRight(), K.createVecLeft()
-        G.mult(phi, Gphi)
-        factor.solve(Gphi, x)
-        basis.append(x)
-    V = np.column_stack([b.getArray(readonly=True) for b in basis])     # this rank's rows
-
-    def product(A) -> np.ndarray:                                       # V^T A V
-        y = A.createVecLeft()
-        AV = np.empty_like(V)
-        for j, b in enumerate(basis):
-            A.mult(b, y)
-            AV[:, j] = y.getArray(readonly=True)
-        return comm.allreduce(V.T @ AV, op=MPI.SUM)
-
-    Mb, Kb, Gb = (product(A) for A in (M, K, G))
+    n = K.getSize()[0]
+    Phi = np.column_stack([phi.getArray(readonly=True) for phi in shapes])   # this rank's rows
+    V = np.hstack([Phi, block_solve(factor, n, _block_product(G, Phi), comm)])
+    Mb, Kb, Gb = (comm.allreduce(V.T @ _block_product(A, V), op=MPI.SUM) for A in (M, K, G))
     scale = 1.0 / np.sqrt(np.diag(Mb))               # unit M-norm first: K^-1 G phi is ~1e-6 of phi
     Mb, Kb, Gb = (scale[:, None] * A * scale[None, :] for A in (Mb, Kb, Gb))
     w, U = np.linalg.eigh(Mb)
@@ -212,7 +215,6 @@ def _gyroscopic(ops: RotatingOperators, shapes, factor):
     up = np.flatnonzero(lam.imag > 0)
     up = up[np.argsort(lam[up].imag)]
     X = V @ (scale[:, None] * (T @ Y[:m, up]))          # this rank's rows of the complex shapes
-    Phi = V[:, :len(shapes)]
     cross = comm.allreduce(Phi.T @ X, op=MPI.SUM)
     norms = np.outer(comm.allreduce(np.sum(Phi**2, axis=0), op=MPI.SUM),
                      comm.allreduce(np.sum(np.abs(X)**2, axis=0), op=MPI.SUM))
