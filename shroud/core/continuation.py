@@ -22,7 +22,7 @@ from typing import Callable
 import numpy as np
 
 GROW_ITERATIONS = 4      # a corrector this quick lets the next step grow
-STALL_FROM, STALL = 4, 1e-3   # a corrector still moving this much (scaled) from this iteration on, not halving: cycling
+STALL_FROM, STALL = 4, 1e-3   # from this iteration on, a corrector still moving this much (scaled): cycling
 
 # residual(x, p) -> (R, dR/dx, () -> dR/dp): the parameter derivative is asked for only where it is used
 Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, Callable[[], np.ndarray]]]
@@ -152,11 +152,11 @@ def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: f
     shrink by orders of magnitude each. The returned R, J, R_p (a callable)
     are those of the point that last step was solved at, within 1e-10 of
     u: the tangent needs no evaluation of its own (nor what the caller
-    records at the point). A corrector whose steps stay above ``STALL`` and do not
-    halve over two iterations from the
-    ``STALL_FROM``-th on is cycling between sets of contact states and is
-    given up (measured on the 0.1 mm gap branches: such a corrector never
-    converged within 10 iterations, every converging one had halved).
+    records at the point). A corrector whose steps stay above ``STALL`` and
+    do not halve over two iterations from the ``STALL_FROM``-th on is
+    cycling between sets of contact states and is given up (measured on the
+    0.1 mm gap branches: such a corrector never converged within 10
+    iterations, every converging one had halved).
     """
     u = u_pred.copy()
     n = u.size - 1

@@ -359,6 +359,7 @@ def _solved_columns(M, C, K, O, W, f0, f1, omega, H):
     n, m, o = M.shape[0], W.shape[0], O.shape[0]
     out = np.empty((H + 1, o, m + 1), np.complex128)
     rhs = np.zeros((n, m + 1), np.complex128)
+    Oc = O.astype(np.complex128)
     for k in range(H + 1):
         w = k * omega
         Z = (K - w * w * M) + 1j * (w * C)
@@ -366,7 +367,7 @@ def _solved_columns(M, C, K, O, W, f0, f1, omega, H):
             for j in range(m):
                 rhs[i, j] = W[j, i]
             rhs[i, m] = f0[i] if k == 0 else (-1j * f1[i] if k == 1 else 0.0)
-        out[k] = O.astype(np.complex128) @ np.linalg.solve(Z, rhs)
+        out[k] = Oc @ np.linalg.solve(Z, rhs)
     return out
 
 
