@@ -249,9 +249,9 @@ def _figures(ok: dict, params, o, period: float, out: Path) -> list[Path]:
             ax.set_xlabel("w_s (um)" if i == 2 else "t / T_e (last periods)")
             if i == 3:
                 ax.set_yticks([1, 2, 3], ["1 separate", "2 slip", "3 stick"])
-    if ok:
-        axes[0, 0].legend()
-    return [save(fig, out / "fig8.png")]
+    if ok:      # one legend above the panels: inside one it hid the peaks of (a)
+        fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="upper center", ncol=3, frameon=False)
+    return [save(fig, out / "fig8.png", top=0.95 if ok else 1.0)]
 
 
 def _contact_maps(ok: dict, params, out: Path) -> dict[str, dict]:

@@ -28,8 +28,9 @@ def figure(nrows: int = 1, ncols: int = 1, width: float = 6.4, height: float | N
     return plt.subplots(nrows, ncols, figsize=(width, height), squeeze=False)
 
 
-def save(fig, path: Path) -> Path:
-    fig.tight_layout()
+def save(fig, path: Path, top: float = 1.0) -> Path:
+    """Lay out and write ``fig``; ``top`` < 1 keeps the strip above it free (a legend for every panel)."""
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, top))
     fig.savefig(path)
     _pyplot().close(fig)
     return path
