@@ -127,7 +127,7 @@ class MumpsFactor:
         Bt_mat.assemble()
         B_mat = PETSc.Mat().createTranspose(Bt_mat)
         out = np.empty((self.n, k), order="F")
-        X = _dense_on(out, (self.n, k), PETSc.COMM_SELF)
+        X = dense_on(out, (self.n, k), PETSc.COMM_SELF)
         self._factor.matSolve(B_mat, X)
         for obj in (Bt_mat, B_mat, X):
             obj.destroy()
@@ -139,19 +139,19 @@ def block_solve(factor: PETSc.Mat, n: int, b_rows: np.ndarray, comm) -> np.ndarr
     factored in ``factor`` (a MUMPS factor Mat): one MatMatSolve for the k right-hand sides."""
     rows, k = b_rows.shape
     sizes = ((rows, n), (k, k))
-    B = PETSc.Mat().createDense(sizes, array=np.asfortranarray(b_rows, dtype=float).copy(), comm=comm)
+    B = dense_on(np.asfortranarray(b_rows, dtype=float).copy(), sizes, comm)
     out = np.empty((rows, k), order="F")
-    X = _dense_on(out, sizes, comm)
-    B.assemble()
+    X = dense_on(out, sizes, comm)
     factor.matSolve(B, X)
     B.destroy()
     X.destroy()
     return out
 
 
-def _dense_on(out: np.ndarray, sizes, comm) -> PETSc.Mat:
-    """A PETSc dense Mat writing into ``out`` (column-major): MUMPS's solution lands in the array
-    returned, without a copy (a copy of the 396 contact directions' solutions cost 0.03-0.1 s of CPU)."""
+def dense_on(out: np.ndarray, sizes, comm) -> PETSc.Mat:
+    """A PETSc dense Mat on the column-major array ``out`` itself, assembled: a block read from it
+    or written into it with no copy (MUMPS's solutions land in the array returned: a copy of the 396
+    contact directions' solutions cost 0.03-0.1 s of CPU)."""
     X = PETSc.Mat().createDense(sizes, array=out, comm=comm)
     X.assemble()
     return X

@@ -46,11 +46,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from mpi4py import MPI
-from petsc4py import PETSc
 from slepc4py import SLEPc
 
 from meshes.blade import section_frame
-from reference_fe.factor import block_solve
+from reference_fe.factor import block_solve, dense_on
 from reference_fe.solid import RotatingOperators, SolidModel, lu_solver, rotating_operators
 from shroud.base.log import Progress, info
 from shroud.core.modes import label_modes, pair_by_mac
@@ -178,9 +177,7 @@ def _block_product(A, V: np.ndarray) -> np.ndarray:
     """This rank's rows of A V for this rank's rows (rows, k) of a dense block V: one pass over A
     (MatMatMult) instead of k products with vectors, each of which reads all of A's entries."""
     rows, k = V.shape
-    D = PETSc.Mat().createDense(((rows, A.getSize()[1]), (k, k)), array=np.asfortranarray(V).copy(),
-                                comm=A.getComm())
-    D.assemble()
+    D = dense_on(np.asfortranarray(V).copy(), ((rows, A.getSize()[1]), (k, k)), A.getComm())
     AD = A.matMult(D)
     out = AD.getDenseArray().copy()
     D.destroy()

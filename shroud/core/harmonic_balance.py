@@ -352,11 +352,11 @@ def _real_blocks(Z: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _solved_columns(M, C, K, O, W, f0, f1, omega, H):
+def _solved_columns(M, C, K, O, W, F, omega):
     """O Z_k^-1 [W^T, F_k] for k = 0..H, complex (H+1, o, m+1): each harmonic's dynamic stiffness
     Z_k = K - (k omega)^2 M + i k omega C solved against the contact directions W^T (m, n) and
-    the load F_0 = f0, F_1 = -i f1 (zero above), and seen through the outputs O (o, n)."""
-    n, m, o = M.shape[0], W.shape[0], O.shape[0]
+    the load's harmonic F_k (F: (H+1, n), :func:`load_harmonics`), seen through the outputs O (o, n)."""
+    n, m, o, H = M.shape[0], W.shape[0], O.shape[0], F.shape[0] - 1
     out = np.empty((H + 1, o, m + 1), np.complex128)
     rhs = np.zeros((n, m + 1), np.complex128)
     Oc = O.astype(np.complex128)
@@ -366,7 +366,7 @@ def _solved_columns(M, C, K, O, W, f0, f1, omega, H):
         for i in range(n):
             for j in range(m):
                 rhs[i, j] = W[j, i]
-            rhs[i, m] = f0[i] if k == 0 else (-1j * f1[i] if k == 1 else 0.0)
+            rhs[i, m] = F[k, i]
         out[k] = Oc @ np.linalg.solve(Z, rhs)
     return out
 
@@ -406,7 +406,7 @@ def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = N
                                tip_lam=np.zeros((H + 1, 2, m), complex), tip_f=np.zeros((H + 1, 2), complex),
                                condensed=False)
     WS = _solved_columns(dense(system.M), dense(system.C), dense(system.K), np.vstack([W, tip]), W,
-                         np.asarray(system.f_const, float), np.asarray(system.f_aero, float), system.omega_e, H)
+                         load_harmonics(system, H), system.omega_e)
     return condensed(system.omega_e, WS[:, :m], WS[:, m:])
 
 
@@ -558,11 +558,11 @@ def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None
         def residual(X, c):
             bc = balance(X, lin, law, basis, L, c * Fr)
             return bc.R, bc.J, lambda: -Fr.ravel()
-        X1 = linear_solution(lin)
-        path = continue_branch(residual, X1 / load_steps, 1.0 / load_steps, 1.0, float(np.abs(X1).max()) + 1e-300,
-                               ds=0.05, ds_max=0.5, dp_max=1.0 / load_steps, p_scale=1.0)
+        path = continue_branch(residual, start / load_steps, 1.0 / load_steps, 1.0,
+                               float(np.abs(start).max()) + 1e-300, ds=0.05, ds_max=0.5, dp_max=1.0 / load_steps,
+                               p_scale=1.0)
         ok = path.complete and bool(path.p) and path.p[-1] == 1.0
-        X = path.x[-1] if path.x else X1
+        X = path.x[-1] if path.x else start
         b, it = balance(X, lin, law, basis, L, Fr), sum(path.iterations)
     return solution(X, b, lin, basis, it, ok)
 
