@@ -288,6 +288,11 @@ class BeamMatrices:
         """G at Omega (rad/s)."""
         return omega * self.G1
 
+    @functools.cached_property
+    def speed_terms(self) -> np.ndarray:
+        """(4, n, n): M, K_e, K_c1 + K_s1, G1, the terms the system at any speed combines (Eq. 1)."""
+        return np.ascontiguousarray(np.stack([self.M, self.K_e, self.K_c1 + self.K_s1, self.G1]))
+
     def centrifugal_load(self, omega: float) -> np.ndarray:
         """Eq. 10 F_1 at Omega (rad/s), N."""
         return omega**2 * self.f_c1

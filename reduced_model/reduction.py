@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
+from numba import njit
 
 from shroud.base.errors import InputError
 
@@ -130,16 +131,20 @@ class ModesOverSpeed:
 
     def at(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
         """(f_hz, shapes) at Omega (rad/s): interpolated on a certified panel, else exact."""
-        rpm = abs(omega) * 60.0 / (2.0 * np.pi)
-        p = int(rpm // PANEL_RPM)
-        if p not in self._panels:
-            self._panels[p] = self._panel(p)
-        panel = self._panels[p]
+        panel = self.panel(omega)
         if panel is None:
             return self.exact(omega)
         x2, bary, f2, shapes = panel
-        w = _lagrange(x2, bary, omega * omega)
+        w = lagrange_weights(x2, bary, omega * omega)
         return np.sqrt(np.maximum(w @ f2, 0.0)), (w @ shapes.reshape(w.size, -1)).reshape(shapes.shape[1:])
+
+    def panel(self, omega: float) -> tuple | None:
+        """The certified panel holding Omega (rad/s): (nodes in Omega^2, their barycentric weights, f_hz^2 and
+        shapes at the nodes), built on first use; None where the modes are exact at every speed."""
+        p = int(abs(omega) * 60.0 / (2.0 * np.pi) // PANEL_RPM)
+        if p not in self._panels:
+            self._panels[p] = self._panel(p)
+        return self._panels[p]
 
     def _panel(self, p: int):
         lo, hi = (2 * np.pi / 60 * PANEL_RPM * np.array([p, p + 1])) ** 2
@@ -162,7 +167,7 @@ class ModesOverSpeed:
         error = 0.0
         for x in (lo, hi):                              # the panel's ends: where the interpolation errs most
             f_exact, exact = self.exact(np.sqrt(x))
-            w = _lagrange(x2, bary, x)
+            w = lagrange_weights(x2, bary, x)
             f_int, interp = np.sqrt(np.maximum(w @ panel[2], 0.0)), np.tensordot(w, shapes, axes=1)
             error = max(error, float(np.max(np.abs(f_int / f_exact - 1))))
             if self.nr:                                 # the part of each shape outside the exact subspace
@@ -173,12 +178,14 @@ class ModesOverSpeed:
         return panel if error <= PANEL_TOLERANCE else None
 
 
-def _lagrange(nodes: np.ndarray, bary: np.ndarray, x: float) -> np.ndarray:
+@njit(cache=True)
+def lagrange_weights(nodes: np.ndarray, bary: np.ndarray, x: float) -> np.ndarray:
     """Weights of the Lagrange interpolant on ``nodes`` at x (barycentric form, ``bary`` the nodes'
     barycentric weights 1 / prod_k (x_j - x_k))."""
-    d = x - nodes
-    hit = np.flatnonzero(d == 0.0)
-    if hit.size:
-        return (np.arange(nodes.size) == hit[0]).astype(float)
-    b = bary / d
-    return b / b.sum()
+    w = np.zeros(nodes.size)
+    for j in range(nodes.size):
+        if x == nodes[j]:
+            w[j] = 1.0
+            return w
+        w[j] = bary[j] / (x - nodes[j])
+    return w / w.sum()

@@ -28,12 +28,14 @@ import math
 import time
 
 import numpy as np
+from numba import njit
 
 from reduced_model.beam import E_X, BeamMatrices, for_parameters
-from reduced_model.reduction import ModesOverSpeed, project, undamped_modes
-from shroud.core.damping import rayleigh
-from shroud.params import Parameters
+from reduced_model.reduction import ModesOverSpeed, lagrange_weights, project, undamped_modes
+from shroud.core.damping import rayleigh, rayleigh_coefficients
+from shroud.core.harmonic_balance import LinearHarmonics, condensation, from_condensation
 from shroud.core.system import ContactElements, StructuralSystem
+from shroud.params import Parameters
 
 
 def shroud_frame(alpha_deg: float) -> np.ndarray:
@@ -110,27 +112,56 @@ def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
                    contact_elements(params, beam), output_rows(params, beam), t0)
 
 
-def at_speed(params: Parameters, reduced: bool):
-    """rpm -> the beam's system at that constant speed, for continuation in speed (many speeds).
+def at_speed(params: Parameters, reduced: bool) -> BeamOverSpeed:
+    """The beam over a speed range (continuation in speed): rpm -> its system, and its harmonic-balance
+    linear part without one (:class:`BeamOverSpeed`)."""
+    return BeamOverSpeed(params, reduced)
 
-    What build_system makes there, with the parameters validated once, the
-    speed-independent parts built once, and the modes (the reduction basis
-    and the two lowest frequencies for Rayleigh damping) interpolated in
-    Omega^2 on certified panels (reduced_model.reduction.ModesOverSpeed;
-    its ``errors`` against the exact modes are on the returned function's
-    ``modes`` attribute).
+
+class BeamOverSpeed:
+    """What build_system makes at any constant speed, for continuation in speed (many speeds).
+
+    The parameters are validated once, the speed-independent parts built
+    once, and the modes (the reduction basis and the two lowest frequencies
+    for Rayleigh damping) interpolated in Omega^2 on certified panels
+    (reduced_model.reduction.ModesOverSpeed; ``modes.errors`` holds their
+    errors against the exact modes). Called with a speed (r/min) it gives
+    the system there; :meth:`harmonics` gives the system's linear part per
+    harmonic, condensed on the contact coordinates, from one compiled call
+    that builds and condenses (the continuation's corrector asks for it at
+    every iterate, and needs the system itself only at converged points).
     """
-    beam, nr = for_parameters(params), params.reduced.nr if reduced else 0
-    contact, tip = contact_elements(params, beam), output_rows(params, beam)
-    modes = ModesOverSpeed(beam.M, beam.stiffness, nr)
 
-    def system(rpm: float) -> StructuralSystem:
+    def __init__(self, params: Parameters, reduced: bool):
+        self.params, self.beam = params, for_parameters(params)
+        self.nr = params.reduced.nr if reduced else 0
+        self.contact, self.tip = contact_elements(params, self.beam), output_rows(params, self.beam)
+        self.rows = self.tip if self.contact is None else np.vstack([self.contact.W, self.tip])
+        self.modes = ModesOverSpeed(self.beam.M, self.beam.stiffness, self.nr)
+
+    def __call__(self, rpm: float) -> StructuralSystem:
         t0 = time.perf_counter()
         omega = 2.0 * math.pi * rpm / 60.0
-        f_hz, basis = modes.at(omega)
-        return _system(params, beam, omega, 0.0, f_hz, basis if nr else None, contact, tip, t0)
-    system.modes = modes
-    return system
+        f_hz, basis = self.modes.at(omega)
+        return _system(self.params, self.beam, omega, 0.0, f_hz, basis if self.nr else None, self.contact,
+                       self.tip, t0)
+
+    def harmonics(self, rpm: float, H: int) -> LinearHarmonics | None:
+        """The linear part at ``rpm`` per harmonic 0..H condensed on the contact coordinates, as
+        shroud.core.harmonic_balance.linear_harmonics makes it from this speed's system (the same
+        arithmetic: _system's kernels and the core's condensation, in one compiled call); None where
+        it does not condense (more contact coordinates than DOFs) or the modes are exact (no panel)."""
+        omega = 2.0 * math.pi * rpm / 60.0
+        m = 0 if self.contact is None else self.contact.W.shape[0]
+        panel = self.modes.panel(omega)
+        if panel is None or not 0 < m < (self.nr or self.beam.dofs):
+            return None
+        x2, bary, f2, shapes = panel
+        p, d = self.params, self.params.damping
+        return from_condensation(p.load.ke * omega, *_condensed_at(
+            omega, x2, bary, f2, shapes, self.nr > 0, self.beam.speed_terms, self.beam.f_c1,
+            self.beam.f_aero1, self.rows, m, d.xi1, d.xi2, p.load.F0, p.load.ke,
+            p.reduced.shroud == "point", H))
 
 
 def _system(params: Parameters, beam: BeamMatrices, omega: float, omega_dot: float, f_hz: np.ndarray,
@@ -138,21 +169,63 @@ def _system(params: Parameters, beam: BeamMatrices, omega: float, omega_dot: flo
             t0: float) -> StructuralSystem:
     """The system at Omega (rad/s) from its lowest frequencies ``f_hz`` (Hz, Rayleigh damping) and
     reduction ``basis`` (None: the full beam); ``t0`` the build's start (perf_counter)."""
-    K = beam.stiffness(omega)
     alpha, beta = rayleigh(f_hz[0], f_hz[1], params.damping.xi1, params.damping.xi2)
-    C = alpha * beam.M + beta * K + beam.gyroscopic(omega)
+    terms, f_c1, f_aero1 = beam.speed_terms, beam.f_c1, beam.f_aero1
+    if basis is not None:
+        m = 0 if contact is None else contact.W.shape[0]
+        terms, f_c1, f_aero1, rows = _projected(np.ascontiguousarray(basis), terms, f_c1, f_aero1,
+                                                tip if contact is None else np.vstack([contact.W, tip]))
+        tip = rows[m:]
+        if contact is not None:
+            contact = dataclasses.replace(contact, W=rows[:m])
     # the rigid shroud's contact points see the tip's rotations, so the beam vibrates about its steady
     # centrifugal state as the solid does (its neighbours, identical blades, untwist alike)
-    f_const = beam.centrifugal_load(omega) if params.reduced.shroud == "point" else np.zeros(beam.dofs)
+    M, C, K, f_const, f_aero = _combined(terms, f_c1, f_aero1, omega, alpha, beta, params.load.F0,
+                                         params.reduced.shroud == "point")
     if omega_dot != 0.0:
-        K = K + omega_dot * beam.K_acc1
-        f_const = f_const + omega_dot * beam.f_acc1
-    M, f_aero = beam.M, params.load.F0 * beam.f_aero1
-    if basis is not None:
-        M, C, K = (project(basis, X) for X in (beam.M, C, K))
-        f_const, f_aero, tip = basis.T @ f_const, basis.T @ f_aero, tip @ basis
-        if contact is not None:
-            contact = dataclasses.replace(contact, W=contact.W @ basis)
+        K = K + omega_dot * (beam.K_acc1 if basis is None else project(basis, beam.K_acc1))
+        f_const = f_const + omega_dot * (beam.f_acc1 if basis is None else basis.T @ beam.f_acc1)
     return StructuralSystem(
         model="full" if basis is None else "reduced", M=M, C=C, K=K, f_const=f_const, f_aero=f_aero,
         omega_e=params.load.ke * omega, tip=tip, contact=contact, build_s=time.perf_counter() - t0)
+
+
+@njit(cache=True)
+def _projected(basis, terms, f_c1, f_aero1, rows):
+    """N*^T [M, K_e, K_c1 + K_s1, G1] N* (Eq. 12) from ``terms`` (4, n, n), with N*^T f_c1, N*^T f_aero1
+    and rows N*: projection is linear, so the reduced model at any speed combines its projected terms as
+    the full one combines its own (:func:`_combined`)."""
+    r = basis.shape[1]
+    out = np.empty((4, r, r))
+    for q in range(4):
+        out[q] = basis.T @ (terms[q] @ basis)
+    return out, basis.T @ f_c1, basis.T @ f_aero1, rows @ basis
+
+
+@njit(cache=True)
+def _combined(terms, f_c1, f_aero1, omega, alpha, beta, F0, centrifugal):
+    """M, C = alpha M + beta K + G, K = K_e + K_c + K_s, f_const and f_aero at Omega (rad/s) from the
+    speed-independent terms [M, K_e, K_c1 + K_s1, G1] (Eqs. 1-2, 10); ``centrifugal``: whether the
+    blade carries its centrifugal load (the point shroud) or vibrates about its steady state."""
+    M = terms[0]
+    K = terms[1] + omega * omega * terms[2]
+    C = alpha * M + beta * K + omega * terms[3]
+    f_const = omega * omega * f_c1 if centrifugal else np.zeros_like(f_c1)
+    return M, C, K, f_const, F0 * f_aero1
+
+
+@njit(cache=True)
+def _condensed_at(omega, x2, bary, f2, shapes, reduce, terms, f_c1, f_aero1, rows, m, xi1, xi2, F0, ke,
+                  centrifugal, H):
+    """BeamOverSpeed.harmonics' compiled part: the modes interpolated on a panel (as ModesOverSpeed.at),
+    Rayleigh damping on the two lowest frequencies, the system (as _system) and the core's condensation."""
+    w = lagrange_weights(x2, bary, omega * omega)
+    f_hz = np.sqrt(np.maximum(w @ f2, 0.0))
+    alpha, beta = rayleigh_coefficients(f_hz[0], f_hz[1], xi1, xi2)
+    if reduce:
+        basis = np.zeros(shapes.shape[1:])
+        for j in range(w.size):
+            basis += w[j] * shapes[j]
+        terms, f_c1, f_aero1, rows = _projected(basis, terms, f_c1, f_aero1, rows)
+    M, C, K, f_const, f_aero = _combined(terms, f_c1, f_aero1, omega, alpha, beta, F0, centrifugal)
+    return condensation(M, C, K, rows, m, f_const, f_aero, ke * omega, H)

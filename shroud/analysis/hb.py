@@ -48,23 +48,46 @@ def check_inputs(H: int, samples: int | None, rpm_from: float, rpm_to: float) ->
 
 
 class SpeedModel:
-    """The model's linear part at any speed, with its harmonic-balance operators (memoized by speed)."""
+    """The model's linear part at any speed, with its harmonic-balance operators (memoized by speed).
+
+    ``build(rpm)`` gives the model's system at a speed. Where it also offers
+    ``harmonics(rpm, H)`` (the linear part per harmonic without a system:
+    reduced_model.system.BeamOverSpeed, None where it has none to give),
+    the corrector's iterates use that, and a system is built only where one
+    is asked for (a converged point's stability).
+    """
+
+    MEMO = 64        # speeds kept (a corrector's iterates, the derivative's neighbours)
 
     def __init__(self, build: Callable[[float], StructuralSystem], H: int, condense: bool | None = None):
         self.build, self.H, self.condense = build, H, condense
-        self._memo: dict[float, tuple] = {}
+        self._harmonics = getattr(build, "harmonics", None) if condense is not False else None
+        self._linear: dict[float, tuple] = {}
+        self._systems: dict[float, StructuralSystem] = {}
+
+    def system(self, rpm: float) -> StructuralSystem:
+        got = self._systems.get(rpm)
+        if got is None:
+            if len(self._systems) > self.MEMO:
+                self._systems.clear()
+            got = self._systems[rpm] = self.build(rpm)
+        return got
+
+    def linear(self, rpm: float) -> tuple[hb.LinearHarmonics, np.ndarray, np.ndarray]:
+        """(LinearHarmonics, L, F flat) at ``rpm``."""
+        got = self._linear.get(rpm)
+        if got is None:
+            if len(self._linear) > self.MEMO:
+                self._linear.clear()
+            lin = None if self._harmonics is None else self._harmonics(rpm, self.H)
+            if lin is None:
+                lin = hb.linear_harmonics(self.system(rpm), self.H, self.condense)
+            got = self._linear[rpm] = (lin, lin.L, lin.Fr.ravel())
+        return got
 
     def at(self, rpm: float):
         """(system, LinearHarmonics, L, F flat) at ``rpm``."""
-        got = self._memo.get(rpm)
-        if got is None:
-            if len(self._memo) > 64:
-                self._memo.clear()
-            system = self.build(rpm)
-            lin = hb.linear_harmonics(system, self.H, self.condense)
-            got = (system, lin, lin.matrix(), lin.load().ravel())
-            self._memo[rpm] = got
-        return got
+        return (self.system(rpm), *self.linear(rpm))
 
 
 def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 1e-6, reuse: float = 1e-3):
@@ -82,12 +105,12 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 
         got = cached.get("d")
         if got is None or abs(rpm - got[0]) > reuse * rpm:
             h = step * rpm
-            _, _, Lp, Fp = speeds.at(rpm + h)
+            _, Lp, Fp = speeds.linear(rpm + h)
             got = cached["d"] = (rpm, (Lp - L) / h, (Fp - F) / h)
         return got[1], got[2]
 
     def residual(X, rpm):
-        _, lin, L, F = speeds.at(rpm)
+        lin, L, F = speeds.linear(rpm)
         b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx))
         residual.last = (X, rpm, b)
 
@@ -125,8 +148,8 @@ def orbit_multipliers(system: StructuralSystem, law, contact: hb.ContactHarmonic
     about the orbit whose contact states and friction ``contact`` holds, ``y_rate`` its contact velocities
     at the samples (floquet.monodromy)."""
     W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))
-    return floquet.multipliers(floquet.monodromy(system.M, system.C, system.K, W, law, contact.state, contact.F,
-                                                 system.omega_e, y_rate))
+    return floquet.orbit_multipliers(system.M, system.C, system.K, W, law, contact.state, contact.F,
+                                     system.omega_e, y_rate)
 
 
 def model_at_speed(params: Parameters, model: str) -> Callable[[float], StructuralSystem]:

@@ -174,7 +174,7 @@ def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: f
         if not np.all(np.isfinite(R)):
             return u, it, False, R, J, Rp
         A[:n, :n], A[:n, n], A[n] = J * x_scale, Rp() * p_scale, t
-        du = np.linalg.solve(A, -np.r_[R, t @ (u - u_pred)])
+        du = np.linalg.solve(A, -np.append(R, t @ (u - u_pred)))
         steps.append(np.linalg.norm(du) / (1.0 + np.linalg.norm(u)))
         if steps[-1] <= CONVERGED:
             return u, it, True, R, J, Rp

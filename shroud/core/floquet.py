@@ -140,6 +140,38 @@ def _power(ladder, length):
 
 
 @njit(cache=True)
+def _mass_solved(M, C, K, W, rows):
+    """W_n, W_t (the elements' normal and tangent rows of W) and M^-1 K, M^-1 C, M^-1 W_n^T, M^-1 W_t^T."""
+    n, k = M.shape[0], rows.shape[0]
+    Wn, Wt = W[rows[:, 0]], W[rows[:, 1]]
+    G = np.linalg.solve(M, np.hstack((K, C, Wn.T, Wt.T)))
+    return (Wn, Wt, np.ascontiguousarray(G[:, :n]), np.ascontiguousarray(G[:, n:2 * n]),
+            np.ascontiguousarray(G[:, 2 * n:2 * n + k]), np.ascontiguousarray(G[:, 2 * n + k:]))
+
+
+@njit(cache=True)
+def _stiffness_block(MK, MWn, MWt, Wn, Wt, tan, props):
+    """The stiffness block of the first-order matrix in the states whose tangents are ``tan``:
+    -M^-1 (K + W_n^T s dN/dv W_n - W_t^T (dF/dv W_n + dF/dw W_t))."""
+    s_dN = props[:, SIGN] * tan[:, 0]
+    return MWt @ (tan[:, 1:2] * Wn + tan[:, 2:3] * Wt) - MWn @ (s_dN[:, None] * Wn) - MK
+
+
+@njit(cache=True)
+def _steady_flow_matrix(M, C, K, W, rows, props, state, F):
+    """[[0, I], [stiffness block, -M^-1 C]]: the first-order matrix of the blade in one set of states
+    (the sliders are either slaved or held all along, so they add no state)."""
+    n = M.shape[0]
+    Wn, Wt, MK, MC, MWn, MWt = _mass_solved(M, C, K, W, rows)
+    A = np.zeros((2 * n, 2 * n))
+    A[n:, :n] = _stiffness_block(MK, MWn, MWt, Wn, Wt, tangents(state, F, props), props)
+    A[n:, n:] = -MC
+    for l in range(n):
+        A[l, n + l] = 1.0
+    return A
+
+
+@njit(cache=True)
 def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate):
     """:func:`monodromy`'s run loop; ``y_rate`` with no rows: without the onset capture.
 
@@ -175,10 +207,7 @@ def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate):
     """
     n, k, nt = M.shape[0], state.shape[0], state.shape[1]
     m = 2 * n
-    Wn, Wt = W[rows[:, 0]], W[rows[:, 1]]
-    G = np.linalg.solve(M, np.hstack((K, C, Wn.T, Wt.T)))             # M^-1 [K, C, W_n^T, W_t^T]
-    MK, MC = np.ascontiguousarray(G[:, :n]), np.ascontiguousarray(G[:, n:m])
-    MWn, MWt = np.ascontiguousarray(G[:, m:m + k]), np.ascontiguousarray(G[:, m + k:])
+    Wn, Wt, MK, MC, MWn, MWt = _mass_solved(M, C, K, W, rows)
     hist = np.empty(k, np.int64)                 # elements whose slider carries a history: they both
     nz = 0                                       # stick and are released during the period
     for j in range(k):
@@ -201,8 +230,7 @@ def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate):
     for r in range(starts.size):
         i, last, key = starts[r], starts[r] + lengths[r] - 1, first[r]
         tan = tangents(state[:, i], F[:, i], props)   # dN/dv, dF/dv, dF/dw, dF/dz, dz/dv, dz/dw, dz/dz
-        s_dN = props[:, SIGN] * tan[:, 0]
-        stiff = MWt @ (tan[:, 1:2] * Wn + tan[:, 2:3] * Wt) - MWn @ (s_dN[:, None] * Wn) - MK
+        stiff = _stiffness_block(MK, MWn, MWt, Wn, Wt, tan, props)
         held = np.flatnonzero(tan[hist, 3] != 0.0)
         free = np.flatnonzero(tan[hist, 6] == 0.0)
         Bv = MWt[:, hist[held]] * tan[hist[held], 3]
@@ -372,8 +400,32 @@ def expm(A):
 
 def multipliers(Phi: np.ndarray) -> np.ndarray:
     """Floquet multipliers, largest modulus first."""
-    mu = np.linalg.eigvals(Phi)
+    return _largest_first(np.linalg.eigvals(Phi))
+
+
+def _largest_first(mu: np.ndarray) -> np.ndarray:
     return mu[np.argsort(-np.abs(mu))]
+
+
+def orbit_multipliers(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float,
+                      y_rate: np.ndarray | None = None) -> np.ndarray:
+    """Floquet multipliers of the orbit whose states and friction over the period are ``state``, ``F``
+    (:func:`monodromy`'s arguments), largest modulus first.
+
+    Where every element keeps its state all period (no touch, or a contact
+    stuck, or sliding one way, throughout) the linearized motion is one
+    linear flow, the monodromy exp(A T), and its multipliers are exp(s T)
+    of A's eigenvalues s: the same numbers without the exponential (on the
+    full beam's contact-free orbits 0.34 ms against 0.71 ms a point, the
+    largest multiplier within 1e-14). Otherwise the eigenvalues of the
+    monodromy matrix.
+    """
+    state, F = np.ascontiguousarray(state), np.ascontiguousarray(F, dtype=float)
+    if state.shape[0] and _runs(state, F)[0].size == 1:
+        M, C, K, W = (np.ascontiguousarray(dense(A)) for A in (M, C, K, W))
+        A = _steady_flow_matrix(M, C, K, W, law.rows, law.props, state[:, 0].copy(), F[:, 0].copy())
+        return _largest_first(np.exp(np.linalg.eigvals(A) * (2 * np.pi / omega)))
+    return multipliers(monodromy(M, C, K, W, law, state, F, omega, y_rate))
 
 
 def hill_exponents(J: np.ndarray, M, C, omega: float, H: int) -> np.ndarray:

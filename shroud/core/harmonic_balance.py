@@ -49,7 +49,7 @@ from numba import njit
 from shroud.core.continuation import continue_branch
 from shroud.core.contact import (KN, KT, MU, N0, SEPARATE, SIGN, STICK, ContactLaw, friction_return_map,
                                  normal_force, tangent)
-from shroud.core.linear_solvers import dense
+from shroud.core.linear_solvers import dense, lu_solve_in_place
 from shroud.core.system import StructuralSystem
 
 MAX_PASSES = 3          # periods the sliders are marched at most (2 make any slider periodic)
@@ -287,13 +287,17 @@ class LinearHarmonics:
     """The linear part of one system at one speed on the unknown coordinates x.
 
     Z (H+1, nx, nx) complex dynamic stiffness per harmonic; F (H+1, nx)
-    complex load (a_k - i b_k convention); y = Wx x. The tip outputs are
-    tip_k = tip_x[k] X_k + tip_lam[k] Lam_k + tip_f[k] (complex, per harmonic).
+    complex load (a_k - i b_k convention); L (nh nx, nh nx) and Fr (nh, nx)
+    the same in real coefficients (the residual's L X - Fr); y = Wx x. The
+    tip outputs are tip_k = tip_x[k] X_k + tip_lam[k] Lam_k + tip_f[k]
+    (complex, per harmonic).
     """
 
     omega: float
     Z: np.ndarray
     F: np.ndarray
+    L: np.ndarray
+    Fr: np.ndarray
     Wx: np.ndarray
     tip_x: np.ndarray
     tip_lam: np.ndarray
@@ -303,14 +307,6 @@ class LinearHarmonics:
     @property
     def nx(self) -> int:
         return self.Wx.shape[1]
-
-    def matrix(self) -> np.ndarray:
-        """Real (nh nx, nh nx) matrix L of the residual."""
-        return _real_blocks(self.Z)
-
-    def load(self) -> np.ndarray:
-        """Real (nh, nx) coefficients of the load."""
-        return _real_coefficients(self.F)
 
     def tip(self, X: np.ndarray, Lam: np.ndarray) -> np.ndarray:
         """(nh, 2) coefficients of v_L, w_L."""
@@ -359,24 +355,32 @@ def _real_blocks(Z: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _solved_columns(M, C, K, O, W, F, omega):
+def _solved_columns(M, C, K, O, W, f_const, f_aero, omega, H):
     """O Z_k^-1 [W^T, F_k] for k = 0..H, complex (H+1, o, m+1): each harmonic's dynamic stiffness
     Z_k = K - (k omega)^2 M + i k omega C solved against the contact directions W^T (m, n) and
-    the load's harmonic F_k (F: (H+1, n), :func:`load_harmonics`), seen through the outputs O (o, n)."""
-    n, m, o, H = M.shape[0], W.shape[0], O.shape[0], F.shape[0] - 1
+    the load's harmonic F_k (:func:`load_harmonics`: f_const at k = 0, -i f_aero at k = 1, else 0),
+    seen through the outputs O (o, n). One work array for every harmonic: on a 6-DOF model the
+    allocations of a library solve per harmonic cost more than its arithmetic."""
+    n, m, o = M.shape[0], W.shape[0], O.shape[0]
     out = np.empty((H + 1, o, m + 1), np.complex128)
-    rhs = np.zeros((n, m + 1), np.complex128)
-    Oc = O.astype(np.complex128)
+    Z = np.empty((n, n), np.complex128)
+    S = np.empty((n, m + 1), np.complex128)
     for k in range(H + 1):
         w = k * omega
-        Z = (K - w * w * M) + 1j * (w * C)
         for i in range(n):
+            for j in range(n):
+                Z[i, j] = complex(K[i, j] - w * w * M[i, j], w * C[i, j])
             for j in range(m):
-                rhs[i, j] = W[j, i]
-            rhs[i, m] = F[k, i]
-        out[k] = Oc @ np.linalg.solve(Z, rhs)
+                S[i, j] = W[j, i]
+            S[i, m] = f_const[i] if k == 0 else complex(0.0, -f_aero[i]) if k == 1 else 0.0
+        lu_solve_in_place(Z, S)
+        for a in range(o):
+            for b in range(m + 1):
+                acc = 0j
+                for i in range(n):
+                    acc += O[a, i] * S[i, b]
+                out[k, a, b] = acc
     return out
-
 
 
 def dynamic_stiffness(system: StructuralSystem, H: int, omega: float | None = None) -> np.ndarray:
@@ -408,13 +412,24 @@ def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = N
     condense = (0 < m < n) if condense is None else condense
     if not condense:
         Z, F = dynamic_stiffness(system, H), load_harmonics(system, H)
-        return LinearHarmonics(omega=system.omega_e, Z=Z, F=F, Wx=W,
-                               tip_x=np.broadcast_to(tip.astype(complex), (H + 1, 2, n)),
+        return LinearHarmonics(omega=system.omega_e, Z=Z, F=F, L=_real_blocks(Z), Fr=_real_coefficients(F),
+                               Wx=W, tip_x=np.broadcast_to(tip.astype(complex), (H + 1, 2, n)),
                                tip_lam=np.zeros((H + 1, 2, m), complex), tip_f=np.zeros((H + 1, 2), complex),
                                condensed=False)
-    WS = _solved_columns(dense(system.M), dense(system.C), dense(system.K), np.vstack([W, tip]), W,
-                         load_harmonics(system, H), system.omega_e)
-    return condensed(system.omega_e, WS[:, :m], WS[:, m:])
+    return from_condensation(system.omega_e, *condensation(dense(system.M), dense(system.C), dense(system.K),
+                                                          np.vstack([W, tip]), m, dense(system.f_const),
+                                                          dense(system.f_aero), system.omega_e, H))
+
+
+@njit(cache=True)
+def condensation(M, C, K, O, m, f_const, f_aero, omega, H):
+    """The dense linear part condensed exactly on y = W q per harmonic, W = O[:m] (the contact
+    directions; O's other rows the tip outputs): (Z, F, L, Fr, tipS) for :func:`from_condensation`.
+    Compiled, so that a model's own kernel can build its matrices at a speed and condense them in one
+    call (reduced_model.system.BeamOverSpeed.harmonics)."""
+    WS = _solved_columns(M, C, K, O, O[:m], f_const, f_aero, omega, H)
+    Zc, Fc, L, Fr = _inverse_receptance(WS[:, :m])
+    return Zc, Fc, L, Fr, WS[:, m:]
 
 
 def condensed(omega: float, WS: np.ndarray, tipS: np.ndarray) -> LinearHarmonics:
@@ -424,23 +439,55 @@ def condensed(omega: float, WS: np.ndarray, tipS: np.ndarray) -> LinearHarmonics
     (complex; however the model solves with Z_k): the receptance on the contact coordinates
     R_k = W Z_k^-1 W^T gives Z = R_k^-1 and F = R_k^-1 W Z_k^-1 F_k (Petrov & Ewins 2003).
     """
-    H1, m = WS.shape[0], WS.shape[1]
-    Zc, Fc = _inverse_receptance(np.ascontiguousarray(WS))
-    return LinearHarmonics(omega=omega, Z=Zc, F=Fc, Wx=np.eye(m),
-                           tip_x=np.zeros((H1, 2, m), complex), tip_lam=tipS[:, :, :m],
+    return from_condensation(omega, *_inverse_receptance(WS), tipS)
+
+
+def from_condensation(omega: float, Z: np.ndarray, F: np.ndarray, L: np.ndarray, Fr: np.ndarray,
+                      tipS: np.ndarray) -> LinearHarmonics:
+    """LinearHarmonics on the contact coordinates from Z_k = R_k^-1, F_k, their real forms L, Fr and
+    tipS = tip Z_k^-1 [W^T, F_k] (H+1, 2, m+1)."""
+    identity, zeros = _condensed_constants(Z.shape[0], Z.shape[1])
+    m = Z.shape[1]
+    return LinearHarmonics(omega=omega, Z=Z, F=F, L=L, Fr=Fr, Wx=identity, tip_x=zeros, tip_lam=tipS[:, :, :m],
                            tip_f=tipS[:, :, m], condensed=True)
+
+
+@functools.lru_cache(maxsize=8)
+def _condensed_constants(H1: int, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """Wx = I and tip_x = 0 of a condensation on m coordinates with H1 - 1 harmonics (shared, read-only:
+    a continuation makes hundreds of condensations)."""
+    identity, zeros = np.eye(m), np.zeros((H1, 2, m), complex)
+    identity.flags.writeable = zeros.flags.writeable = False
+    return identity, zeros
 
 
 @njit(cache=True)
 def _inverse_receptance(WS):
-    """(R_k^-1, R_k^-1 w_k) per harmonic from WS[k] = [R_k, w_k] (m, m+1), complex."""
+    """From WS[k] = [R_k, w_k] (m, m+1, complex) per harmonic: Z_k = R_k^-1 and F_k = R_k^-1 w_k,
+    and both in real coefficients, L (:func:`_real_blocks`) and Fr (nh, m)."""
     H1, m = WS.shape[0], WS.shape[1]
     Zc = np.empty((H1, m, m), np.complex128)
     Fc = np.empty((H1, m), np.complex128)
+    Fr = np.empty((2 * H1 - 1, m))
+    R = np.empty((m, m), np.complex128)
+    S = np.empty((m, m + 1), np.complex128)
     for k in range(H1):
-        Zc[k] = np.linalg.inv(WS[k, :, :m])
-        Fc[k] = Zc[k] @ np.ascontiguousarray(WS[k, :, m])
-    return Zc, Fc
+        for i in range(m):
+            for j in range(m):
+                R[i, j] = WS[k, i, j]
+                S[i, j] = 1.0 if i == j else 0.0
+            S[i, m] = WS[k, i, m]
+        lu_solve_in_place(R, S)                    # [R^-1, R^-1 w]
+        for i in range(m):
+            for j in range(m):
+                Zc[k, i, j] = S[i, j]
+            Fc[k, i] = S[i, m]
+            if k == 0:
+                Fr[0, i] = S[i, m].real
+            else:
+                Fr[2 * k - 1, i] = S[i, m].real
+                Fr[2 * k, i] = -S[i, m].imag
+    return Zc, Fc, _real_blocks(Zc), Fr
 
 
 # --- residual, Newton at one speed ---------------------------------------------------
@@ -458,8 +505,8 @@ def balance(X: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier
             L: np.ndarray | None = None, Fr: np.ndarray | None = None, jacobian: bool = True) -> Balance:
     """R(X) = L X - F - Wx^T Lam(Wx X) and its analytic Jacobian (X flat, harmonic-major; None if not asked)."""
     nh, nx = basis.nh, lin.nx
-    L = lin.matrix() if L is None else L
-    Fr = lin.load() if Fr is None else Fr
+    L = lin.L if L is None else L
+    Fr = lin.Fr if Fr is None else Fr
     Xm = X.reshape(nh, nx)
     ch = contact_harmonics(Xm, lin.Wx, law, basis, jacobian)
     R = L @ X - Fr.ravel() - (ch.Lam @ lin.Wx).ravel()
@@ -491,7 +538,7 @@ class HarmonicSolution:
 def newton(X0: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier, tol: float = 1e-10,
            max_iterations: int = 50) -> tuple[np.ndarray, Balance, int, bool]:
     """Newton on R(X) = 0 at one speed, halving a step that does not lower |R|."""
-    L, Fr = lin.matrix(), lin.load()
+    L, Fr = lin.L, lin.Fr
     scale = np.linalg.norm(Fr) + 1e-300
     X = X0.copy()
     b = balance(X, lin, law, basis, L, Fr)
@@ -534,7 +581,7 @@ def solution(X: np.ndarray, b: Balance, lin: LinearHarmonics, basis: Fourier, it
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = amplitude_over_period(tip)
     return HarmonicSolution(X=X, tip=tip, amplitude_v_L=float(amp[0]), amplitude_w_L=float(amp[1]),
-                            residual=float(np.linalg.norm(b.R) / (np.linalg.norm(lin.load()) + 1e-300)),
+                            residual=float(np.linalg.norm(b.R) / (np.linalg.norm(lin.Fr) + 1e-300)),
                             iterations=iterations, converged=converged,
                             spectral_tail=spectral_tail(b.contact.lam, basis.H), contact=b.contact,
                             basis=basis)
@@ -560,7 +607,7 @@ def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None
     X, b, it, ok = newton(start, lin, law, basis)
     if not ok and X0 is None:
         # the load factor by pseudo-arclength: the solution can fold back in the load
-        L, Fr = lin.matrix(), lin.load()
+        L, Fr = lin.L, lin.Fr
 
         def residual(X, c):
             bc = balance(X, lin, law, basis, L, c * Fr)
