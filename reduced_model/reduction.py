@@ -115,6 +115,7 @@ class ModesOverSpeed:
     def __init__(self, M: np.ndarray, stiffness, nr: int, frequencies: int = 2):
         self.M, self.stiffness, self.nr, self.count = M, stiffness, nr, max(nr, frequencies)
         self._panels: dict[int, tuple | None] = {}
+        self._edges: dict[int, tuple] = {}              # exact modes at the panels' ends, by panel index
         self._reference: np.ndarray | None = None
         self.errors: dict[int, float | None] = {}
 
@@ -141,7 +142,10 @@ class ModesOverSpeed:
     def panel(self, omega: float) -> tuple | None:
         """The certified panel holding Omega (rad/s): (nodes in Omega^2, their barycentric weights, f_hz^2 and
         shapes at the nodes), built on first use; None where the modes are exact at every speed."""
-        p = int(abs(omega) * 60.0 / (2.0 * np.pi) // PANEL_RPM)
+        rpm = abs(omega) * 60.0 / (2.0 * np.pi)
+        p = int(rpm // PANEL_RPM)
+        if rpm - p * PANEL_RPM <= 1e-9 * PANEL_RPM and self._panels.get(p - 1) is not None:
+            p -= 1          # an end of a built panel (certified there) needs no new panel (a range's last speed)
         if p not in self._panels:
             self._panels[p] = self._panel(p)
         return self._panels[p]
@@ -165,8 +169,10 @@ class ModesOverSpeed:
         bary = 1.0 / np.prod(x2[:, None] - x2[None, :] + np.eye(PANEL_NODES), axis=1)
         panel = (x2, bary, np.array(f) ** 2, shapes)
         error = 0.0
-        for x in (lo, hi):                              # the panel's ends: where the interpolation errs most
-            f_exact, exact = self.exact(np.sqrt(x))
+        for edge, x in ((p, lo), (p + 1, hi)):          # the panel's ends: where the interpolation errs most
+            if edge not in self._edges:                 # (each shared with the neighbouring panel)
+                self._edges[edge] = self.exact(np.sqrt(x))
+            f_exact, exact = self._edges[edge]
             w = lagrange_weights(x2, bary, x)
             f_int, interp = np.sqrt(np.maximum(w @ panel[2], 0.0)), np.tensordot(w, shapes, axes=1)
             error = max(error, float(np.max(np.abs(f_int / f_exact - 1))))

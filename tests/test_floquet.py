@@ -88,6 +88,21 @@ def test_monodromy_of_a_free_blade_and_of_one_stuck_all_period_is_one_exponentia
         assert _relative_error(Phi, scipy.linalg.expm(T * _first_order(M, C, K + Kc))) <= 1e-12
 
 
+@pytest.mark.parametrize("state", [SEPARATE, STICK, SLIP])
+def test_multipliers_of_an_orbit_in_one_state_are_those_of_its_exponential(state):
+    """One state all period (separated; stuck; slipping one way, its non-symmetric stiffness): the
+    multipliers from the first-order matrix's eigenvalues, exp(s T), are the eigenvalues of scipy's
+    exp(A T) of the same blade and springs."""
+    M, C, K, W = _blade()
+    law, omega, samples = _law(), 300.0, 64
+    Kc = {SEPARATE: 0.0 * K, STICK: W.T @ np.diag([2e5, 1e5]) @ W,
+          SLIP: W.T @ np.array([[2e5, 0.0], [-0.3 * 2e5, 0.0]]) @ W}[state]
+    mu = floquet.orbit_multipliers(M, C, K, W, law, np.full((1, samples), state), np.ones((1, samples)), omega)
+    exact = np.linalg.eigvals(scipy.linalg.expm(2 * np.pi / omega * _first_order(M, C, K + Kc)))
+    assert mu.size == exact.size
+    assert np.abs(np.sort_complex(mu) - np.sort_complex(exact)).max() <= 1e-12 * np.abs(exact).max()
+
+
 def test_monodromy_of_runs_is_the_product_of_their_exponentials_in_time_order():
     """Separated, then slipping along +e_ws (the friction mu kn s v slaved to the normal motion: a
     non-symmetric stiffness), then separated: exp(A0 t3) exp(A_slip t2) exp(A0 t1), the separated runs

@@ -159,6 +159,27 @@ def test_the_beams_speed_range_systems_are_the_per_speed_builds(reduced):
     assert all(e is not None and e <= 1e-7 for e in one.modes.errors.values())
 
 
+@pytest.mark.parametrize("reduced", [True, False])
+def test_the_beams_compiled_linear_part_is_the_condensation_of_their_system(reduced):
+    """BeamOverSpeed.harmonics (interpolation, damping, assembly and condensation in one compiled call,
+    what the continuation's corrector uses) against the core's condensation (with LAPACK's solves) of the
+    system the same speed-range model builds there, off nodes, on a node and at a panel's end."""
+    from reduced_model.system import at_speed
+    one = at_speed(Parameters().updated({"contact.gap": 1e-4}), reduced)
+    for rpm in (5000.0, 7777.7, 10000.0, 16543.2):
+        a, s = one.harmonics(rpm, 6), one(rpm)
+        W, tip = s.contact.W, s.tip
+        b = hb.linear_harmonics(s, 6)
+        assert np.abs(a.L - b.L).max() <= 1e-12 * np.abs(b.L).max()
+        assert np.abs(a.Fr - b.Fr).max() <= 1e-12 * np.abs(b.Fr).max()
+        for k in (0, 1, 2):                  # the receptance itself, solved by LAPACK
+            w = k * s.omega_e
+            Z = s.K - w * w * s.M + 1j * w * s.C
+            R = W @ np.linalg.solve(Z, W.T)
+            assert np.abs(np.linalg.inv(R) - a.Z[k]).max() <= 1e-10 * np.abs(a.Z[k]).max()
+            assert np.abs(tip @ np.linalg.solve(Z, W.T) - a.tip_lam[k]).max() <= 1e-10 * np.abs(a.tip_lam[k]).max()
+
+
 def test_the_extended_beams_modal_coordinates_mean_the_same_across_panels():
     """The extended beam has more contact coordinates (8) than modes (6), so its balance runs on modal
     coordinates: they must mean the same from one speed panel to the next (the continuation stopped at

@@ -52,18 +52,30 @@ class SpeedModel:
 
     ``build(rpm)`` gives the model's system at a speed. Where it also offers
     ``harmonics(rpm, H)`` (the linear part per harmonic without a system:
-    reduced_model.system.BeamOverSpeed, None where it has none to give),
-    the corrector's iterates use that, and a system is built only where one
-    is asked for (a converged point's stability).
+    reduced_model.system.BeamOverSpeed; None where it has none to give) the
+    corrector's iterates use that, and a system is built only where one is
+    asked for (a converged point's stability).
+
+    The speed derivative of the linear part is a forward difference over
+    ``step`` times the speed, taken afresh only when the speed has moved by
+    more than ``reuse`` (relative) since it was last taken: a corrector's
+    iterates and the tangent at its converged point then share the
+    predictor's (the derivative changes by ~``reuse`` of itself over that
+    distance; the equations solved, R = 0, are exact). (The beams' exact
+    derivative, from the factors of their condensation, was tried: it cost
+    as much as the second build it saved.)
     """
 
     MEMO = 64        # speeds kept (a corrector's iterates, the derivative's neighbours)
 
-    def __init__(self, build: Callable[[float], StructuralSystem], H: int, condense: bool | None = None):
+    def __init__(self, build: Callable[[float], StructuralSystem], H: int, condense: bool | None = None,
+                 step: float = 1e-6, reuse: float = 1e-3):
         self.build, self.H, self.condense = build, H, condense
+        self.step, self.reuse = step, reuse
         self._harmonics = getattr(build, "harmonics", None) if condense is not False else None
         self._linear: dict[float, tuple] = {}
         self._systems: dict[float, StructuralSystem] = {}
+        self._derivative: tuple | None = None      # (rpm, dL/drpm, dF/drpm flat) taken last
 
     def system(self, rpm: float) -> StructuralSystem:
         got = self._systems.get(rpm)
@@ -85,29 +97,23 @@ class SpeedModel:
             got = self._linear[rpm] = (lin, lin.L, lin.Fr.ravel())
         return got
 
+    def derivative(self, rpm: float) -> tuple[np.ndarray, np.ndarray]:
+        """(dL/drpm, dF/drpm flat) near ``rpm`` (within ``reuse``)."""
+        if self._derivative is None or abs(rpm - self._derivative[0]) > self.reuse * rpm:
+            _, L, F = self.linear(rpm)
+            h = self.step * rpm
+            _, Lp, Fp = self.linear(rpm + h)
+            self._derivative = (rpm, (Lp - L) / h, (Fp - F) / h)
+        return self._derivative[1], self._derivative[2]
+
     def at(self, rpm: float):
         """(system, LinearHarmonics, L, F flat) at ``rpm``."""
         return (self.system(rpm), *self.linear(rpm))
 
 
-def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 1e-6, reuse: float = 1e-3):
+def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier):
     """R(X, rpm), dR/dX (analytic through the law) and, on demand, dR/drpm = dL/drpm X - dF/drpm (the law
-    does not depend on the speed).
-
-    dL/drpm and dF/drpm are a forward difference of the linear part over ``step`` times the speed, taken
-    afresh only when the speed has moved by more than ``reuse`` (relative) since they were last taken: a
-    corrector's iterates and the tangent at its converged point then share the predictor's (the derivative
-    changes by ~``reuse`` of itself over that distance; the equations solved, R = 0, are exact).
-    """
-    cached: dict[str, tuple] = {}
-
-    def derivative(rpm, L, F):
-        got = cached.get("d")
-        if got is None or abs(rpm - got[0]) > reuse * rpm:
-            h = step * rpm
-            _, Lp, Fp = speeds.linear(rpm + h)
-            got = cached["d"] = (rpm, (Lp - L) / h, (Fp - F) / h)
-        return got[1], got[2]
+    does not depend on the speed; SpeedModel.derivative)."""
 
     def residual(X, rpm):
         lin, L, F = speeds.linear(rpm)
@@ -115,7 +121,7 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier, step: float = 
         residual.last = (X, rpm, b)
 
         def d_rpm():
-            dL, dF = derivative(rpm, L, F)
+            dL, dF = speeds.derivative(rpm)
             return dL @ X - dF
         return b.R, b.J, d_rpm
     residual.last = None       # (X, rpm, Balance) of the latest evaluation: a converged point's own

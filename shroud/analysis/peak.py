@@ -122,7 +122,7 @@ class PeakSystem:
     def amplitude(self, X0: np.ndarray, rpm: float, law: ContactLaw, end: int) -> float:
         """a of the branch's point at ``rpm`` (Newton from the last solution at this ``end`` of the chord,
         else from ``X0``), m; nan if Newton fails from both."""
-        _, lin, _, _ = self.speeds.at(rpm)
+        lin = self.speeds.linear(rpm)[0]
         for start in (self._ends.get(end), X0):
             if start is not None:
                 X, b, _, ok = hb.newton(start, lin, law, self.basis)
@@ -155,7 +155,7 @@ class PeakSystem:
         def d_n0():
             hn = STEP * self.n0_scale
             shifted = law_with_preload(self.law, n0 + hn)
-            _, lin, L, F = self.speeds.at(rpm)
+            lin, L, F = self.speeds.linear(rpm)
             Rn = hb.balance(X, lin, shifted, self.basis, L, F.reshape(self.basis.nh, lin.nx), jacobian=False).R
             return np.r_[(Rn - R) / hn, (self.slope(X, rpm, shifted) - g) / hn]
         return np.r_[R, g], Jy, d_n0

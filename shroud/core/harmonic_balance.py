@@ -310,10 +310,9 @@ class LinearHarmonics:
 
     def tip(self, X: np.ndarray, Lam: np.ndarray) -> np.ndarray:
         """(nh, 2) coefficients of v_L, w_L."""
-        Xc = _complex_coefficients(X)
-        Lc = _complex_coefficients(Lam)
-        out = (np.einsum("kij,kj->ki", self.tip_x, Xc) + np.einsum("kij,kj->ki", self.tip_lam, Lc)
-               + self.tip_f)
+        out = np.einsum("kij,kj->ki", self.tip_lam, _complex_coefficients(Lam)) + self.tip_f
+        if not self.condensed:                    # (condensed, tip_x is 0)
+            out += np.einsum("kij,kj->ki", self.tip_x, _complex_coefficients(X))
         return _real_coefficients(out)
 
 
