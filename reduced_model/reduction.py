@@ -142,10 +142,7 @@ class ModesOverSpeed:
     def panel(self, omega: float) -> tuple | None:
         """The certified panel holding Omega (rad/s): (nodes in Omega^2, their barycentric weights, f_hz^2 and
         shapes at the nodes), built on first use; None where the modes are exact at every speed."""
-        rpm = abs(omega) * 60.0 / (2.0 * np.pi)
-        p = int(rpm // PANEL_RPM)
-        if rpm - p * PANEL_RPM <= 1e-9 * PANEL_RPM and self._panels.get(p - 1) is not None:
-            p -= 1          # an end of a built panel (certified there) needs no new panel (a range's last speed)
+        p = int(abs(omega) * 60.0 / (2.0 * np.pi) // PANEL_RPM)
         if p not in self._panels:
             self._panels[p] = self._panel(p)
         return self._panels[p]
