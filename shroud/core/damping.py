@@ -13,8 +13,6 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
 
 def rayleigh(f1: float, f2: float, xi1: float, xi2: float) -> tuple[float, float]:
     """(alpha in 1/s, beta in s) giving damping ratios xi1, xi2 at f1 != f2 (Hz).
@@ -32,9 +30,8 @@ def rayleigh(f1: float, f2: float, xi1: float, xi2: float) -> tuple[float, float
     return rayleigh_coefficients(f1, f2, xi1, xi2)
 
 
-@njit(cache=True)
 def rayleigh_coefficients(f1: float, f2: float, xi1: float, xi2: float) -> tuple[float, float]:
-    """:func:`rayleigh` without its checks, for compiled model kernels that build many speeds."""
+    """:func:`rayleigh` without its checks (plain arithmetic: a model's compiled kernel may compile it)."""
     alpha = 4.0 * math.pi * f1 * f2 * (f1 * xi2 - f2 * xi1) / (f1**2 - f2**2)
     beta = (f2 * xi2 - f1 * xi1) / (math.pi * (f2**2 - f1**2))
     return alpha, beta
