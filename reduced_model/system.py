@@ -137,14 +137,14 @@ class BeamOverSpeed:
         self.nr = params.reduced.nr if reduced else 0
         self.contact, self.tip = contact_elements(params, self.beam), output_rows(params, self.beam)
         self.rows = self.tip if self.contact is None else np.vstack([self.contact.W, self.tip])
-        self.modes = ModesOverSpeed(self.beam.M, self.beam.stiffness, self.nr)
+        self.modes = modes_over_speed(self.beam, self.nr)
 
     def __call__(self, rpm: float) -> StructuralSystem:
         t0 = time.perf_counter()
         omega = 2.0 * math.pi * rpm / 60.0
         f_hz, basis = self.modes.at(omega)
         return _system(self.params, self.beam, omega, 0.0, f_hz, basis if self.nr else None, self.contact,
-                       self.tip, t0)
+                       self.tip, t0, compiled=True)
 
     def harmonics(self, rpm: float, H: int) -> LinearHarmonics | None:
         """The linear part at ``rpm`` per harmonic 0..H condensed on the contact coordinates, as
@@ -164,24 +164,42 @@ class BeamOverSpeed:
             p.reduced.shroud == "point", H))
 
 
+_MODES: dict[tuple[int, int], tuple[BeamMatrices, ModesOverSpeed]] = {}
+MODES_KEPT = 16
+
+
+def modes_over_speed(beam: BeamMatrices, nr: int) -> ModesOverSpeed:
+    """The beam's nr lowest modes over speed, one object per beam and nr in a process (as the beam's
+    matrices are one per parameter set: reduced_model.beam.beam_matrices): its panels are built once
+    for every branch, and its modal coordinates mean the same in every one (the extended beam's)."""
+    key = (id(beam), nr)                 # the entry holds the beam, so its id stays its own
+    if key not in _MODES:
+        if len(_MODES) >= MODES_KEPT:
+            _MODES.pop(next(iter(_MODES)))
+        _MODES[key] = (beam, ModesOverSpeed(beam.M, beam.stiffness, nr))
+    return _MODES[key][1]
+
+
 def _system(params: Parameters, beam: BeamMatrices, omega: float, omega_dot: float, f_hz: np.ndarray,
             basis: np.ndarray | None, contact: ContactElements | None, tip: np.ndarray,
-            t0: float) -> StructuralSystem:
+            t0: float, compiled: bool = False) -> StructuralSystem:
     """The system at Omega (rad/s) from its lowest frequencies ``f_hz`` (Hz, Rayleigh damping) and
-    reduction ``basis`` (None: the full beam); ``t0`` the build's start (perf_counter)."""
+    reduction ``basis`` (None: the full beam); ``t0`` the build's start (perf_counter). ``compiled``:
+    with the compiled kernels (where the harmonic balance has compiled them anyway), else numpy."""
+    projected, combined = (_projected_compiled, _combined_compiled) if compiled else (_projected, _combined)
     alpha, beta = rayleigh(f_hz[0], f_hz[1], params.damping.xi1, params.damping.xi2)
     terms, f_c1, f_aero1 = beam.speed_terms, beam.f_c1, beam.f_aero1
     if basis is not None:
         m = 0 if contact is None else contact.W.shape[0]
-        terms, f_c1, f_aero1, rows = _projected(np.ascontiguousarray(basis), terms, f_c1, f_aero1,
-                                                tip if contact is None else np.vstack([contact.W, tip]))
+        terms, f_c1, f_aero1, rows = projected(np.ascontiguousarray(basis), terms, f_c1, f_aero1,
+                                               tip if contact is None else np.vstack([contact.W, tip]))
         tip = rows[m:]
         if contact is not None:
             contact = dataclasses.replace(contact, W=rows[:m])
     # the rigid shroud's contact points see the tip's rotations, so the beam vibrates about its steady
     # centrifugal state as the solid does (its neighbours, identical blades, untwist alike)
-    M, C, K, f_const, f_aero = _combined(terms, f_c1, f_aero1, omega, alpha, beta, params.load.F0,
-                                         params.reduced.shroud == "point")
+    M, C, K, f_const, f_aero = combined(terms, f_c1, f_aero1, omega, alpha, beta, params.load.F0,
+                                        params.reduced.shroud == "point")
     if omega_dot != 0.0:
         K = K + omega_dot * (beam.K_acc1 if basis is None else project(basis, beam.K_acc1))
         f_const = f_const + omega_dot * (beam.f_acc1 if basis is None else basis.T @ beam.f_acc1)

@@ -173,7 +173,8 @@ def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: f
         R, J, Rp = residual(u[:-1] * x_scale, u[-1] * p_scale)
         if not np.all(np.isfinite(R)):
             return u, it, False, R, J, Rp
-        A[:n, :n], A[:n, n], A[n] = J * x_scale, Rp() * p_scale, t
+        np.multiply(J, x_scale, out=A[:n, :n])
+        A[:n, n], A[n] = Rp() * p_scale, t
         du = np.linalg.solve(A, -np.append(R, t @ (u - u_pred)))
         steps.append(np.linalg.norm(du) / (1.0 + np.linalg.norm(u)))
         if steps[-1] <= CONVERGED:

@@ -242,17 +242,18 @@ class ContactHarmonics:
 
 
 def contact_harmonics(X: np.ndarray, Wx: np.ndarray, law: ContactLaw, basis: Fourier,
-                      jacobian: bool = True) -> ContactHarmonics:
+                      jacobian: bool = True, condensed: bool | None = None) -> ContactHarmonics:
     """AFT of ``law`` at the coefficients X (nh, nx) of the unknown coordinates, y = Wx x.
 
     Where the unknowns are y themselves (Wx = I: a condensed model) the
     kernel sums the Jacobian on y as it marches; otherwise it is projected on
     x element by element, over the elements that touch at some instant (the
     others contribute nothing). ``jacobian=False`` skips it (dLam_x is then None).
+    ``condensed``: whether Wx = I, if the caller knows (else Wx is compared with I).
     """
     nh, nt, k, m = basis.nh, basis.samples, law.count, law.m
     nx = Wx.shape[1]
-    direct = Wx.shape[0] == nx and np.array_equal(Wx, np.eye(nx))   # x = y (condensed)
+    direct = (Wx.shape[0] == nx and np.array_equal(Wx, np.eye(nx))) if condensed is None else condensed
     Ys = basis.E @ (X if direct else X @ Wx.T)           # y at the samples
     N, F = np.empty((k, nt)), np.empty((k, nt))
     state = np.empty((k, nt), np.int64)
@@ -507,8 +508,8 @@ def balance(X: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier
     L = lin.L if L is None else L
     Fr = lin.Fr if Fr is None else Fr
     Xm = X.reshape(nh, nx)
-    ch = contact_harmonics(Xm, lin.Wx, law, basis, jacobian)
-    R = L @ X - Fr.ravel() - (ch.Lam @ lin.Wx).ravel()
+    ch = contact_harmonics(Xm, lin.Wx, law, basis, jacobian, lin.condensed)
+    R = L @ X - Fr.ravel() - (ch.Lam if lin.condensed else ch.Lam @ lin.Wx).ravel()
     return Balance(R=R, J=L - ch.dLam_x if jacobian else None, contact=ch)
 
 
