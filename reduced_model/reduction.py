@@ -135,9 +135,7 @@ class ModesOverSpeed:
         panel = self.panel(omega)
         if panel is None:
             return self.exact(omega)
-        x2, bary, f2, shapes = panel
-        w = lagrange_weights(x2, bary, omega * omega)
-        return np.sqrt(np.maximum(w @ f2, 0.0)), (w @ shapes.reshape(w.size, -1)).reshape(shapes.shape[1:])
+        return interpolated(*panel, omega * omega)
 
     def panel(self, omega: float) -> tuple | None:
         """The certified panel holding Omega (rad/s): (nodes in Omega^2, their barycentric weights, f_hz^2 and
@@ -170,8 +168,7 @@ class ModesOverSpeed:
             if edge not in self._edges:                 # (each shared with the neighbouring panel)
                 self._edges[edge] = self.exact(np.sqrt(x))
             f_exact, exact = self._edges[edge]
-            w = lagrange_weights(x2, bary, x)
-            f_int, interp = np.sqrt(np.maximum(w @ panel[2], 0.0)), np.tensordot(w, shapes, axes=1)
+            f_int, interp = interpolated(*panel, x)
             error = max(error, float(np.max(np.abs(f_int / f_exact - 1))))
             if self.nr:                                 # the part of each shape outside the exact subspace
                 outside = interp - exact @ (exact.T @ self.M @ interp)
@@ -179,6 +176,17 @@ class ModesOverSpeed:
                                                         / np.einsum("ij,ik,kj->j", interp, self.M, interp)))))
         self.errors[p] = error
         return panel if error <= PANEL_TOLERANCE else None
+
+
+def interpolated(x2: np.ndarray, bary: np.ndarray, f2: np.ndarray, shapes: np.ndarray,
+                 x: float) -> tuple[np.ndarray, np.ndarray]:
+    """(f_hz, shapes) at Omega^2 = x from a panel (its nodes x2 in Omega^2, their barycentric weights, f_hz^2
+    and shapes at the nodes): their Lagrange interpolants (numpy, and compiled as it is by model kernels)."""
+    w = lagrange_weights(x2, bary, x)
+    basis = np.zeros(shapes.shape[1:])
+    for j in range(w.size):
+        basis += w[j] * shapes[j]
+    return np.sqrt(np.maximum(w @ f2, 0.0)), basis
 
 
 @njit(cache=True)

@@ -31,9 +31,9 @@ import numpy as np
 from numba import njit
 
 from reduced_model.beam import E_X, BeamMatrices, for_parameters
-from reduced_model.reduction import ModesOverSpeed, lagrange_weights, project, undamped_modes
+from reduced_model.reduction import ModesOverSpeed, interpolated, project, undamped_modes
 from shroud.core.damping import rayleigh, rayleigh_coefficients
-from shroud.core.harmonic_balance import LinearHarmonics, condensation, from_condensation
+from shroud.core.harmonic_balance import LinearHarmonics, condensation, condenses, from_condensation
 from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
 
@@ -154,12 +154,11 @@ class BeamOverSpeed:
         omega = 2.0 * math.pi * rpm / 60.0
         m = 0 if self.contact is None else self.contact.W.shape[0]
         panel = self.modes.panel(omega)
-        if panel is None or not 0 < m < (self.nr or self.beam.dofs):
+        if panel is None or not condenses(m, self.nr or self.beam.dofs):
             return None
-        x2, bary, f2, shapes = panel
         p, d = self.params, self.params.damping
         return from_condensation(p.load.ke * omega, *_condensed_at(
-            omega, x2, bary, f2, shapes, self.nr > 0, self.beam.speed_terms, self.beam.f_c1,
+            omega, *panel, self.beam.speed_terms, self.beam.f_c1,
             self.beam.f_aero1, self.rows, m, d.xi1, d.xi2, p.load.F0, p.load.ke,
             p.reduced.shroud == "point", H))
 
@@ -233,21 +232,17 @@ def _combined(terms, f_c1, f_aero1, omega, alpha, beta, F0, centrifugal):
 # The same arithmetic compiled for BeamOverSpeed.harmonics' kernel: _system runs the functions as numpy,
 # so that a time-domain build compiles nothing (first build 0.06 s, against 5.8 s with the compilation).
 _projected_compiled, _combined_compiled = njit(cache=True)(_projected), njit(cache=True)(_combined)
-_rayleigh_compiled = njit(cache=True)(rayleigh_coefficients)
+_rayleigh_compiled, _interpolated_compiled = njit(cache=True)(rayleigh_coefficients), njit(cache=True)(interpolated)
 
 
 @njit(cache=True)
-def _condensed_at(omega, x2, bary, f2, shapes, reduce, terms, f_c1, f_aero1, rows, m, xi1, xi2, F0, ke,
-                  centrifugal, H):
+def _condensed_at(omega, x2, bary, f2, shapes, terms, f_c1, f_aero1, rows, m, xi1, xi2, F0, ke, centrifugal, H):
     """BeamOverSpeed.harmonics' compiled part: the modes interpolated on a panel (as ModesOverSpeed.at),
-    Rayleigh damping on the two lowest frequencies, the system (as _system) and the core's condensation."""
-    w = lagrange_weights(x2, bary, omega * omega)
-    f_hz = np.sqrt(np.maximum(w @ f2, 0.0))
+    Rayleigh damping on the two lowest frequencies, the system (as _system) and the core's condensation;
+    the full beam's panel has shapes of no modes (no reduction)."""
+    f_hz, basis = _interpolated_compiled(x2, bary, f2, shapes, omega * omega)
     alpha, beta = _rayleigh_compiled(f_hz[0], f_hz[1], xi1, xi2)
-    if reduce:
-        basis = np.zeros(shapes.shape[1:])
-        for j in range(w.size):
-            basis += w[j] * shapes[j]
+    if basis.shape[1]:
         terms, f_c1, f_aero1, rows = _projected_compiled(basis, terms, f_c1, f_aero1, rows)
     M, C, K, f_const, f_aero = _combined_compiled(terms, f_c1, f_aero1, omega, alpha, beta, F0, centrifugal)
     return condensation(M, C, K, rows, m, f_const, f_aero, ke * omega, H)

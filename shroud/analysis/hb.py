@@ -78,23 +78,25 @@ class SpeedModel:
         self._derivative: tuple | None = None      # (rpm, dL/drpm, dF/drpm flat) taken last
 
     def system(self, rpm: float) -> StructuralSystem:
-        got = self._systems.get(rpm)
-        if got is None:
-            if len(self._systems) > self.MEMO:
-                self._systems.clear()
-            got = self._systems[rpm] = self.build(rpm)
-        return got
+        return self._kept(self._systems, rpm, self.build)
 
     def linear(self, rpm: float) -> tuple[hb.LinearHarmonics, np.ndarray, np.ndarray]:
         """(LinearHarmonics, L, F flat) at ``rpm``."""
-        got = self._linear.get(rpm)
+        return self._kept(self._linear, rpm, self._linear_at)
+
+    def _linear_at(self, rpm: float) -> tuple[hb.LinearHarmonics, np.ndarray, np.ndarray]:
+        lin = None if self._harmonics is None else self._harmonics(rpm, self.H)
+        if lin is None:
+            lin = hb.linear_harmonics(self.system(rpm), self.H, self.condense)
+        return lin, lin.L, lin.Fr.ravel()
+
+    def _kept(self, store: dict, rpm: float, make: Callable):
+        """``make(rpm)``, kept in ``store`` (cleared beyond MEMO speeds)."""
+        got = store.get(rpm)
         if got is None:
-            if len(self._linear) > self.MEMO:
-                self._linear.clear()
-            lin = None if self._harmonics is None else self._harmonics(rpm, self.H)
-            if lin is None:
-                lin = hb.linear_harmonics(self.system(rpm), self.H, self.condense)
-            got = self._linear[rpm] = (lin, lin.L, lin.Fr.ravel())
+            if len(store) > self.MEMO:
+                store.clear()
+            got = store[rpm] = make(rpm)
         return got
 
     def derivative(self, rpm: float) -> tuple[np.ndarray, np.ndarray]:
@@ -152,7 +154,7 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
 def orbit_multipliers(system: StructuralSystem, law, contact: hb.ContactHarmonics, y_rate: np.ndarray) -> np.ndarray:
     """Floquet multipliers of ``system`` (its M, C, K, W; excitation frequency system.omega_e) linearized
     about the orbit whose contact states and friction ``contact`` holds, ``y_rate`` its contact velocities
-    at the samples (floquet.monodromy)."""
+    at the samples (floquet.orbit_multipliers)."""
     W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))
     return floquet.orbit_multipliers(system.M, system.C, system.K, W, law, contact.state, contact.F,
                                      system.omega_e, y_rate)

@@ -326,6 +326,9 @@ def _real_coefficients(Xc: np.ndarray) -> np.ndarray:
     return out
 
 
+_real_coefficients_compiled = njit(cache=True)(_real_coefficients)     # the same, inside compiled kernels
+
+
 def _complex_coefficients(X: np.ndarray) -> np.ndarray:
     """(2H+1, n) real -> (H+1, n) complex a_k - i b_k."""
     out = np.empty(((X.shape[0] + 1) // 2, X.shape[1]), complex)
@@ -355,13 +358,13 @@ def _real_blocks(Z: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _solved_columns(M, C, K, O, W, f_const, f_aero, omega, H):
+def _solved_columns(M, C, K, O, m, f_const, f_aero, omega, H):
     """O Z_k^-1 [W^T, F_k] for k = 0..H, complex (H+1, o, m+1): each harmonic's dynamic stiffness
-    Z_k = K - (k omega)^2 M + i k omega C solved against the contact directions W^T (m, n) and
+    Z_k = K - (k omega)^2 M + i k omega C solved against the contact directions W^T = O[:m]^T and
     the load's harmonic F_k (:func:`load_harmonics`: f_const at k = 0, -i f_aero at k = 1, else 0),
     seen through the outputs O (o, n). One work array for every harmonic: on a 6-DOF model the
     allocations of a library solve per harmonic cost more than its arithmetic."""
-    n, m, o = M.shape[0], W.shape[0], O.shape[0]
+    n, o = M.shape[0], O.shape[0]
     out = np.empty((H + 1, o, m + 1), np.complex128)
     Z = np.empty((n, n), np.complex128)
     S = np.empty((n, m + 1), np.complex128)
@@ -371,7 +374,7 @@ def _solved_columns(M, C, K, O, W, f_const, f_aero, omega, H):
             for j in range(n):
                 Z[i, j] = complex(K[i, j] - w * w * M[i, j], w * C[i, j])
             for j in range(m):
-                S[i, j] = W[j, i]
+                S[i, j] = O[j, i]
             S[i, m] = f_const[i] if k == 0 else complex(0.0, -f_aero[i]) if k == 1 else 0.0
         lu_solve_in_place(Z, S)
         for a in range(o):
@@ -399,17 +402,22 @@ def load_harmonics(system: StructuralSystem, H: int) -> np.ndarray:
     return F
 
 
+def condenses(m: int, n: int) -> bool:
+    """Whether a model of n DOFs with m contact coordinates is balanced condensed on them (fewer than n)."""
+    return 0 < m < n
+
+
 def linear_harmonics(system: StructuralSystem, H: int, condense: bool | None = None) -> LinearHarmonics:
     """The linear part of ``system`` at its speed, on all DOFs or condensed on y = W q.
 
-    ``condense=None`` condenses when there are fewer contact coordinates than
-    DOFs (W Z_k^-1 W^T per harmonic, exact).
+    ``condense=None`` condenses where :func:`condenses` says (W Z_k^-1 W^T per
+    harmonic, exact).
     """
     n = system.dofs
     W = dense(system.contact.W) if system.contact is not None else np.zeros((0, n))
     tip = dense(system.tip)
     m = W.shape[0]
-    condense = (0 < m < n) if condense is None else condense
+    condense = condenses(m, n) if condense is None else condense
     if not condense:
         Z, F = dynamic_stiffness(system, H), load_harmonics(system, H)
         return LinearHarmonics(omega=system.omega_e, Z=Z, F=F, L=_real_blocks(Z), Fr=_real_coefficients(F),
@@ -427,7 +435,7 @@ def condensation(M, C, K, O, m, f_const, f_aero, omega, H):
     directions; O's other rows the tip outputs): (Z, F, L, Fr, tipS) for :func:`from_condensation`.
     Compiled, so that a model's own kernel can build its matrices at a speed and condense them in one
     call (reduced_model.system.BeamOverSpeed.harmonics)."""
-    WS = _solved_columns(M, C, K, O, O[:m], f_const, f_aero, omega, H)
+    WS = _solved_columns(M, C, K, O, m, f_const, f_aero, omega, H)
     Zc, Fc, L, Fr = _inverse_receptance(WS[:, :m])
     return Zc, Fc, L, Fr, WS[:, m:]
 
@@ -468,7 +476,6 @@ def _inverse_receptance(WS):
     H1, m = WS.shape[0], WS.shape[1]
     Zc = np.empty((H1, m, m), np.complex128)
     Fc = np.empty((H1, m), np.complex128)
-    Fr = np.empty((2 * H1 - 1, m))
     R = np.empty((m, m), np.complex128)
     S = np.empty((m, m + 1), np.complex128)
     for k in range(H1):
@@ -478,16 +485,9 @@ def _inverse_receptance(WS):
                 S[i, j] = 1.0 if i == j else 0.0
             S[i, m] = WS[k, i, m]
         lu_solve_in_place(R, S)                    # [R^-1, R^-1 w]
-        for i in range(m):
-            for j in range(m):
-                Zc[k, i, j] = S[i, j]
-            Fc[k, i] = S[i, m]
-            if k == 0:
-                Fr[0, i] = S[i, m].real
-            else:
-                Fr[2 * k - 1, i] = S[i, m].real
-                Fr[2 * k, i] = -S[i, m].imag
-    return Zc, Fc, _real_blocks(Zc), Fr
+        Zc[k] = S[:, :m]
+        Fc[k] = S[:, m]
+    return Zc, Fc, _real_blocks(Zc), _real_coefficients_compiled(Fc)
 
 
 # --- residual, Newton at one speed ---------------------------------------------------
