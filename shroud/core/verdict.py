@@ -1,0 +1,132 @@
+"""Verdicts: a yes/no or a word drawn from a measured number, with the line it was drawn at.
+
+A study's conclusion ("friction has no effect at large gaps", "the reduced
+solid is cheaper than the full beam", "this orbit is stable") is a
+measurement like any other. A :class:`Verdict` keeps
+
+* ``value``: the number measured (a spread, a ratio, a multiplier's modulus);
+* ``threshold``: where the answer changes side;
+* ``margin``: the number's own uncertainty (mesh, time step, sampling of a
+  speed grid, settling, timing noise); within ``threshold +- margin`` the
+  verdict reads :data:`NOT_DECIDED` instead of taking a side;
+* ``reason``: why the threshold and the margin are what they are, in words a
+  reviewer can check.
+
+``answer`` is ``below`` when ``value < threshold - margin``, ``above`` when
+``value > threshold + margin`` and :data:`NOT_DECIDED` between. The answers
+may be words or booleans; both serialize as JSON scalars, so ``shroud
+compare`` and ``[gates] ... = {equals = ...}`` hold them for equality.
+
+>>> v = Verdict.of(0.0356, threshold=0.05, margin=0.01, below="no effect", above="effect",
+...                reason="resonance read on a 250 r/min grid: 1 % of the peak")
+>>> v.answer
+'no effect'
+>>> Verdict.of(0.045, threshold=0.05, margin=0.01, below=True, above=False, reason="").answer
+'not decided'
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+NOT_DECIDED = "not decided"
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """One conclusion: the measured ``value``, the ``threshold`` and ``margin`` it was read against."""
+
+    value: float
+    threshold: float
+    margin: float
+    below: Any          # the answer when value < threshold - margin
+    above: Any          # the answer when value > threshold + margin
+    reason: str
+    unit: str = ""
+
+    @classmethod
+    def of(cls, value: float, threshold: float, margin: float, below: Any, above: Any, reason: str,
+           unit: str = "") -> "Verdict":
+        if not margin >= 0.0:
+            raise ValueError(f"a verdict's margin is >= 0 (got {margin})")
+        return cls(float(value), float(threshold), float(margin), below, above, reason, unit)
+
+    @property
+    def decided(self) -> bool:
+        """Whether the value lies outside ``threshold +- margin`` (a NaN value decides nothing)."""
+        return math.isfinite(self.value) and abs(self.value - self.threshold) > self.margin
+
+    @property
+    def answer(self) -> Any:
+        if not self.decided:
+            return NOT_DECIDED
+        return self.below if self.value < self.threshold else self.above
+
+    @property
+    def distance(self) -> float:
+        """How far the value lies beyond the margin, in units of the margin (< 1: within it; inf: margin 0)."""
+        gap = abs(self.value - self.threshold)
+        return gap / self.margin if self.margin > 0 else math.inf
+
+    def sentence(self, fmt: str = "{:.3g}") -> str:
+        """``answer (value V against T +- M unit: reason)`` for reports."""
+        unit = f" {self.unit}" if self.unit else ""
+        return (f"{self.answer} ({fmt.format(self.value)}{unit} against {fmt.format(self.threshold)}"
+                f" +- {fmt.format(self.margin)}{unit}: {self.reason})")
+
+    def to_json(self) -> dict:
+        return {"answer": self.answer, "value": _finite_or_none(self.value), "threshold": self.threshold,
+                "margin": self.margin, "unit": self.unit, "reason": self.reason}
+
+
+def _finite_or_none(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+@dataclass(frozen=True)
+class RatioVerdict:
+    """How ``a`` compares with ``b`` (both > 0): three answers with a dead band, on a log scale.
+
+    ``above`` when a > factor b, ``below`` when a < b / factor, ``between``
+    when they lie within the factor of each other. ``noise`` (a factor >= 1,
+    e.g. 1.5 for run times that vary by 50 % between identical runs) is the
+    margin around either edge of the band, inside which the answer is
+    :data:`NOT_DECIDED`.
+    """
+
+    a: float
+    b: float
+    factor: float
+    noise: float
+    above: Any
+    below: Any
+    between: Any
+    reason: str
+
+    def __post_init__(self):
+        if not (self.a > 0 and self.b > 0 and self.factor >= 1 and self.noise >= 1):
+            raise ValueError(f"a ratio verdict needs a, b > 0 and factor, noise >= 1 "
+                             f"(got {self.a}, {self.b}, {self.factor}, {self.noise})")
+
+    @property
+    def ratio(self) -> float:
+        return self.a / self.b
+
+    @property
+    def answer(self) -> Any:
+        r, edge, noise = abs(math.log(self.ratio)), math.log(self.factor), math.log(self.noise)
+        if abs(r - edge) <= noise:
+            return NOT_DECIDED
+        if r < edge:
+            return self.between
+        return self.above if self.ratio > 1 else self.below
+
+    def sentence(self, fmt: str = "{:.3g}") -> str:
+        return (f"{self.answer} (ratio {fmt.format(self.ratio)} against a band of x{fmt.format(self.factor)}"
+                f" +- x{fmt.format(self.noise)}: {self.reason})")
+
+    def to_json(self) -> dict:
+        return {"answer": self.answer, "value": self.ratio, "threshold": self.factor,
+                "margin": self.noise, "unit": "ratio", "reason": self.reason}
