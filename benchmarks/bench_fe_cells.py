@@ -34,7 +34,7 @@ import time
 from comparisons._agreement import agreement, signals_of, window
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
-from shroud.app.scene import load_scene
+from workbench.scene import load_scene
 from shroud.core.newmark import NewmarkScheme, integrate
 
 CELLS = {"hex": ["fe.cell=hex", "fe.mesh_size=0.005"], "tet": ["fe.cell=tet", "fe.mesh_size=0.0035"]}

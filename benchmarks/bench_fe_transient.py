@@ -43,7 +43,7 @@ from shroud.analysis.transient import contact_law_for
 from shroud.core.linear_solvers import default_factorization
 from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.base.parallel import mpi_rank, mpi_size
-from shroud.app.scene import load_scene
+from workbench.scene import load_scene
 
 
 def measure(params, model: str, factorize=None, profile: int = 0):

@@ -30,7 +30,6 @@ import time
 
 import numpy as np
 
-import reduced_model  # noqa: F401  (registers the beams)
 from reduced_model.system import at_speed, build_system
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweep
@@ -68,7 +67,6 @@ def main() -> None:
     args = ap.parse_args()
     if "fe-reduced" in args.models:
         import dolfinx_solver  # noqa: F401  (before any DOLFINx import)
-        import reference_fe  # noqa: F401  (registers the solid models)
     print(f"load average at start: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     params = Parameters().updated({"contact.gap": args.gap})
     rpms = np.arange(5000.0, 20000.0 + 1, 100.0)

@@ -19,10 +19,9 @@ import argparse
 import os
 import statistics
 
-import reference_fe  # noqa: F401  (registers the solid models)
 from reference_fe import harmonic
 from shroud.analysis.hb import checkpoint
-from shroud.app.scene import load_scene
+from workbench.scene import load_scene
 from shroud.base.parallel import mpi_rank, mpi_size
 
 

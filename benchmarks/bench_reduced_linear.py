@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from reduced_model import EXTENDED
+from reduced_model.models import EXTENDED
 from reduced_model.beam import beam_matrices, tip_body
 from reduced_model.campbell import campbell
 from reduced_model.modal import modal_analysis

@@ -109,8 +109,6 @@ def main() -> None:
     params = Parameters()                                   # Fig. 8 case: N0 = 0, 10000 r/min
     steps = params.time.periods * params.time.steps_per_period
     scheme = newmark.NewmarkScheme(params.time_step)
-    if "fe-reduced" in args.models:
-        import shroud.app.models  # noqa: F401  (registers the solid models)
     for model in args.models:
         system = build_system(params, model)
         law = contact_law_for(system, params.contact)

@@ -1,7 +1,5 @@
 """Studies: one module per scene kind (``study = "<module>"`` in scenes/*.toml).
 
-Importing the package registers the models the studies compare.
+The models they compare come from the core's registry (shroud.core.registry), where the
+builder packages declare them.
 """
-
-import reduced_model  # noqa: F401  (registers "reduced", "full", "extended")
-import reference_fe  # noqa: F401  (registers "fe", "fe-reduced")

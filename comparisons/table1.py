@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import paper
-from reduced_model import EXTENDED
+from reduced_model.models import EXTENDED
 from reduced_model.beam import TipBody, beam_matrices, tip_body
 from reduced_model.modal import gyroscopic_modes, modal_analysis
 from reduced_model.reduction import undamped_modes

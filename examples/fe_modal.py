@@ -20,7 +20,6 @@
 # DOLFINx distributes the mesh, PETSc the matrices; every rank gets the
 # same frequencies and rank 0 prints them.
 
-import reference_fe  # noqa: F401  (registers the solid models with the core)
 from comparisons import paper
 from shroud.analysis.api import modal
 from shroud.base.parallel import mpi_rank

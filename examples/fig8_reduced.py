@@ -16,7 +16,6 @@
 # workbench's target for a reduced model (the README measures 0.46 %; the
 # paper's Fig. 8 shows the two curves on top of each other).
 
-import reduced_model  # noqa: F401  (registers the beam models with the core)
 from comparisons._agreement import SIGNALS, agreement, signals_of
 from shroud.analysis.api import transient
 from shroud.params import Parameters

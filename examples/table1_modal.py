@@ -18,7 +18,6 @@
 
 import numpy as np
 
-import reduced_model  # noqa: F401  (registers the beam models with the core)
 from comparisons import paper
 from shroud.analysis.api import modal
 from shroud.params import Parameters

@@ -12,38 +12,3 @@ the package registers its models with the core:
 Each also offers ``at_speed(params) -> (rpm -> StructuralSystem)`` for
 continuation in speed (shroud.core.continuation).
 """
-
-import dataclasses
-
-from shroud.core.registry import ModelEntry, lazy, register
-
-EXTENDED = {"reduced.torsion": True, "reduced.shroud": "rigid"}   # what makes the "extended beam"
-
-
-def _named_extended(system):
-    return dataclasses.replace(system, model="extended")
-
-
-def _extended(function):
-    """``function`` called on the extended beam's parameters, its result named "extended"."""
-    def call(params, *args):
-        return _named_extended(function(params.updated(EXTENDED), *args))
-    return call
-
-
-def _extended_at_speed(params):
-    systems = lazy("reduced_model.system", "at_speed", reduced=True)(params.updated(EXTENDED))
-    return lambda rpm: _named_extended(systems(rpm))
-
-
-register(ModelEntry("reduced", build_system=lazy("reduced_model.system", "build_system", reduced=True),
-                    modal=lazy("reduced_model.modal", "modal_analysis"),
-                    at_speed=lazy("reduced_model.system", "at_speed", reduced=True),
-                    description="beam reduced to reduced.nr free-interface modes"))
-register(ModelEntry("full", build_system=lazy("reduced_model.system", "build_system", reduced=False),
-                    at_speed=lazy("reduced_model.system", "at_speed", reduced=False),
-                    description="Galerkin beam, 5N DOF (6N with reduced.torsion)"))
-register(ModelEntry("extended", build_system=_extended(lazy("reduced_model.system", "build_system", reduced=True)),
-                    modal=_extended(lazy("reduced_model.modal", "modal_analysis")),
-                    at_speed=_extended_at_speed,
-                    description="beam with torsion and a rigid shroud, reduced to reduced.nr modes"))

@@ -1,12 +1,16 @@
-"""The shrouded-blade verification workbench, in layers that import one way::
+"""The shrouded-blade verification workbench as a library (``from shroud import api``).
 
-    shroud.app          command line, runner, campaigns, scenes, reports, gates
+The project's packages, in layers that import one way::
+
+    workbench           the application: command line, runner, campaigns, reports, gates, compare
        |
     comparisons         studies (Table 1, Fig. 8, ...): compute -> plot -> report
        |
-    reduced_model  reference_fe + meshes      model builders (register with the core)
+    reduced_model  reference_fe + meshes      model builders (declare their models to the core)
        |
-    shroud.analysis     parameter-driven runs of any registered model (transient, sweep)
+    shroud.api          the public library: one call per analysis
+       |
+    shroud.analysis     parameter-driven runs of any registered model (transient, sweep, HB)
        |
     shroud.params       the parameter schema, validated once
        |

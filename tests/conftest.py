@@ -1,4 +1,1 @@
-"""The models the tests run are those the builder packages register on import."""
-
-import reduced_model  # noqa: F401  (registers "reduced", "full", "extended")
-import reference_fe  # noqa: F401  (registers "fe", "fe-reduced"; DOLFINx loads only when built)
+"""Shared test set-up: the models come from the registry, where the installed builders declare them."""

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.app.campaign import load_campaign, run_campaign
+from workbench.campaign import load_campaign, run_campaign
 from shroud.base.errors import InputError
 from shroud.base.parallel import map_parallel
 
@@ -103,7 +103,7 @@ def test_one_failing_scene_does_not_stop_the_others(probe):
 
 
 def test_a_failed_scene_makes_the_command_exit_1(probe, capsys):
-    from shroud.app.cli import EXIT_RUN_FAILED, main
+    from workbench.cli import EXIT_RUN_FAILED, main
     path = _campaign(probe, 'campaign = ["first", "second"]\n[overrides]\nsecond = ["options.fail=true"]\n')
     assert main(["run", str(path), "--out", str(probe / "out")]) == EXIT_RUN_FAILED
     assert "a scene failed" in capsys.readouterr().out

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.app.cli import main
+from workbench.cli import main
 from shroud.params import SECTIONS
 
 GOOD = 'study = "default"\ntitle = "t"\n'
@@ -166,7 +166,7 @@ def test_shell_sees_one_line_and_status_2(tmp_path, argv, key):
     out = tmp_path / "out"
     fill = {"bad": str(bad), "scene": str(scene), "out": str(out)}
     argv = [a.format(**fill) for a in argv]
-    proc = subprocess.run([sys.executable, "-m", "shroud.app.cli", *argv], capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-m", "workbench.cli", *argv], capture_output=True, text=True)
     assert proc.returncode == 2
     assert proc.stdout == ""
     assert proc.stderr.count("\n") == 1 and proc.stderr.startswith(f"error: {key.format(**fill)}:")

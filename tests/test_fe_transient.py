@@ -57,7 +57,7 @@ def test_contact_elements_carry_the_side_totals(params):
 def test_fig8_study_reduced_fe_follows_the_full_fe(tmp_path):
     """The Fig. 8 study on a coarse mesh: fe-reduced against fe, NRMSE of every signal, and its files."""
     from comparisons import fig8
-    from shroud.app.scene import load_scene
+    from workbench.scene import load_scene
     scene = load_scene("scenes/fig8.toml", COARSE + [
         "time.periods=3", 'options.models=["fe-reduced", "fe"]', "options.window_periods=2",
         "options.plot_periods=1"])
@@ -75,7 +75,7 @@ def test_fig8_study_reduced_fe_follows_the_full_fe(tmp_path):
 def test_a_diverging_fe_run_is_reported_and_its_csv_kept_marked_incomplete(tmp_path):
     """Explicit contact at kn = 1e9 N/m and 32 steps per period grows without bound (stability scene)."""
     from comparisons import fig8
-    from shroud.app.scene import load_scene
+    from workbench.scene import load_scene
     scene = load_scene("scenes/fig8.toml", COARSE + [
         "time.periods=3", "time.steps_per_period=32", 'time.contact=explicit', "contact.kn=1e9",
         'options.models=["fe-reduced"]', "options.reference=fe-reduced", "options.window_periods=1",

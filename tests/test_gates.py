@@ -25,7 +25,7 @@ SCENE = Path(__file__).resolve().parents[1] / "scenes" / "ci_gates.toml"
 @pytest.mark.slow
 def test_the_gate_scene_holds_through_the_command(tmp_path):
     out = tmp_path / "out"
-    proc = subprocess.run([sys.executable, "-m", "shroud.app.cli", "run", str(SCENE), "--out", str(out)],
+    proc = subprocess.run([sys.executable, "-m", "workbench.cli", "run", str(SCENE), "--out", str(out)],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr[-3000:]
     root = ET.parse(out / "junit.xml").getroot()

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.app.cli import main
+from workbench.cli import main
 
 FLAP1 = "results.modal.rows.flap1.reduced"
 BEAM = 'study = "default"\ntitle = "beam frequencies"\n' \
@@ -27,7 +27,7 @@ BEAM = 'study = "default"\ntitle = "beam frequencies"\n' \
 
 
 def shroud(*argv) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "shroud.app.cli", *map(str, argv)],
+    return subprocess.run([sys.executable, "-m", "workbench.cli", *map(str, argv)],
                           capture_output=True, text=True, timeout=300)
 
 

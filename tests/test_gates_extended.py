@@ -14,7 +14,6 @@ wide root, which a beam's section kinematics do not have.
 
 import pytest
 
-import shroud.app.models  # noqa: F401  (registers the beam and solid models)
 from shroud.analysis.api import modal
 from shroud.params import Parameters
 

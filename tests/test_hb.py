@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 import scipy.optimize
 
-import reduced_model  # noqa: F401  (registers the beam models)
 from comparisons._hb import crossings
 from shroud.analysis.hb import run_hb, solve_at
 from shroud.analysis.transient import contact_law_for
@@ -186,7 +185,7 @@ def test_the_extended_beams_modal_coordinates_mean_the_same_across_panels():
     coordinates: they must mean the same from one speed panel to the next (the continuation stopped at
     10000 r/min, a panel's end, when a mode's sign flipped there) and through the veering of flap2 and
     torsion1 near 13842 r/min, where the two eigenvectors turn within 1 r/min (it stopped there too)."""
-    from reduced_model import EXTENDED
+    from reduced_model.models import EXTENDED
     from reduced_model.system import at_speed
     one = at_speed(Parameters().updated(EXTENDED), True)
     for edge in (7500.0, 10000.0, 12500.0, 13842.0):

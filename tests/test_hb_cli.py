@@ -7,14 +7,13 @@ import sys
 import numpy as np
 import pytest
 
-import reduced_model  # noqa: F401
-from shroud.app.cli import main
+from workbench.cli import main
 from shroud.analysis.hb import run_hb
 from shroud.params import Parameters
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "shroud.app.cli", *args], capture_output=True, text=True)
+    return subprocess.run([sys.executable, "-m", "workbench.cli", *args], capture_output=True, text=True)
 
 
 def test_hb_sweep_json_follows_the_branch():

@@ -6,7 +6,6 @@ pytestmark = pytest.mark.fe
 
 
 def test_fe_reduced_hb_point_matches_a_p1_time_domain_run():
-    import reference_fe  # noqa: F401  (registers the solid models)
     from shroud.analysis.api import transient
     from shroud.analysis.hb import solve_at
     from shroud.params import Parameters

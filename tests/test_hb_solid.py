@@ -28,7 +28,6 @@ DATA = Path(__file__).parent / "data"
 
 
 def _params(**overrides):
-    import reference_fe  # noqa: F401  (registers the solid models)
     from shroud.params import Parameters
     return Parameters().updated(overrides)
 
@@ -138,10 +137,9 @@ def test_two_ranks_condense_as_one(tmp_path):
 def test_a_checkpoint_is_the_continuations_state_at_that_speed():
     """The beam at 12000 r/min, 0.1 mm gap: the branch followed from 11000 r/min ends where a checkpoint
     solved there alone (linear start, load homotopy) lands."""
-    import reduced_model  # noqa: F401
     from shroud.analysis.hb import run_hb
     from shroud.params import Parameters
-    r = subprocess.run([sys.executable, "-m", "shroud.app.cli", "sweep", "--method", "hb", "--checkpoints",
+    r = subprocess.run([sys.executable, "-m", "workbench.cli", "sweep", "--method", "hb", "--checkpoints",
                         "12000", "--harmonics", "5", "--samples", "128", "--set", "contact.gap=1e-4", "--json"],
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
@@ -163,7 +161,7 @@ def test_a_checkpoint_is_the_continuations_state_at_that_speed():
     (["--model", "fe", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "3"], "--model"),
 ])
 def test_bad_checkpoint_input_is_one_line_and_exit_2(args, key, capsys):
-    from shroud.app.cli import main
+    from workbench.cli import main
     assert main(["sweep", *args]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"error: {key}:")

@@ -21,7 +21,7 @@ def _hex(**changes) -> Parameters:
 
 
 def test_unknown_cell_kind_is_one_line_exit_2():
-    run = subprocess.run([sys.executable, "-m", "shroud.app.cli", "modal", "--model", "fe",
+    run = subprocess.run([sys.executable, "-m", "workbench.cli", "modal", "--model", "fe",
                           "--set", "fe.cell=prism"], capture_output=True, text=True)
     assert run.returncode == 2
     assert run.stderr.strip().startswith("error: fe.cell:")
@@ -39,7 +39,7 @@ def test_a_footprint_cutting_the_tip_middle_is_refused_before_gmsh(tmp_path, mon
 
 
 def test_a_hex_run_of_that_geometry_is_one_line_exit_2():
-    run = subprocess.run([sys.executable, "-m", "shroud.app.cli", "modal", "--model", "fe",
+    run = subprocess.run([sys.executable, "-m", "workbench.cli", "modal", "--model", "fe",
                           "--set", "fe.cell=hex", "--set", "shroud.length=0.02"], capture_output=True, text=True)
     assert run.returncode == 2
     assert run.stderr.strip().startswith("error: fe.cell:") and "tet" in run.stderr

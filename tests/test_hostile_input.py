@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.app.cli import main
+from workbench.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -107,7 +107,7 @@ def test_a_mesh_too_fine_for_the_machine_is_refused_before_gmsh(tmp_path, capsys
 def test_a_truncated_cache_entry_is_rebuilt_and_the_run_succeeds(tmp_path):
     """A mesh and a reduction basis cut short (a run killed while writing, a full disk) are rebuilt."""
     env = {**os.environ, "SHROUD_CACHE": str(tmp_path / "cache"), "OMP_NUM_THREADS": "1"}
-    argv = [sys.executable, "-m", "shroud.app.cli", "transient", "--model", "fe-reduced",
+    argv = [sys.executable, "-m", "workbench.cli", "transient", "--model", "fe-reduced",
             "--set", "time.periods=2", "--json"]
     first = subprocess.run(argv + ["--out", str(tmp_path / "a")], capture_output=True, text=True, env=env)
     assert first.returncode == 0, first.stderr

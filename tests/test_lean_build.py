@@ -19,7 +19,7 @@ FE_STACK = {"dolfinx", "dolfinx_solver", "gmsh", "petsc4py", "slepc4py", "ufl", 
 
 PROBE = """
 import json, sys
-from shroud.app.cli import main
+from workbench.cli import main
 code = main(sys.argv[1:])
 print(json.dumps({"code": code, "modules": sorted(sys.modules)}))
 """

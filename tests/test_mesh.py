@@ -36,7 +36,7 @@ def test_bad_geometry_is_refused_before_gmsh(changes, key, tmp_path, monkeypatch
 
 
 def test_bad_mesh_size_from_the_command_line_is_one_line_exit_2():
-    run = subprocess.run([sys.executable, "-m", "shroud.app.cli", "modal", "--model", "fe",
+    run = subprocess.run([sys.executable, "-m", "workbench.cli", "modal", "--model", "fe",
                           "--set", "fe.cell=tet", "--set", "fe.mesh_size=0.01"], capture_output=True, text=True)
     assert run.returncode == 2
     assert run.stderr.strip().startswith("error: fe.mesh_size:")

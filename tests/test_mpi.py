@@ -22,7 +22,7 @@ pytestmark = [pytest.mark.mpi, pytest.mark.skipif(MPIRUN is None, reason="no mpi
 
 def shroud(argv: list[str], ranks: int = 1, cwd: Path | None = None, timeout: float = 900):
     """Run the shroud command (serially or on ``ranks`` MPI ranks); return stdout, stderr."""
-    command = [sys.executable, "-m", "shroud.app.cli", *argv]
+    command = [sys.executable, "-m", "workbench.cli", *argv]
     if ranks > 1:
         command = [MPIRUN, "-n", str(ranks), *command]
     env = {**os.environ, "OMP_NUM_THREADS": "1"}

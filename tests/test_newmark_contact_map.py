@@ -20,7 +20,7 @@ pytest.importorskip("dolfinx_solver")
                          ids=["tet", "hex"])
 def test_fig8_contact_map_of_the_reduced_solid(tmp_path, mesh):
     from comparisons import fig8
-    from shroud.app.scene import load_scene
+    from workbench.scene import load_scene
     scene = load_scene("scenes/fig8.toml", [
         *mesh, "time.periods=3", 'options.models=["fe-reduced"]',
         "options.reference=fe-reduced", "options.window_periods=2", "options.plot_periods=1"])

@@ -7,10 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import reduced_model  # noqa: F401  (registers the beam models)
 from shroud.analysis.hb import run_hb
 from shroud.analysis.peak import track_peak
-from shroud.app.cli import main
+from workbench.cli import main
 from shroud.base.errors import InputError
 from shroud.params import Parameters
 

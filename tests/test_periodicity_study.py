@@ -52,7 +52,7 @@ def test_hb_predicts_where_the_time_domain_loses_p1():
     run settles on it within 1 %."""
     from comparisons.periodicity import map_cases, hb_case, OPTIONS
     from shroud.analysis.sweep import Settling, run_sweeps
-    from shroud.app.scene import load_scene
+    from workbench.scene import load_scene
     from pathlib import Path
     scene = load_scene(Path(__file__).resolve().parents[1] / "scenes" / "periodicity.toml")
     opts = {**OPTIONS, **scene.options, "search_gaps_um": [1.0], "search_preloads_N": []}

@@ -1,6 +1,6 @@
 """Every study's quick version concludes what its full version concludes.
 
-Each test runs a scene's ``--quick`` version as a user would (shroud.app.runner.run_scene) and
+Each test runs a scene's ``--quick`` version as a user would (workbench.runner.run_scene) and
 compares the conclusions its study returns as data (``results["conclusions"]``) with those of the
 full scene, recorded in tests/data/full_conclusions.json with the command that produced them (the
 full scenes take minutes to hours, too long for CI). Resonant and crossing speeds must agree within
@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.app.runner import run_scene
+from workbench.runner import run_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 FULL = json.loads((Path(__file__).parent / "data" / "full_conclusions.json").read_text())

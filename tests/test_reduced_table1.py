@@ -36,7 +36,7 @@ def test_convergence_from_N4_to_N7_decreases_as_the_papers():
 
 
 def test_table1_scene_writes_its_outputs(tmp_path):
-    from shroud.app.runner import run_scene
+    from workbench.runner import run_scene
     run_scene(Path(__file__).parents[1] / "scenes" / "table1.toml", out=tmp_path, quick=True)
     for name in ("table1.csv", "report.md", "table1_convergence.png", "results.json"):
         assert (tmp_path / name).stat().st_size > 0

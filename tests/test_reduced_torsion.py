@@ -255,7 +255,7 @@ def test_point_shroud_without_torsion_is_the_papers_model():
                                           ("reduced.torsion=maybe", "reduced.torsion"),
                                           ("reduced.torsion=2", "reduced.torsion")])
 def test_bad_switches_end_with_one_line_and_status_2(setting, key):
-    proc = subprocess.run([sys.executable, "-m", "shroud.app.cli", "modal", "--set", setting],
+    proc = subprocess.run([sys.executable, "-m", "workbench.cli", "modal", "--set", setting],
                           capture_output=True, text=True)
     assert proc.returncode == 2
     assert proc.stdout == ""
@@ -266,7 +266,7 @@ def test_a_number_for_torsion_in_a_scene_is_refused(tmp_path):
     scene = tmp_path / "s.toml"
     scene.write_text('study = "table1"\n[reduced]\ntorsion = 1\n')
     out = tmp_path / "out"
-    proc = subprocess.run([sys.executable, "-m", "shroud.app.cli", "run", str(scene), "--out", str(out)],
+    proc = subprocess.run([sys.executable, "-m", "workbench.cli", "run", str(scene), "--out", str(out)],
                           capture_output=True, text=True)
     assert proc.returncode == 2 and proc.stderr.startswith("error: reduced.torsion:")
     assert proc.stderr.count("\n") == 1 and not out.exists()

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from shroud.app.campaign import is_campaign, load_campaign
-from shroud.app.scene import available_studies, load_scene
+from workbench.campaign import is_campaign, load_campaign
+from workbench.scene import available_studies, load_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 SCENE_FILES = sorted(p for p in SCENES.glob("*.toml") if not is_campaign(p))
@@ -58,7 +58,7 @@ def test_interrupted_run_leaves_a_marked_partial_result(tmp_path):
     path.write_text('study = "default"\ntitle = "long"\n[speed]\nrpm = 10000\n[time]\nperiods = 1500\n'
                     '[options]\nmodal_models = ["reduced"]\ntransient_models = ["reduced", "full"]\n')
     out = tmp_path / "out"
-    proc = subprocess.Popen([sys.executable, "-m", "shroud.app.cli", "run", str(path), "--out", str(out)],
+    proc = subprocess.Popen([sys.executable, "-m", "workbench.cli", "run", str(path), "--out", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
     while not (out / "frequencies.csv").exists():       # the study is past its first output

@@ -27,7 +27,7 @@ refine = 2
 def _run(tmp_path, *sets):
     path = tmp_path / "s.toml"
     path.write_text(SCENE)
-    cmd = [sys.executable, "-m", "shroud.app.cli", "run", str(path), "--out", str(tmp_path / "out")]
+    cmd = [sys.executable, "-m", "workbench.cli", "run", str(path), "--out", str(tmp_path / "out")]
     for s in sets:
         cmd += ["--set", s]
     return subprocess.run(cmd, capture_output=True, text=True)

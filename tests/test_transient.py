@@ -13,7 +13,7 @@ from shroud.analysis.api import build_system
 from shroud.params import Parameters
 from shroud.analysis.transient import simulate
 
-SHROUD = [sys.executable, "-m", "shroud.app.cli"]
+SHROUD = [sys.executable, "-m", "workbench.cli"]
 
 
 @pytest.mark.parametrize("args, key", [

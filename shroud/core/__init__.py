@@ -22,7 +22,9 @@ def _numba_cache_dir() -> str:
     digest = _hashlib.sha256()
     for path in sorted(here.glob("*.py")):
         digest.update(path.read_bytes())
-    return str(here / "__pycache__" / f"numba-{digest.hexdigest()[:12]}")
+    # The user's cache folder, never the source tree (which may be read-only, or a clone in CI).
+    user = _os.environ.get("XDG_CACHE_HOME") or _os.path.join(_os.path.expanduser("~"), ".cache")
+    return _os.path.join(user, "shroud", f"numba-{digest.hexdigest()[:12]}")
 
 
 _os.environ.setdefault("NUMBA_CACHE_DIR", _numba_cache_dir())

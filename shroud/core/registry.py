@@ -1,10 +1,13 @@
 """The models the workbench knows, registered by their builders.
 
-The core never imports a model builder: ``reduced_model`` and
-``reference_fe`` each call :func:`register` when their package is imported,
-with functions that load their heavy stack (DOLFINx, gmsh) only when called.
-Analyses look models up by name, so a new model is a new registration, not
-an edit of the core.
+The core never imports a model builder. Builders declare their models in
+the project's metadata (``pyproject.toml``, entry-point group
+``shroud.models``: ``reduced_model.models:MODELS``,
+``reference_fe.models:MODELS``), each a tuple of :class:`ModelEntry` whose
+functions load their heavy stack (DOLFINx, gmsh) only when called; the
+registry reads them on the first look-up. A user's own model is one
+:func:`register` call (``shroud.api.register_model``). Analyses look models
+up by name, so a new model is a new registration, not an edit of the core.
 
 A model offers a builder of its linear structure plus contact elements at a
 constant speed (``build_system(params) -> StructuralSystem``) and, where it
@@ -16,6 +19,7 @@ passes it through.
 from __future__ import annotations
 
 import importlib
+import importlib.metadata
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -46,7 +50,23 @@ class ModelEntry:
     refined: Callable[[Any], Any] | None = None
 
 
-_MODELS: dict[str, ModelEntry] = {}
+ENTRY_POINTS = "shroud.models"          # the metadata group where builders declare their models
+
+_MODELS: dict[str, ModelEntry] = {}          # registered at run time (they win over declared ones)
+_DECLARED: dict[str, ModelEntry] | None = None   # read from the installed builders' metadata, once
+
+
+def _declared() -> dict[str, ModelEntry]:
+    """The models the installed builders declare under :data:`ENTRY_POINTS`."""
+    global _DECLARED
+    if _DECLARED is None:
+        _DECLARED = {entry.name: entry for point in importlib.metadata.entry_points(group=ENTRY_POINTS)
+                     for entry in point.load()}
+    return _DECLARED
+
+
+def _all() -> dict[str, ModelEntry]:
+    return {**_declared(), **_MODELS}
 
 
 def lazy(module: str, function: str, **fixed) -> Callable:
@@ -62,23 +82,25 @@ def lazy(module: str, function: str, **fixed) -> Callable:
 
 
 def register(entry: ModelEntry) -> None:
-    """Make ``entry`` known by its name (a second registration of a name replaces the first)."""
+    """Make ``entry`` known by its name (it replaces a declared or earlier model of that name)."""
     _MODELS[entry.name] = entry
 
 
 def model(name: str) -> ModelEntry:
     """The entry registered as ``name``; KeyError naming the known models otherwise."""
     try:
-        return _MODELS[name]
+        return _all()[name]
     except KeyError:
-        raise KeyError(f"no model {name!r} is registered (known: {', '.join(_MODELS) or 'none'}); "
-                       "a builder package registers its models when it is imported") from None
+        raise KeyError(f"no model {name!r} is registered (known: {', '.join(_all()) or 'none'}); "
+                       f"builders declare theirs under the entry-point group {ENTRY_POINTS!r}: "
+                       "is the project installed (pip install -e .)?") from None
 
 
 def names(capability: str = "transient") -> tuple[str, ...]:
     """Registered model names that offer ``capability``: "transient", "modal" or "sweep"."""
+    models = _all()
     if capability == "modal":
-        return tuple(n for n, e in _MODELS.items() if e.modal is not None)
+        return tuple(n for n, e in models.items() if e.modal is not None)
     if capability == "sweep":
-        return tuple(n for n, e in _MODELS.items() if e.sweepable)
-    return tuple(_MODELS)
+        return tuple(n for n, e in models.items() if e.sweepable)
+    return tuple(models)

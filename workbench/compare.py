@@ -6,7 +6,7 @@ drift. Strings (paths, dates, versions, the git revision, statuses) are never
 compared; numbers whose dotted path matches a pattern of ``DEFAULT_IGNORE``
 (wall and CPU times, which vary from run to run, and where and how the run
 was made) or of ``--ignore`` are skipped. Paths are those of gates
-(shroud.app.gates): lists of tables are named by their elements' label, name
+(workbench.gates): lists of tables are named by their elements' label, name
 or model (``results.modal.rows.flap1.reduced``), other lists by index.
 
 On campaign folders each scene's results.json is compared; paths start with
@@ -23,8 +23,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
 
-from shroud.app import junit
-from shroud.app.gates import children, is_number
+from workbench import junit
+from workbench.gates import children, is_number
 from shroud.base.errors import InputError
 
 DEFAULT_RTOL = 1e-6

@@ -12,7 +12,7 @@ Layout of a scene file::
     N_values = [4, 6]
     [quick.time]
     periods = 20
-    [gates]                       # bounds on numbers of the run's results.json (shroud.app.gates)
+    [gates]                       # bounds on numbers of the run's results.json (workbench.gates)
     "results.fig8.versus_reference.reduced.nrmse.v_L" = { max = 0.08 }
 
 ``--set key=value`` overrides either a parameter (``speed.rpm=9000``) or an
@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from shroud.app.gates import Gate, from_table
+from workbench.gates import Gate, from_table
 from shroud.base.errors import InputError
 from shroud.params import SECTIONS, Parameters, unknown_key
 

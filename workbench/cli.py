@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from shroud.app.compare import DEFAULT_ATOL, DEFAULT_IGNORE, DEFAULT_RTOL
+from workbench.compare import DEFAULT_ATOL, DEFAULT_IGNORE, DEFAULT_RTOL
 from shroud.base.errors import InputError, RunDiverged
 
 EXIT_RUN_FAILED = 1
@@ -35,7 +35,7 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from shroud.app.models import registry
+    from shroud.core import registry
     parser = _Parser(prog="shroud", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
@@ -101,7 +101,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _params(args):
-    from shroud.app.scene import load_scene
+    from workbench.scene import load_scene
     overrides = list(args.set)
     if getattr(args, "rpm", None) is not None:
         overrides.append(f"speed.rpm={args.rpm}")
@@ -142,7 +142,7 @@ def cmd_transient(args) -> None:
 
 
 def cmd_sweep(args) -> None:
-    from shroud.app.models import registry
+    from shroud.core import registry
     if args.method not in ("time", "hb"):
         raise InputError("--method", f"{args.method!r} is unknown; allowed: time, hb")
     if args.method == "hb" and args.checkpoints is not None:
@@ -221,9 +221,9 @@ def _sweep_checkpoints(args) -> None:
 
 
 def cmd_run(args) -> int:
-    from shroud.app.campaign import is_campaign, run_campaign
-    from shroud.app.gates import from_option, merged
-    from shroud.app.runner import run_scene
+    from workbench.campaign import is_campaign, run_campaign
+    from workbench.gates import from_option, merged
+    from workbench.runner import run_scene
     gates = merged(tuple(from_option(text) for text in args.gate))
     run = run_campaign if is_campaign(args.scene) else run_scene
     summary = run(args.scene, out=args.out, overrides=args.set, quick=args.quick, gates=gates)
@@ -244,7 +244,7 @@ def cmd_run(args) -> int:
 
 
 def cmd_compare(args) -> int:
-    from shroud.app.compare import compare, markdown
+    from workbench.compare import compare, markdown
     if not (args.rtol >= 0 and args.atol >= 0):
         raise InputError("--rtol" if not args.rtol >= 0 else "--atol", "allowed: a tolerance >= 0")
     comparison = compare(args.base, args.new, rtol=args.rtol, atol=args.atol,

@@ -52,7 +52,7 @@ def write(path: Path, title: str, suites: Sequence[tuple[str, Sequence[Case]]]) 
 
 
 def gate_cases(records: Sequence[dict]) -> list[Case]:
-    """One case per gate record (shroud.app.gates.hold)."""
+    """One case per gate record (workbench.gates.hold)."""
     return [Case(r["path"], None if r["passed"] else r["message"], _gate_detail(r)) for r in records]
 
 

@@ -34,11 +34,11 @@ from shroud.base.log import info, warn
 from shroud.params import unknown_key
 from shroud.base.parallel import map_parallel, mpi_rank, mpi_size, workers
 from shroud.base.markdown import seconds
-from shroud.app import junit
-from shroud.app.gates import Gate, from_table, hold, merged
-from shroud.app.report import SceneOutcome, campaign_gate_summary, stitch
-from shroud.app.runner import jsonable, output_folder, run_scene, versions
-from shroud.app.scene import load_scene, read_toml
+from workbench import junit
+from workbench.gates import Gate, from_table, hold, merged
+from workbench.report import SceneOutcome, campaign_gate_summary, stitch
+from workbench.runner import jsonable, output_folder, run_scene, versions
+from workbench.scene import load_scene, read_toml
 
 _TOP_KEYS = ("campaign", "title", "description", "quick", "overrides", "gates")
 

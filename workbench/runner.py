@@ -7,7 +7,7 @@ The runner adds ``results.json``: those numbers plus the parameters, options,
 versions, cost and status (``complete``, ``partial`` or ``failed``).
 
 Gates (the scene's ``[gates]`` table merged with those of the command line
-or campaign; shroud.app.gates) are held against that results.json once it is
+or campaign; workbench.gates) are held against that results.json once it is
 assembled: it gains a ``gates`` list, ``report.md`` opens with the gate
 table and ``junit.xml`` holds one test case per gate.
 
@@ -41,10 +41,10 @@ import numpy as np
 from shroud.base.errors import InputError
 from shroud.base.log import info, warn
 from shroud.base.parallel import mpi_rank, mpi_size
-from shroud.app import junit
-from shroud.app.gates import Gate, hold, merged
-from shroud.app.report import open_with_gates
-from shroud.app.scene import Scene, load_scene, study_module
+from workbench import junit
+from workbench.gates import Gate, hold, merged
+from workbench.report import open_with_gates
+from workbench.scene import Scene, load_scene, study_module
 
 INCOMPLETE_MARK = "# status: incomplete"
 

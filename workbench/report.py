@@ -20,7 +20,7 @@ class SceneOutcome:
     status: str
     elapsed_s: float | None
     folder: Path
-    gates: tuple[dict, ...] = ()          # gate records (shroud.app.gates.hold)
+    gates: tuple[dict, ...] = ()          # gate records (workbench.gates.hold)
 
 
 def stitch(out: Path, title: str, outcomes: Sequence[SceneOutcome], preamble: str = "") -> Path:

@@ -1,0 +1,32 @@
+"""The solid models this package offers, declared to the core's registry.
+
+``pyproject.toml`` names :data:`MODELS` under the entry-point group
+``shroud.models``; the registry reads it on its first look-up, without
+loading DOLFINx (that happens when a model is built).
+
+* ``fe``: the full solid, quadratic cells, one contact element per face node;
+  by harmonic balance condensed exactly on its contact coordinates per
+  harmonic (reference_fe.harmonic), its Newton started from fe-reduced, its
+  Floquet multipliers those of its own orbit with the perturbations on
+  fe-reduced's basis (at 1x and 2x the kept modes);
+* ``fe-reduced``: its free-interface component-mode-synthesis reduction, which
+  also offers one basis for a speed range (``at_speed``, reference_fe.frequency).
+"""
+
+from shroud.core.registry import ModelEntry, lazy
+
+
+def twice_the_modes(params):
+    """The reduced solid with twice its kept normal modes (the same contact-face patterns)."""
+    return params.updated({"fe.cms_modes": 2 * params.fe.cms_modes})
+
+
+MODELS = (
+    ModelEntry("fe", build_system=lazy("reference_fe.system", "build_system", reduced=False),
+               modal=lazy("reference_fe.modal", "modal_analysis"), sweepable=False,
+               linear_harmonics=lazy("reference_fe.harmonic", "condensed_at"), reduced_by="fe-reduced",
+               description="full solid, quadratic cells"),
+    ModelEntry("fe-reduced", build_system=lazy("reference_fe.system", "build_system", reduced=True),
+               at_speed=lazy("reference_fe.frequency", "at_speed"), refined=twice_the_modes,
+               description="solid reduced by free-interface CMS"),
+)

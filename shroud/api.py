@@ -1,0 +1,95 @@
+"""The workbench as a library: one call per analysis, each returning a results object.
+
+The command line (``shroud modal``, ``transient``, ``sweep``, ...) and the
+studies are built on these calls; a script needs nothing else::
+
+    from shroud import api
+
+    p = api.parameters({"speed.rpm": 8500.0})                  # validated once
+    modes = api.modal(p, "reduced", n_modes=4)                 # ModalResult
+    run = api.transient(p.updated({"speed.rpm": 10000.0}), "reduced")   # TransientResult
+    point = api.harmonic_balance(p, "reduced", rpm=10000.0)    # Checkpoint: one speed
+    branch = api.continuation(p, "reduced", 5000.0, 20000.0)   # HBResult: a branch with stability
+    curve = api.sweep(p, "reduced", [8000.0, 8500.0, 9000.0])  # SweepResult: time domain
+
+Every result serializes itself (``to_json``) and the branch and curves draw
+themselves (``plot``). Models are looked up by name in the core's registry
+(:func:`models` lists them): the installed builders declare theirs
+(``reduced``, ``full``, ``extended`` from ``reduced_model``; ``fe``,
+``fe-reduced`` from ``reference_fe``), and :func:`register_model` adds a
+user's own. Units: SI, speeds in r/min.
+
+>>> "reduced" in models()
+True
+>>> round(parameters({"speed.rpm": 8500.0}).speed.omega, 3)
+890.118
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+from shroud.analysis import api as _analysis
+from shroud.analysis import hb as _hb
+from shroud.core import registry as _registry
+from shroud.core.registry import ModelEntry
+from shroud.core.results import HBResult, ModalResult, SweepResult
+from shroud.core.system import StructuralSystem
+from shroud.params import Parameters
+
+__all__ = ["ModelEntry", "Parameters", "build_system", "continuation", "harmonic_balance", "modal", "models",
+           "parameters", "register_model", "sweep", "transient"]
+
+
+def parameters(values: Mapping[str, Any] | None = None, base: Parameters | None = None) -> Parameters:
+    """The paper's defaults (or ``base``) with ``values`` set: dotted keys (``{"contact.gap": 1e-4}``)
+    or tables (``{"contact": {"gap": 1e-4}}``); validated here, once (InputError names a bad key)."""
+    base = base or Parameters()
+    values = dict(values or {})
+    if any(isinstance(v, Mapping) for v in values.values()):
+        return Parameters.from_mapping(values, base=base)
+    return base.updated(values)
+
+
+def models(capability: str = "transient") -> tuple[str, ...]:
+    """Names of the registered models offering ``capability`` ("transient", "modal" or "sweep")."""
+    return _registry.names(capability)
+
+
+def register_model(entry: ModelEntry) -> None:
+    """Make a model of one's own known to every analysis (it replaces one of the same name)."""
+    _registry.register(entry)
+
+
+def build_system(params: Parameters, model: str) -> StructuralSystem:
+    """``model``'s linear part (M, C, K, loads) plus its contact elements at ``params.speed.rpm``."""
+    return _analysis.build_system(params, model)
+
+
+def modal(params: Parameters, model: str, rpm: float | None = None, n_modes: int = 6,
+          coriolis: bool = True) -> ModalResult:
+    """Natural frequencies (Hz) at ``rpm`` (default ``params.speed.rpm``), labelled by tip kinematics."""
+    return _analysis.modal(params, model, rpm, n_modes, coriolis)
+
+
+def transient(params: Parameters, model: str, csv_path: Path | None = None):
+    """One Newmark run with impact and friction (paper Sect. 2): a TransientResult."""
+    return _analysis.transient(params, model, csv_path)
+
+
+def sweep(params: Parameters, model: str, rpms: Sequence[float]) -> SweepResult:
+    """Settled steady-state tip amplitude at each speed of ``rpms`` (r/min), in the time domain."""
+    return _analysis.sweep(params, model, rpms)
+
+
+def harmonic_balance(params: Parameters, model: str, rpm: float, harmonics: int = _hb.DEFAULT_HARMONICS,
+                     samples: int | None = None, start=None) -> _hb.Checkpoint:
+    """The periodic steady state at one speed by harmonic balance, with its Floquet stability."""
+    return _hb.checkpoint(params, model, rpm, harmonics, samples, start)
+
+
+def continuation(params: Parameters, model: str, rpm_from: float, rpm_to: float,
+                 harmonics: int = _hb.DEFAULT_HARMONICS, min_points: int | None = None) -> HBResult:
+    """The steady-state branch from ``rpm_from`` to ``rpm_to`` by harmonic balance with continuation."""
+    return _hb.run_hb(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)
