@@ -2,8 +2,8 @@
 
 Each test runs a scene's ``--quick`` version as a user would (workbench.runner.run_scene) and
 compares the conclusions its study returns as data (``results["conclusions"]``) with those of the
-full scene, recorded in tests/data/full_conclusions.json with the command that produced them (the
-full scenes take minutes to hours, too long for CI). Resonant and crossing speeds must agree within
+full scene, recorded in tests/data/records/<scene>.json by `shroud record` (workbench.records; the
+full scenes take minutes to hours, too long for CI; tests/test_records.py holds each record current). Resonant and crossing speeds must agree within
 the quick grid's speed step (for the resonance followed in the preload: optimal preloads within the
 curves' brackets, the onset of full stick within the quick curve's step in N0), every yes/no and every
 sign of a comparison exactly.
@@ -14,10 +14,15 @@ from pathlib import Path
 
 import pytest
 
+from workbench import records
 from workbench.runner import run_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
-FULL = json.loads((Path(__file__).parent / "data" / "full_conclusions.json").read_text())
+
+
+def full_conclusions(scene: str) -> dict:
+    """The conclusions the full version of scenes/<scene>.toml drew, as recorded."""
+    return records.load(scene)["conclusions"]
 
 
 def quick(study: str, tmp_path: Path) -> tuple[dict, dict]:
@@ -49,7 +54,7 @@ def model_error(verdicts: list[str]) -> bool:
 @pytest.mark.slow
 def test_fig4_quick_agrees_with_full(tmp_path):
     got, options = quick("fig4", tmp_path)
-    full = FULL["fig4"]["conclusions"]
+    full = full_conclusions("fig4")
     for case in got.keys() & full.keys():
         q, f = got[case], full[case]
         for model in ("reduced", "full"):
@@ -64,7 +69,7 @@ def test_fig4_quick_agrees_with_full(tmp_path):
 @pytest.mark.parametrize("study", ["gap_preload", "friction", "stiffness_ratio"])
 def test_family_quick_agrees_with_full(tmp_path, study):
     got, options = quick(study, tmp_path)
-    full = FULL[study]["conclusions"]
+    full = full_conclusions(study)
     shared = got["resonances"].keys() & full["resonances"].keys()
     assert len(shared) >= 4
     for case in shared:
@@ -79,7 +84,7 @@ def test_family_quick_agrees_with_full(tmp_path, study):
 @pytest.mark.slow
 def test_fig7_quick_agrees_with_full(tmp_path):
     got, options = quick("fig7", tmp_path)
-    full = FULL["fig7"]["conclusions"]
+    full = full_conclusions("fig7")
     shared = got.keys() & full.keys()
     assert {"gap 600 um", "gap 1 um", "N0 10 N"} <= shared
     for case in shared:
@@ -98,7 +103,7 @@ def test_fig7_quick_agrees_with_full(tmp_path):
 @pytest.mark.slow
 def test_campbell_quick_agrees_with_full(tmp_path):
     got, options = quick("campbell", tmp_path)
-    full = FULL["campbell"]["conclusions"]
+    full = full_conclusions("campbell")
     grid = (options["rpm_to"] - options["rpm_from"]) / (options["speeds"] - 1)
     assert got["ke"] == full["ke"]
     for kind, tol in (("beam_crossings_rpm", grid), ("solid_crossings_rpm", grid)):
@@ -117,7 +122,7 @@ def test_campbell_quick_agrees_with_full(tmp_path):
 @pytest.mark.slow
 def test_error_vs_time_quick_agrees_with_full(tmp_path):
     got, _ = quick("error_vs_time", tmp_path)
-    full = FULL["error_vs_time"]["conclusions"]
+    full = full_conclusions("error_vs_time")
     # Costs of harmonic balance against the time domain are single runs of milliseconds on the quick scene
     # and a few times that on the full one: their order is benchmarks/bench_hb.py's to measure, not a
     # conclusion a quick run can hold.
@@ -130,7 +135,7 @@ def test_error_vs_time_quick_agrees_with_full(tmp_path):
 @pytest.mark.parametrize("study", ["stability", pytest.param("stability_fe", marks=[pytest.mark.fe, pytest.mark.slow])])
 def test_stability_quick_agrees_with_full(tmp_path, study):
     got, _ = quick(study, tmp_path)
-    full = FULL[study]["conclusions"]
+    full = full_conclusions(study)
     for key in ("implicit_bounded", "implicit_energy_closed", "explicit_diverges_somewhere"):
         assert got[key] == full[key], key
     shared = got["explicit_bounded"].keys() & full["explicit_bounded"].keys()
@@ -142,7 +147,7 @@ def test_stability_quick_agrees_with_full(tmp_path, study):
 
 def test_periodicity_quick_agrees_with_full(tmp_path):
     got, _ = quick("periodicity", tmp_path)
-    full = FULL["periodicity"]["conclusions"]
+    full = full_conclusions("periodicity")
     shared = got["periods"].keys() & full["periods"].keys()
     assert len(shared) >= 4
     for case in shared:
@@ -162,13 +167,13 @@ def test_periodicity_quick_agrees_with_full(tmp_path):
 
 def test_fig3_quick_agrees_with_full(tmp_path):
     got, _ = quick("fig3", tmp_path)
-    assert got == FULL["fig3"]["conclusions"]
+    assert got == full_conclusions("fig3")
 
 
 @pytest.mark.fe
 def test_table1_quick_agrees_with_full(tmp_path):
     got, _ = quick("table1", tmp_path)
-    full = FULL["table1"]["conclusions"]
+    full = full_conclusions("table1")
     shared = got["within_2pct_of_paper"].keys() & full["within_2pct_of_paper"].keys()
     assert len(shared) >= 8
     for case in shared:
@@ -187,7 +192,7 @@ def test_fig8_quick_agrees_with_full(tmp_path):
     """The quick version's reference is the reduced solid, the full scene's the full solid (which the
     reduced solid follows to 0.08 % NRMSE there): each beam compares with either the same way."""
     got, _ = quick("fig8", tmp_path)
-    full = FULL["fig8"]["conclusions"]
+    full = full_conclusions("fig8")
     same_where_shared(got, full, FIG8_VERDICTS)
     assert got["settled"] and all(got["settled"].values())
     assert {"reduced", "full"} <= got["amplitude_vs_reference"].keys()
@@ -196,7 +201,7 @@ def test_fig8_quick_agrees_with_full(tmp_path):
 @pytest.mark.fe
 def test_default_quick_agrees_with_full(tmp_path):
     got, _ = quick("default", tmp_path)
-    full = FULL["default"]["conclusions"]
+    full = full_conclusions("default")
     assert got["frequency_vs_solid"] == full["frequency_vs_solid"]
     same_where_shared(got["fig8"], full["fig8"], FIG8_VERDICTS)
     assert got["fig8"]["amplitude_vs_reference"].keys() == full["fig8"]["amplitude_vs_reference"].keys()
@@ -206,7 +211,7 @@ def test_default_quick_agrees_with_full(tmp_path):
 @pytest.mark.slow
 def test_convergence_quick_agrees_with_full(tmp_path):
     got, _ = quick("convergence", tmp_path)
-    full = FULL["convergence"]["conclusions"]
+    full = full_conclusions("convergence")
     for key in ("chosen", "default_mesh_meets_tolerance", "cheaper_at_equal_error"):
         assert got[key] == full[key], key
     same_where_shared(got, full, ("meets_tolerance", "asymptotic"))
@@ -232,7 +237,7 @@ def same_optimum(q: float, f: float, q_bracket: list[float], f_bracket: list[flo
 @pytest.mark.slow
 def test_hb_optimal_preload_quick_agrees_with_full(tmp_path):
     got, options = quick("hb_optimal_preload", tmp_path)
-    full = FULL["hb_optimal_preload"]["conclusions"]
+    full = full_conclusions("hb_optimal_preload")
     for key in ("optimum_inside", "resonant_speed_rises_with_preload", "brute_force_agrees", "complete"):
         assert got[key] == full[key], key
     assert same_optimum(got["optimal_preload_N"], full["optimal_preload_N"], got["optimal_bracket_N"],
@@ -247,7 +252,7 @@ def test_hb_optimal_preload_quick_agrees_with_full(tmp_path):
 @pytest.mark.parametrize("study", ["hb_friction", "hb_stiffness_ratio"])
 def test_hb_family_quick_agrees_with_full(tmp_path, study):
     got, options = quick(study, tmp_path)
-    full = FULL[study]["conclusions"]
+    full = full_conclusions(study)
     for key in ("optimal_preload_trend", "minimum_amplitude_nearly_same", "optimal_preload_unaffected",
                 "stuck_resonance_same", "peak_tracking_complete"):
         assert got[key] == full[key], key

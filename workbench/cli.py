@@ -97,6 +97,13 @@ def build_parser() -> argparse.ArgumentParser:
                         "ignored always: " + " ".join(DEFAULT_IGNORE))
     p.add_argument("--junit", metavar="FILE", help="write the comparison as JUnit XML")
     p.add_argument("--json", action="store_true")
+    p = sub.add_parser("record", help="make again the records of full scenes that the quick-against-full tests "
+                                      "hold (tests/data/records), on a clean tree")
+    p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names (default: every recorded scene)")
+    p.add_argument("--stale", action="store_true", help="only the records that are missing or not current")
+    p.add_argument("--check", action="store_true", help="run nothing: say which records are current; "
+                                                        "exit 3 if any is not")
+    p.add_argument("--jobs", type=int, default=1, help="scenes run side by side (default 1)")
     return parser
 
 
@@ -253,11 +260,29 @@ def cmd_compare(args) -> int:
     return EXIT_GATE_FAILED if comparison.drifts else 0
 
 
+def cmd_record(args) -> int:
+    from workbench import records
+    if args.jobs < 1:
+        raise InputError("--jobs", f"{args.jobs} is out of range; allowed: an integer >= 1")
+    if not args.check:
+        for path in records.record(args.scenes or None, stale_only=args.stale, jobs=args.jobs):
+            print(path.relative_to(records.ROOT))
+        return 0
+    stale = 0
+    for scene in args.scenes or records.RECORDED:
+        path = records.RECORDS / f"{scene}.json"
+        problems = records.check(records.load(scene)).problems if path.is_file() else ("missing",)
+        stale += bool(problems)
+        print(f"{scene}: " + ("current" if not problems else "; ".join(problems)))
+    return EXIT_GATE_FAILED if stale else 0
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         return {"modal": cmd_modal, "transient": cmd_transient, "sweep": cmd_sweep,
-                "run": cmd_run, "compare": cmd_compare}[args.command](args) or 0
+                "run": cmd_run, "compare": cmd_compare,
+                "record": cmd_record}[args.command](args) or 0
     except InputError as exc:
         print(exc.line(), file=sys.stderr)
         return EXIT_BAD_INPUT

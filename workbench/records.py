@@ -1,0 +1,195 @@
+"""Records of full scenes: what each study's full version concludes, regenerable by one command.
+
+The full scenes take minutes to an hour, too long for CI, so
+``tests/test_quick_conclusions*.py`` hold each quick version against a
+record of its full version. A record is only worth holding against if
+anyone can make it again and tell that it is current, so each one names
+
+* ``commit``: the clean git revision it was made at (a tree with changes is
+  refused: its conclusions could not be made again);
+* ``sources``: the files the study's conclusions depend on directly, each
+  with its SHA-256: the scene, the study module and the study helpers it
+  imports (comparisons/_*.py, paper.py). A record whose sources have changed
+  since is stale; physics below the studies is held by the quick run itself;
+* ``digest``: the SHA-256 of its conclusions, sources and commit, so a
+  record edited by hand reads as such;
+* the command that made it, and (not compared) its run time and date.
+
+``shroud record [SCENE ...]`` runs the named full scenes (default: every
+recorded one) and writes ``tests/data/records/<scene>.json``, one file per
+scene, so that one study's record can be made again without the others.
+Everything but ``elapsed_s`` and ``finished`` is the same byte for byte when
+the same commit makes it again.
+"""
+
+from __future__ import annotations
+
+import ast
+import datetime
+import hashlib
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from shroud.base.errors import InputError
+
+ROOT = Path(__file__).resolve().parents[1]
+RECORDS = ROOT / "tests" / "data" / "records"
+SCENES = ROOT / "scenes"
+TIMINGS = ("elapsed_s", "finished")       # the only fields a remake may change
+
+# The scenes whose full versions are recorded (those a quick-against-full test holds).
+RECORDED = ("campbell", "convergence", "default", "error_vs_time", "fig3", "fig4", "fig7", "fig8", "friction",
+            "gap_preload", "hb_fig4", "hb_fig7", "hb_friction", "hb_gap_preload", "hb_optimal_preload",
+            "hb_stiffness_ratio", "periodicity", "stability", "stability_fe", "stiffness_ratio", "table1")
+
+
+def study_of(scene: str) -> str:
+    """The study module a scene runs (its ``study = "..."`` line)."""
+    import tomllib
+    return tomllib.loads((SCENES / f"{scene}.toml").read_text())["study"]
+
+
+def _comparisons_imports(path: Path) -> set[str]:
+    """Modules of the comparisons package that ``path`` imports (anywhere in it)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        names = []
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+        for name in names:
+            parts = name.split(".")
+            if parts[0] == "comparisons" and len(parts) == 2 and (ROOT / "comparisons" / f"{parts[1]}.py").is_file():
+                found.add(parts[1])
+    return found
+
+
+def sources_of(scene: str) -> list[str]:
+    """Paths (relative to the project) of the files ``scene``'s conclusions depend on directly."""
+    todo, seen = [study_of(scene)], set()
+    while todo:
+        module = todo.pop()
+        if module not in seen:
+            seen.add(module)
+            todo.extend(_comparisons_imports(ROOT / "comparisons" / f"{module}.py") - seen)
+    return [f"scenes/{scene}.toml"] + sorted(f"comparisons/{m}.py" for m in seen)
+
+
+def file_hashes(paths: list[str]) -> dict[str, str]:
+    return {p: hashlib.sha256((ROOT / p).read_bytes()).hexdigest() for p in paths}
+
+
+def digest(record: dict) -> str:
+    """SHA-256 of what a record asserts: its conclusions, sources and commit."""
+    body = {k: record[k] for k in ("scene", "commit", "sources", "conclusions")}
+    return hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
+
+
+def _git(*args: str) -> str:
+    return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
+
+
+def clean_commit() -> str:
+    """HEAD's hash when the tree has no changes to tracked files; InputError otherwise."""
+    if _git("status", "--porcelain", "--untracked-files=no"):
+        raise InputError("record", "the work tree has uncommitted changes; a record names the commit that "
+                                   "makes it, so commit (or stash) first")
+    return _git("rev-parse", "HEAD")
+
+
+@dataclass(frozen=True)
+class Staleness:
+    """Why a record cannot be held against (empty: it can)."""
+
+    problems: tuple[str, ...]
+
+    @property
+    def current(self) -> bool:
+        return not self.problems
+
+
+def check(record: dict) -> Staleness:
+    """Whether ``record`` is whole, unedited and as new as its study's sources."""
+    problems = []
+    scene = record.get("scene", "?")
+    for key in ("scene", "commit", "sources", "conclusions", "digest", "command"):
+        if key not in record:
+            problems.append(f"no {key!r}")
+    if problems:
+        return Staleness(tuple(problems))
+    if len(record["commit"]) != 40 or not all(c in "0123456789abcdef" for c in record["commit"]):
+        problems.append(f"commit {record['commit']!r} is not a clean git revision")
+    if digest(record) != record["digest"]:
+        problems.append("its digest does not match its contents (edited by hand?)")
+    expected = sources_of(scene)
+    if sorted(record["sources"]) != expected:
+        problems.append(f"its sources {sorted(record['sources'])} are not the study's {expected}")
+    else:
+        changed = [p for p, h in file_hashes(expected).items() if record["sources"][p] != h]
+        if changed:
+            problems.append(f"{', '.join(changed)} changed since it was made")
+    return Staleness(tuple(problems))
+
+
+def load(scene: str, folder: Path = RECORDS) -> dict:
+    return json.loads((folder / f"{scene}.json").read_text())
+
+
+def make(scene: str, commit: str, folder: Path = RECORDS) -> Path:
+    """Run ``scene`` in full and write its record into ``folder``."""
+    command = ["shroud", "run", f"scenes/{scene}.toml"]
+    with tempfile.TemporaryDirectory(prefix=f"record-{scene}-") as tmp:
+        env = {**os.environ, "OMP_NUM_THREADS": "1"}
+        t0 = time.perf_counter()
+        proc = subprocess.run([sys.executable, "-m", "workbench.cli", *command[1:], "--out", tmp],
+                              cwd=ROOT, env=env, capture_output=True, text=True)
+        elapsed = time.perf_counter() - t0
+        if proc.returncode != 0:
+            raise RuntimeError(f"{scene}: `{' '.join(command)}` exited {proc.returncode}:\n{proc.stderr[-2000:]}")
+        result = json.loads((Path(tmp) / "results.json").read_text())
+    if result.get("status") != "complete":
+        raise RuntimeError(f"{scene}: the run ended {result.get('status')!r}, not complete")
+    record = {"scene": scene, "study": study_of(scene), "command": "OMP_NUM_THREADS=1 " + " ".join(command),
+              "commit": commit, "sources": file_hashes(sources_of(scene)),
+              "conclusions": result["results"]["conclusions"]}
+    record["digest"] = digest(record)
+    record["elapsed_s"] = round(elapsed, 1)
+    record["finished"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{scene}.json"
+    tmp_path = path.with_suffix(".json.tmp")
+    tmp_path.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+    os.replace(tmp_path, path)
+    return path
+
+
+def record(scenes: list[str] | None = None, stale_only: bool = False, jobs: int = 1) -> list[Path]:
+    """Make the records of ``scenes`` (default: every recorded scene; ``stale_only``: those not current)."""
+    unknown = [s for s in scenes or () if s not in RECORDED]
+    if unknown:
+        raise InputError("record", f"{', '.join(unknown)} has no record; recorded scenes: {', '.join(RECORDED)}")
+    commit = clean_commit()
+    todo = list(scenes or RECORDED)
+    if stale_only:
+        todo = [s for s in todo if not (RECORDS / f"{s}.json").is_file() or not check(load(s)).current]
+    if jobs <= 1:
+        return [_made(s, commit) for s in todo]
+    from concurrent.futures import ThreadPoolExecutor      # each scene is its own process: threads only wait
+    with ThreadPoolExecutor(jobs) as pool:
+        return list(pool.map(lambda s: _made(s, commit), todo))
+
+
+def _made(scene: str, commit: str) -> Path:
+    t0 = time.perf_counter()
+    print(f"[record] {scene}: running the full scene", file=sys.stderr, flush=True)
+    path = make(scene, commit)
+    print(f"[record] {scene}: {path.relative_to(ROOT)} in {time.perf_counter() - t0:.0f} s", file=sys.stderr,
+          flush=True)
+    return path
