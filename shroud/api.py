@@ -17,7 +17,9 @@ themselves (``plot``). Models are looked up by name in the core's registry
 (:func:`models` lists them): the installed builders declare theirs
 (``reduced``, ``full``, ``extended`` from ``reduced_model``; ``fe``,
 ``fe-reduced`` from ``reference_fe``), and :func:`register_model` adds a
-user's own. Units: SI, speeds in r/min.
+user's own: a :class:`ModelEntry` whose ``build_system(params)`` returns a
+:class:`StructuralSystem` (M, C, K, loads) with its :class:`ContactElements`
+(examples/hb_friction_oscillator.py). Units: SI, speeds in r/min.
 
 >>> "reduced" in models()
 True
@@ -35,10 +37,10 @@ from shroud.analysis import hb as _hb
 from shroud.core import registry as _registry
 from shroud.core.registry import ModelEntry
 from shroud.core.results import HBResult, ModalResult, SweepResult
-from shroud.core.system import StructuralSystem
+from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
 
-__all__ = ["ModelEntry", "Parameters", "build_system", "continuation", "harmonic_balance", "modal", "models",
+__all__ = ["ContactElements", "ModelEntry", "Parameters", "StructuralSystem", "build_system", "continuation", "harmonic_balance", "modal", "models",
            "parameters", "register_model", "sweep", "transient"]
 
 
