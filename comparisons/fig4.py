@@ -88,5 +88,5 @@ def run(scene, out: Path) -> dict:
              "![fig4_reduced_vs_full.png](fig4_reduced_vs_full.png)",
              *_coexistence.section(coexist, opts, MODELS, MODELS)]
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"cases": out_json, "time_ratio_reduced_to_full": t_red / t_full, "conclusions": found,
+    return {"cases": out_json, "reduced_to_full_time_ratio": t_red / t_full, "conclusions": found,
             "cpu_s": {"reduced": t_red, "full": t_full}, "coexisting_states": coexist}

@@ -145,9 +145,9 @@ def lag_analysis(params, kn_values, spp_values, model: str) -> tuple[list[dict],
                          "zeta_structural": est["zeta_structural"], "share": est["share"],
                          "zeta_lag_estimate": est["zeta_lag"], "zeta_net_estimate": est["zeta_net"],
                          "frequency_hz_eigen": lag.frequency_hz,
-                         "zeta_net_eigen": lag.damping_ratio, "dt_s": p.time_step,
+                         "zeta_net_eigen": lag.damping_ratio, "time_step": p.time_step,
                          "steps_per_mode_period": 1.0 / (est["frequency_hz"] * p.time_step),
-                         "dt_stable_s": lag.dt_stable,
+                         "stable_time_step": lag.dt_stable,
                          "steps_per_period_needed": int(np.ceil(spp * p.time_step / lag.dt_stable))})
     return rows, None
 
@@ -323,7 +323,7 @@ def _lag_section(lag: list[dict]) -> list[str]:
                              r["steps_per_mode_period"], r["share"], r["zeta_structural"],
                              r["zeta_lag_estimate"], r["zeta_net_estimate"], r["frequency_hz_eigen"],
                              r["zeta_net_eigen"],
-                             r["dt_stable_s"], r["steps_per_period_needed"],
+                             r["stable_time_step"], r["steps_per_period_needed"],
                              {True: "yes", False: "no", None: "-"}[r["explicit_run_bounded"]]) for r in lag]),
             f"\nLargest difference between the estimate and the amplification matrix where the mode has "
             f">= 20 steps per period: {agree:.2g} (the energy estimate assumes a small phase lag; on "
