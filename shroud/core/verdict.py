@@ -72,15 +72,25 @@ class Verdict:
         gap = abs(self.value - self.threshold)
         return gap / self.margin if self.margin > 0 else math.inf
 
-    def sentence(self, fmt: str = "{:.3g}") -> str:
+    def sentence(self, fmt: str = "{:.4g}") -> str:
         """``answer (value V against T +- M unit: reason)`` for reports."""
         unit = f" {self.unit}" if self.unit else ""
-        return (f"{self.answer} ({fmt.format(self.value)}{unit} against {fmt.format(self.threshold)}"
+        return (f"{_word(self.answer)} ({fmt.format(self.value)}{unit} against {fmt.format(self.threshold)}"
                 f" +- {fmt.format(self.margin)}{unit}: {self.reason})")
 
     def to_json(self) -> dict:
         return {"answer": self.answer, "value": _finite_or_none(self.value), "threshold": self.threshold,
                 "margin": self.margin, "unit": self.unit, "reason": self.reason}
+
+
+def _word(answer: Any) -> str:
+    """An answer as a sentence starts: yes/no for booleans."""
+    return {True: "yes", False: "no"}.get(answer, str(answer)) if isinstance(answer, bool) else str(answer)
+
+
+def _factor(noise: float) -> str:
+    """A margin factor as a reader takes it in: a share below x1.5 ("0.2 %"), a factor above ("x2")."""
+    return f"{100 * (noise - 1):.2g} %" if noise < 1.5 else f"x{noise:.3g}"
 
 
 def _finite_or_none(x: float) -> float | None:
@@ -122,9 +132,9 @@ class RatioVerdict:
         return _three_way(math.log(self.ratio), math.log(self.factor), math.log(self.noise),
                           self.above, self.below, self.between)
 
-    def sentence(self, fmt: str = "{:.3g}") -> str:
-        return (f"{self.answer} (ratio {fmt.format(self.ratio)} against a band of x{fmt.format(self.factor)}"
-                f" +- x{fmt.format(self.noise)}: {self.reason})")
+    def sentence(self, fmt: str = "{:.4g}") -> str:
+        return (f"{_word(self.answer)} (ratio {fmt.format(self.ratio)} against a band of x{self.factor:.4g}"
+                f" +- {_factor(self.noise)}: {self.reason})")
 
     def to_json(self) -> dict:
         return {"answer": self.answer, "value": self.ratio, "threshold": self.factor,
@@ -164,9 +174,10 @@ class BandVerdict:
             return NOT_DECIDED
         return _three_way(self.value, self.band, self.margin, self.above, self.below, self.between)
 
-    def sentence(self, fmt: str = "{:.3g}") -> str:
+    def sentence(self, fmt: str = "{:.4g}") -> str:
         unit = f" {self.unit}" if self.unit else ""
-        return (f"{self.answer} ({fmt.format(self.value)}{unit} against a band of +-{fmt.format(self.band)}"
+        band = f"a band of +-{fmt.format(self.band)}" if self.band > 0 else "0"
+        return (f"{_word(self.answer)} ({fmt.format(self.value)}{unit} against {band}"
                 f" +- {fmt.format(self.margin)}{unit}: {self.reason})")
 
     def to_json(self) -> dict:
