@@ -149,12 +149,13 @@ def test_stability_quick_agrees_with_full(tmp_path, study):
     got, _ = quick(study, tmp_path)
     full = FULL[study]["conclusions"]
     for key in ("implicit_bounded", "implicit_energy_closed", "explicit_diverges_somewhere"):
-        assert got[key] == full[key], key
+        assert agrees(got[key], full[key]), (key, got[key], full[key])
     shared = got["explicit_bounded"].keys() & full["explicit_bounded"].keys()
     assert len(shared) >= 8
     for case in shared:
         assert got["explicit_bounded"][case] == full["explicit_bounded"][case], case
-    assert got["linear_limit_met"] == full["linear_limit_met"]
+    assert got["linear_limit_met"].keys() == full["linear_limit_met"].keys()
+    assert agrees(got["linear_limit_met"], full["linear_limit_met"])
 
 
 def test_periodicity_quick_agrees_with_full(tmp_path):
@@ -228,7 +229,7 @@ def test_convergence_quick_agrees_with_full(tmp_path):
     got, _ = quick("convergence", tmp_path)
     full = FULL["convergence"]["conclusions"]
     for key in ("chosen", "default_mesh_meets_tolerance", "cheaper_at_equal_error"):
-        assert got[key] == full[key], key
+        assert agrees(got[key], full[key]), (key, got[key], full[key])
     same_where_shared(got, full, ("meets_tolerance", "asymptotic"))
     for kind in got["observed_order"].keys() & full["observed_order"].keys():
         q, f = got["observed_order"][kind], full["observed_order"][kind]

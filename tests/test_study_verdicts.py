@@ -13,7 +13,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from comparisons import _bands, _families, default, error_vs_time, fig3, fig7, fig8, friction, gap_preload, table1
+from comparisons import (_bands, _families, convergence, default, error_vs_time, fig3, fig7, fig8, friction,
+                         gap_preload, stability, table1)
 from comparisons.paper import TABLE1_FE, TABLE1_LABELS, TABLE1_REDUCED
 from shroud.core.results import SweepResult
 from shroud.core.verdict import KEYS, NOT_DECIDED, TIME_RATIO, contradicts, is_verdict
@@ -237,3 +238,18 @@ def test_a_quick_not_decided_contradicts_no_full_side():
     assert not contradicts(open_, decided) and not contradicts(open_, False)
     assert contradicts({**decided, "answer": False}, decided) and contradicts(decided, False)
     assert not math.isnan(decided["value"])
+
+
+# --- convergence and stability -----------------------------------------------------------
+
+@pytest.mark.parametrize("worst, answer", [(0.10, True), (0.14, NOT_DECIDED), (0.20, False)])
+def test_convergence_mesh_within_tolerance_is_not_decided_within_how_well_the_values_are_known(worst, answer):
+    """Tolerance 0.15 %; the converged values known to 0.02 % (the other cell kind's estimate)."""
+    assert convergence.within(worst, 0.15, 0.02).answer == answer
+    assert convergence.within(worst, 0.15, None).margin == 0.0
+
+
+@pytest.mark.parametrize("difference, step_error, answer", [(0.005, 1e-4, True), (0.0095, 1e-3, NOT_DECIDED),
+                                                             (0.02, 1e-3, False)])
+def test_linear_limit_holds_the_transients_step_error_as_margin(difference, step_error, answer):
+    assert stability.linear_limit(difference, step_error).answer == answer
