@@ -13,7 +13,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from comparisons import (_bands, _families, convergence, default, error_vs_time, fig3, fig7, fig8, friction,
+from comparisons import (_bands, _coexistence, _families, convergence, default, error_vs_time, fig3, fig7, fig8, friction,
                          gap_preload, stability, table1)
 from comparisons.paper import TABLE1_FE, TABLE1_LABELS, TABLE1_REDUCED
 from shroud.core.results import SweepResult
@@ -253,3 +253,9 @@ def test_convergence_mesh_within_tolerance_is_not_decided_within_how_well_the_va
                                                              (0.02, 1e-3, False)])
 def test_linear_limit_holds_the_transients_step_error_as_margin(difference, step_error, answer):
     assert stability.linear_limit(difference, step_error).answer == answer
+
+
+@pytest.mark.parametrize("difference, answer", [(0.002, True), (0.011, NOT_DECIDED), (0.02, False),
+                                                (math.inf, NOT_DECIDED)])
+def test_coexisting_states_match_within_one_percent_and_twice_the_settling_tolerance(difference, answer):
+    assert _coexistence.state_match(difference, 2e-3).answer == answer
