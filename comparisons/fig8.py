@@ -227,6 +227,13 @@ def conclusions(results: dict) -> dict:
         return Verdict.of(fit["worst_nrmse"], fit["target"], margin * fit["target"] if math.isfinite(margin)
                           else math.inf, below=True, above=False, reason=f"NRMSE target; {why}")
 
+    def share(m: str, s: float) -> BandVerdict:
+        settled = math.isfinite(settling(m, ref)[0])
+        return BandVerdict(s - slip[ref], SAME_SHARE, share_step if settled else math.inf, above="more",
+                           below="less", between="the same",
+                           reason="a share is counted in time steps of the window: its resolution is one step"
+                           if settled else "a run too short to measure its settling: nothing is decided")
+
     return {
         "pairs_met": {k: pair(k, v) for k, v in results["pairs"].items()},
         "settled": {m: Verdict.of(c if c is not None else math.nan, Settling.tolerance, 0.0, below=True,
@@ -236,10 +243,7 @@ def conclusions(results: dict) -> dict:
         "closer_to_reference": {f"{a} vs {b}": closer(a, b) for a, b in pairs if a in worst and b in worst},
         "amplitude_vs_reference": {m: {s: amplitude(m, s) for s in ("v_L", "w_L")}
                                    for m in results["amplitude"] if m != ref and ref in slip},
-        "slip_vs_reference": {m: BandVerdict(s - slip[ref], SAME_SHARE, share_step, above="more", below="less",
-                                             between="the same", reason="a share is counted in time steps of "
-                                             "the window: its resolution is one step")
-                              for m, s in slip.items() if m != ref and ref in slip},
+        "slip_vs_reference": {m: share(m, s) for m, s in slip.items() if m != ref and ref in slip},
         "state_order": {m: _state_order({k: (st["side1"][k] + st["side2"][k]) / 2 for k in STATE_NAMES})
                         for m, st in results["state_fraction"].items()},
         "cost": {f"{a} vs {b}": cost_versus(total[a], total[b])

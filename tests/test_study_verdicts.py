@@ -259,3 +259,16 @@ def test_linear_limit_holds_the_transients_step_error_as_margin(difference, step
                                                 (math.inf, NOT_DECIDED)])
 def test_coexisting_states_match_within_one_percent_and_twice_the_settling_tolerance(difference, answer):
     assert _coexistence.state_match(difference, 2e-3).answer == answer
+
+
+def test_fig8_a_run_too_short_to_measure_its_settling_decides_nothing_from_its_window():
+    """Fewer periods than two windows: the settling is unknown (None), so amplitudes, slip and the NRMSE
+    target read "not decided" however far apart the numbers are; its cost (run times) is still decided."""
+    results = fig8_results(v_l=2.0, slip=0.1, nrmse=0.001, times=(1.0, 100.0))
+    results["amplitude_change"] = {m: None for m in results["amplitude_change"]}
+    found = fig8.conclusions(results)
+    assert found["amplitude_vs_reference"]["reduced"]["v_L"].answer == NOT_DECIDED
+    assert found["slip_vs_reference"]["reduced"].answer == NOT_DECIDED
+    assert found["pairs_met"]["reduced vs full"].answer == NOT_DECIDED
+    assert found["settled"]["reduced"].answer == NOT_DECIDED
+    assert found["cost"]["reduced vs full"].answer == "cheaper"

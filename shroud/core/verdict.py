@@ -90,6 +90,8 @@ def _word(answer: Any) -> str:
 
 def _factor(noise: float) -> str:
     """A margin factor as a reader takes it in: a share below x1.5 ("0.2 %"), a factor above ("x2")."""
+    if not math.isfinite(noise):
+        return "an unmeasured margin"
     return f"{100 * (noise - 1):.2g} %" if noise < 1.5 else f"x{noise:.3g}"
 
 
