@@ -218,14 +218,18 @@ def conclusions(results: dict) -> dict:
         return versus(results["amplitude"][m][s], results["amplitude"][ref][s], 1 + SAME_AMPLITUDE, 1 + margin,
                       ("larger", "smaller", "the same"), why)
 
+    # An NRMSE is an RMS difference over a signal's range: a settling change of the amplitudes by a share
+    # c moves it by up to about c (absolute), which is the margin of an NRMSE and, over the smaller of
+    # two, of their ratio.
     def closer(a: str, b: str) -> RatioVerdict:
         margin, why = settling(a, b, ref)
-        return versus(worst[a], worst[b], CLOSER, 1 + margin, ("farther", "closer", "as close"), why)
+        return versus(worst[a], worst[b], CLOSER, 1 + margin / min(worst[a], worst[b]),
+                      ("farther", "closer", "as close"), why)
 
     def pair(name: str, fit: dict) -> Verdict:
         margin, why = settling(*name.split(" vs "))
-        return Verdict.of(fit["worst_nrmse"], fit["target"], margin * fit["target"] if math.isfinite(margin)
-                          else math.inf, below=True, above=False, reason=f"NRMSE target; {why}")
+        return Verdict.of(fit["worst_nrmse"], fit["target"], margin, below=True, above=False,
+                          reason=f"NRMSE target; {why}")
 
     def share(m: str, s: float) -> BandVerdict:
         settled = math.isfinite(settling(m, ref)[0])
