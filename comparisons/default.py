@@ -116,8 +116,9 @@ def _frequency_verdicts(verdicts: dict) -> str:
     if not models:
         return ""
     tol = convergence.OPTIONS["tolerance_pct"]
-    lines = [f"Against the solid (differences within {tol:g} %, the solid mesh's own tolerance, count as the "
-             "same):\n"]
+    lines = [f"Against the solid (each verdict a difference in % against a band of +-{tol:g} %, the solid mesh's "
+             "own tolerance (scenes/convergence.toml), inside which it counts as the same; no margin beyond the "
+             "band is measured here):\n"]
     for m in models:
         found = {lab: v[m] for lab, v in verdicts.items() if m in v}
         by = {word: [f"{lab} ({found[lab].value:+.2f} %)" for lab in found if found[lab].answer == word]
