@@ -19,6 +19,7 @@ import numpy as np
 
 from shroud.base.markdown import markdown_table
 from shroud.analysis.sweep import SETTLING_OPTIONS, Settling, coexisting_states
+from shroud.core.verdict import NOT_DECIDED, Verdict
 
 OPTIONS = {"coexist_threshold": 0.05, "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0], **SETTLING_OPTIONS}
 
@@ -40,19 +41,28 @@ def coexistence(cases, sweeps, rpms, opts, models: tuple[str, str]) -> list[dict
             found = {m: r.amplitudes for m, r in runs.items()}
             none = [m for m in models if not found[m]]
             difference = matched_difference(found[first], found[second])
-            shared = not none and difference <= SAME
+            matched = state_match(difference, settling.tolerance)
+            shared = not none and matched.answer is True
             same = shared and len(found[first]) == len(found[second])
             rows.append({"case": label, "rpm": float(rpms[k]), "from_rest_m": {first: float(a[k]), second: float(b[k])},
                          "from_rest_settled": {first: sweeps[first][i].settled[k], second: sweeps[second][i].settled[k]},
                          "states_m": found, "unsettled_runs": {m: r.unsettled for m, r in runs.items()},
                          "no_steady_state": none, "shared_states": shared, "same_states": same,
                          "verdict": "no steady state" if none else "same" if same else "shared" if shared
-                         else "different",
-                         "largest_state_difference": difference})
+                         else NOT_DECIDED if matched.answer == NOT_DECIDED else "different",
+                         "largest_state_difference": difference, "states_match": matched})
     return rows
 
 
 SAME = 0.01        # two steady amplitudes within 1 % are one state
+
+
+def state_match(difference: float, tolerance: float) -> Verdict:
+    """Whether every state of one model is one of the other's: their largest matched difference against SAME;
+    each settled amplitude is known to the settling ``tolerance``, so two of them to twice it (the margin).
+    A model with no steady state matches nothing (an infinite difference decides nothing)."""
+    return Verdict.of(difference, SAME, 2 * tolerance, below=True, above=False,
+                      reason="two settled amplitudes, each known to the settling tolerance")
 
 
 def matched_difference(xs: list[float], ys: list[float]) -> float:
@@ -116,5 +126,7 @@ def section(rows: list[dict], opts, models: tuple[str, str], names: tuple[str, s
             "curves is not a model error. *Shared*: every state of the model with fewer states is also a "
             "state of the other, which has one more from these starts (a branch whose basin the first "
             "model's starts missed, or that it lacks). *Different*: the models' steady states differ by "
-            "the amount shown. *No steady state*: from these starts one model or both never settled (runs "
+            "the amount shown. *Not decided*: the largest difference lies within twice the settling "
+            f"tolerance ({200 * Settling.from_options(opts).tolerance:.2g} %, two settled amplitudes) of "
+            f"{100 * SAME:g} %. *No steady state*: from these starts one model or both never settled (runs "
             "listed as not settled), so nothing can be compared there.\n"]

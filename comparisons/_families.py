@@ -12,6 +12,7 @@ are marked in the figures and counted in the tables.
 from __future__ import annotations
 
 import csv
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,6 +23,7 @@ from shroud.core.plotting import figure, save
 from shroud.analysis.sweep import PLATEAU, SETTLING_OPTIONS, Settling, run_sweeps, steady_resonance
 from shroud.core.results import SweepResult
 from shroud.base.tables import write_records
+from shroud.core.verdict import Verdict
 
 FAMILY_OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
@@ -85,6 +87,45 @@ def resonance_table(family: dict[str, list[tuple[Case, SweepResult]]]) -> list[d
                          "unperiodic_speeds": int(sum(p is None for p in r.period)),
                          "cpu_s": r.cpu_s})
     return rows
+
+
+def every_other(sweep: SweepResult, start: int) -> SweepResult:
+    """The sweep read on every other speed from ``start`` (0 or 1): its grid's step doubled."""
+    cut = slice(start, None, 2)
+    return dataclasses.replace(sweep, rpm=sweep.rpm[cut], amplitude_v_L=sweep.amplitude_v_L[cut],
+                               amplitude_w_L=sweep.amplitude_w_L[cut], period=sweep.period[cut],
+                               slip_fraction=sweep.slip_fraction[cut], settled=tuple(sweep.settled)[cut])
+
+
+def grid_margin(family, measure) -> float:
+    """How far a number read off the curves' resonances moves with the speed grid: the largest change of
+    ``measure(resonance_table(...))`` when every curve is read on every other speed (even, odd). Doubling
+    the step over-states the error of the grid actually swept, so this is a safe margin; a change common to
+    the variants (a peak that every variant's grid misses alike) cancels in a spread, as it should.
+
+    >>> import numpy as np
+    >>> rpm = np.arange(5.0)
+    >>> peak = SweepResult("m", rpm, np.array([1.0, 2.0, 4.0, 2.0, 1.0]), rpm, (1,) * 5, rpm, 1, 0.0, 0.0,
+    ...                    (True,) * 5)
+    >>> one = {"a": [(Case("gap 1 um", "gap", 1.0, None), peak)]}
+    >>> grid_margin(one, lambda rows: rows[0]["resonance_amplitude_m"])    # odd speeds read 2, not 4
+    2.0
+    """
+    full = measure(resonance_table(family))
+    halves = [measure(resonance_table({n: [(c, every_other(r, k)) for c, r in curves]
+                                       for n, curves in family.items()})) for k in (0, 1)]
+    return max((abs(h - full) for h in halves if np.isfinite(h)), default=float("nan"))
+
+
+def same_speed(rpm_a: float, rpm_b: float, step_rpm: float) -> Verdict:
+    """Whether two curves read on one speed grid resonate at the same speed (True/False).
+
+    Each resonant speed is a grid speed within half a step of the true one: readings one step apart may
+    be one speed read twice, or two speeds a step apart, so that difference is not decided; equal
+    readings are the same speed, readings two or more steps apart are not.
+    """
+    return Verdict.of(abs(rpm_a - rpm_b), step_rpm, 0.5 * step_rpm, below=True, above=False, unit="r/min",
+                      reason="each resonant speed read on the speed grid, within half a step of the true one")
 
 
 def speed_text(row: dict) -> str:

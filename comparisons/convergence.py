@@ -33,6 +33,7 @@ from shroud.base.errors import InputError
 from shroud.params import FE
 from shroud.base.markdown import markdown_table
 from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.core.verdict import Verdict
 
 OPTIONS = {
     "tet_sizes": [0.0035, 0.0028, 0.0022],          # fe.mesh_size of the tetrahedral meshes, m
@@ -146,7 +147,10 @@ def run(scene, out: Path) -> dict:
             raise RuntimeError(f"{r['kind']} {r['size']}: modes {r['labels']} differ from {labels}")
         r["error_pct"] = 100 * (r["f"] / reference - 1.0)
         r["worst_pct"] = float(np.max(np.abs(r["error_pct"])))
-    fit = [r for r in rows if r["worst_pct"] <= opts["tolerance_pct"]]
+    # how well the converged values are known: the other cell kind's estimate against them
+    known = max((100 * float(np.max(np.abs(e[0] / reference - 1.0))) for kind, e in estimates.items()
+                 if kind != opts["reference"]), default=None)
+    fit = [r for r in rows if within(r["worst_pct"], opts["tolerance_pct"], known).answer is True]
     chosen = min(fit, key=lambda r: r["dofs"]) if fit else None
     growth = {kind: {"time_slope": slope([r["dofs"] for r in rows if r["kind"] == kind],
                                          [r["solve_s"] for r in rows if r["kind"] == kind]),
@@ -166,6 +170,7 @@ def run(scene, out: Path) -> dict:
     if opts["pictures"] and chosen is not None:
         _pictures(solve_modes(chosen["params"], rpms[0], k, coriolis=False), out)
     results = {"labels": labels, "rpms": rpms, "tolerance_pct": opts["tolerance_pct"],
+            "converged_known_to_pct": known,
             "meshes": [{"cell": r["kind"], "mesh_size_m": r["size"], "dofs": r["dofs"], "solve_s": r["solve_s"],
                         "factor_MB": r["factor_bytes"] / 1e6, "frequencies_hz": r["f"].tolist(),
                         "error_pct": r["error_pct"].tolist(), "worst_error_pct": r["worst_pct"]} for r in rows],
@@ -185,11 +190,24 @@ def mesh_name(cell: str, size_m: float) -> str:
     return f"{cell} {1e3 * size_m:g} mm"
 
 
+def within(worst_pct: float, tolerance_pct: float, known_pct: float | None) -> Verdict:
+    """Whether a mesh's worst frequency error lies within the tolerance; the margin is how well the
+    converged values are known (the other cell kind's Richardson estimate against them; None when this
+    run has no second estimate, and then the margin is 0 and the reason says it is unmeasured)."""
+    if known_pct is None:
+        return Verdict.of(worst_pct, tolerance_pct, 0.0, below=True, above=False, unit="%",
+                          reason="no second cell kind's estimate in this run: how well the converged values "
+                                 "are known is not measured (margin 0)")
+    return Verdict.of(worst_pct, tolerance_pct, known_pct, below=True, above=False, unit="%",
+                      reason="the converged values known to the other cell kind's Richardson estimate")
+
+
 def conclusions(results: dict) -> dict:
     """What the report concludes, as data, from the numbers ``run`` returns (a results.json gives them):
 
     * meets_tolerance: per mesh, its first n_modes frequencies within tolerance_pct of the converged
-      values at every speed; chosen: the mesh with the fewest DOF that does (None if none);
+      values at every speed (a verdict, :func:`within`: not decided within how well the converged values
+      are known); chosen: the mesh with the fewest DOF that does (None if none);
       default_mesh_meets_tolerance: whether the project's default (shroud.params.FE) does (None when
       it is not among the meshes);
     * observed_order: per cell kind, the Richardson order of each mode at each speed, and asymptotic:
@@ -197,9 +215,9 @@ def conclusions(results: dict) -> dict:
     * cheaper_at_equal_error: the cell kind that meets the tolerance with fewer DOF ("hex", "tet"),
       or None when the meshes run cannot tell (the other kind's meshes all fail below that DOF).
     """
-    tol = results["tolerance_pct"]
+    tol, known = results["tolerance_pct"], results.get("converged_known_to_pct")
     meshes = results["meshes"]
-    meets = {mesh_name(m["cell"], m["mesh_size_m"]): m["worst_error_pct"] <= tol for m in meshes}
+    meets = {mesh_name(m["cell"], m["mesh_size_m"]): within(m["worst_error_pct"], tol, known) for m in meshes}
     default = mesh_name(FE().cell, FE().mesh_size)
     orders = {kind: {f"{lab} at {rpm:g} r/min": p for rpm, row in zip(results["rpms"], per_speed)
                      for lab, p in zip(results["labels"], row)}
@@ -211,14 +229,16 @@ def conclusions(results: dict) -> dict:
             "observed_order": orders,
             "asymptotic": {kind: all(p is not None and ASYMPTOTIC[0] <= p <= ASYMPTOTIC[1] for p in o.values())
                            for kind, o in orders.items()},
-            "cheaper_at_equal_error": _cheaper(meshes, tol)}
+            "cheaper_at_equal_error": _cheaper(meshes, {n for n, v in meets.items() if v.answer is True})}
 
 
-def _cheaper(meshes: list[dict], tol: float) -> str | None:
-    """The kind whose cheapest mesh within ``tol`` has fewer DOF than any mesh of the other kind that
-    is within it, the other kind having a mesh at least as large outside it or a larger one inside."""
-    passing = {k: min((m["dofs"] for m in meshes if m["cell"] == k and m["worst_error_pct"] <= tol),
-                      default=None) for k in KINDS}
+def _cheaper(meshes: list[dict], within_tolerance: set[str]) -> str | None:
+    """The kind whose cheapest mesh within the tolerance (named in ``within_tolerance``) has fewer DOF than
+    any mesh of the other kind that is within it, the other kind having a mesh at least as large outside
+    it or a larger one inside."""
+    passing = {k: min((m["dofs"] for m in meshes if m["cell"] == k
+                       and mesh_name(m["cell"], m["mesh_size_m"]) in within_tolerance), default=None)
+               for k in KINDS}
     for kind, other in (KINDS, KINDS[::-1]):
         n = passing[kind]
         if n is None or not any(m["cell"] == other for m in meshes):
@@ -317,8 +337,8 @@ def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chos
     lines += ["", f"At equal error (within {opts['tolerance_pct']:g} %) the "
               + (f"{cheaper} cells need fewer DOF." if cheaper else "meshes run cannot tell which cell kind "
                  "needs fewer DOF.")
-              + " Within the tolerance: " + ", ".join(f"{k} {'yes' if v else 'no'}"
-                                                     for k, v in found["meets_tolerance"].items()) + ".", ""]
+              + " Within the tolerance (each verdict with its number, threshold and margin):", "",
+              *[f"- {k}: {v.sentence()}" for k, v in found["meets_tolerance"].items()], ""]
     if len(rpms) < len(OPTIONS["rpms"]):
         lines += [f"Checked at {', '.join(f'{r:g}' for r in rpms)} r/min only: the tolerance is not held at the "
                   f"study's other default speeds ({', '.join(f'{r:g}' for r in OPTIONS['rpms'] if r not in rpms)} "

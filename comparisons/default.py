@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import math
 import re
 from pathlib import Path
 
@@ -33,6 +34,7 @@ from shroud.analysis import api
 from shroud.core import registry
 from shroud.base.errors import InputError
 from shroud.core.plotting import MODEL_COLOURS, figure, save
+from shroud.core.verdict import NOT_DECIDED, BandVerdict
 from shroud.base.markdown import demote, markdown_table, relink, seconds
 
 OPTIONS = {
@@ -89,15 +91,19 @@ def run(scene, out: Path) -> dict:
 
 def conclusions(results: dict) -> dict:
     """What the report concludes, as data, from the numbers ``run`` returns (a results.json gives them):
-    per mode and model, its frequency "higher", "lower" or "the same" as the solid FE's (within the
-    solid mesh's own tolerance, comparisons.convergence.OPTIONS["tolerance_pct"]: a smaller
-    difference is not resolved by the solid); the fig8 study's conclusions on the transient."""
+    per mode and model, its frequency "higher", "lower" or "the same" as the solid FE's (a BandVerdict: the
+    band is the solid mesh's own tolerance, comparisons.convergence.OPTIONS["tolerance_pct"], since a smaller
+    difference is not resolved by the solid; no margin beyond it is measured here); the fig8 study's
+    conclusions on the transient."""
     tol = convergence.OPTIONS["tolerance_pct"]
     found: dict = {}
     if "modal" in results:
         found["frequency_vs_solid"] = {
-            row["label"]: {key[:-len("_vs_fe_percent")]: "higher" if v > tol else "lower" if v < -tol else "the same"
-                           for key, v in row.items() if key.endswith("_vs_fe_percent")}
+            row["label"]: {key[:-len("_vs_fe_percent")]: BandVerdict(
+                v if v is not None else math.nan, tol, 0.0, above="higher", below="lower", between="the same",
+                reason="the band is the solid mesh's tolerance (scenes/convergence.toml); a difference inside it "
+                       "is not resolved by the solid", unit="%")
+                for key, v in row.items() if key.endswith("_vs_fe_percent")}
             for row in results["modal"]["rows"]}
     if "fig8" in results:
         found["fig8"] = results["fig8"]["conclusions"]
@@ -105,16 +111,18 @@ def conclusions(results: dict) -> dict:
 
 
 def _frequency_verdicts(verdicts: dict) -> str:
-    """One line per model: the modes where it is higher, lower and the same as the solid."""
+    """One line per model: the modes where it is higher, lower and the same as the solid (with the numbers)."""
     models = sorted({m for v in verdicts.values() for m in v})
     if not models:
         return ""
     tol = convergence.OPTIONS["tolerance_pct"]
-    lines = [f"Against the solid (differences within {tol:g} %, the solid mesh's own tolerance, count as the "
-             "same):\n"]
+    lines = [f"Against the solid (each verdict a difference in % against a band of +-{tol:g} %, the solid mesh's "
+             "own tolerance (scenes/convergence.toml), inside which it counts as the same; no margin beyond the "
+             "band is measured here):\n"]
     for m in models:
-        by = {word: [lab for lab, v in verdicts.items() if v.get(m) == word]
-              for word in ("higher", "lower", "the same")}
+        found = {lab: v[m] for lab, v in verdicts.items() if m in v}
+        by = {word: [f"{lab} ({found[lab].value:+.2f} %)" for lab in found if found[lab].answer == word]
+              for word in ("higher", "lower", "the same", NOT_DECIDED)}
         lines.append(f"- {m}: " + "; ".join(f"{word} in {', '.join(labs)}" for word, labs in by.items() if labs) + ".")
     return "\n".join(lines) + "\n\n"
 

@@ -15,8 +15,22 @@ from shroud.analysis.api import build_system, compile_kernels
 from shroud.core.plotting import figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.transient import simulate
+from shroud.core.verdict import Verdict
 
 OPTIONS = {"nr_values": [6, 30], "zoom_periods": 2}
+
+
+def reduction_verdict(error_pct: float, ref_nr: int) -> Verdict:
+    """Whether the reduction's largest v_L difference from the nr = ``ref_nr`` run is below 1 %.
+
+    Both runs integrate on the same time grid with the same contact law, so their difference holds the
+    reduction alone, without step or sampling error; the reference's own reduction error (nr = 30 against
+    more modes) is the one uncertainty left, and the paper's 30-DOF beam has no more modes to measure it
+    with: the margin is 0, and the reason says so.
+    """
+    return Verdict.of(error_pct, 1.0, 0.0, below=True, above=False, unit="%",
+                      reason=f"the largest difference of v_L from the nr = {ref_nr} run over its largest |v_L|; "
+                             "both runs on one time grid, so no step or sampling margin")
 
 
 def run(scene, out: Path) -> dict:
@@ -51,12 +65,14 @@ def run(scene, out: Path) -> dict:
     axes[1][0].set_title("(b) last periods, enlarged")
     save(fig, out / "fig3_waveforms.png")
     small = min(opts["nr_values"])
+    verdict = reduction_verdict(100 * errors[small], ref_nr)
     lines = [f"# {scene.title}\n",
              f"Gap {params.contact.gap_m * 1e3:g} mm, {params.speed.rpm:g} r/min, "
              f"{params.time.periods} periods, {params.time.contact} contact.\n",
              "| paper | here |", "|---|---|",
              f"| max error nr = 6 vs nr = 30: ~0.08 % | nr = {small} vs nr = {ref_nr}: "
              f"{100 * errors[small]:.4f} % of max abs v_L |", "",
+             f"Reduction error below 1 %: {verdict.sentence()}.\n",
              markdown_table(["nr", "DOF", "amplitude v_L (mm)", "max error vs largest nr (%)",
                              "build", "transient"], rows),
              "![fig3_waveforms.png](fig3_waveforms.png)"]
@@ -65,7 +81,7 @@ def run(scene, out: Path) -> dict:
         csv.writer(fh).writerows([("nr", "dofs", "amplitude_v_L_mm", "max_error_percent", "build_s", "transient_s"),
                                   *[(r[0], r[1], r[2], r[3], runs[r[0]][0].build_s, runs[r[0]][1].elapsed_s)
                                     for r in rows]])
-    return {"conclusions": {"reduction_error_below_1pct": bool(100 * errors[small] < 1.0)},
+    return {"conclusions": {"reduction_error_below_1pct": verdict},
             "max_error_percent": {nr: 100 * e for nr, e in errors.items()},
             "amplitude_v_L_m": {nr: res.amplitude["v_L"] for nr, (_, res) in runs.items()},
             "elapsed_s": {nr: res.elapsed_s for nr, (_, res) in runs.items()}}

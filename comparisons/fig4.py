@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import _coexistence, paper
-from comparisons._families import grid_limits
+from comparisons._families import grid_limits, same_speed
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
@@ -54,8 +54,8 @@ def run(scene, out: Path) -> dict:
                      res["full"]["amplitude"] * 1e3, 100 * diff, seconds(red.cpu_s), seconds(full.cpu_s)))
         out_json[label] = {"reduced": red.to_json(), "full": full.to_json(), "max_difference_percent": 100 * diff}
         found[label] = {"reduced_resonance_rpm": res["reduced"]["rpm"], "full_resonance_rpm": res["full"]["rpm"],
-                        "same_resonant_speed": bool(abs(res["reduced"]["rpm"] - res["full"]["rpm"])
-                                                    <= rpms[1] - rpms[0] + 1e-6)}
+                        "same_resonant_speed": same_speed(res["reduced"]["rpm"], res["full"]["rpm"],
+                                                          float(rpms[1] - rpms[0]))}
     save(fig, out / "fig4_reduced_vs_full.png")
     coexist = _coexistence.coexistence(cases, sweeps, rpms, opts, MODELS)
     for label in found:      # curves apart from rest only where both models have the same or shared states
@@ -85,8 +85,10 @@ def run(scene, out: Path) -> dict:
              markdown_table(["case", "resonance reduced (r/min)", "resonance full (r/min)",
                              "amplitude reduced (mm)", "amplitude full (mm)", "max difference (%)",
                              "reduced cost", "full cost"], rows),
+             "\nSame resonant speed, reduced and full (each verdict with its number, threshold and margin):\n",
+             *[f"- {label}: {v['same_resonant_speed'].sentence()}" for label, v in found.items()], "",
              "![fig4_reduced_vs_full.png](fig4_reduced_vs_full.png)",
              *_coexistence.section(coexist, opts, MODELS, MODELS)]
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"cases": out_json, "time_ratio_reduced_to_full": t_red / t_full, "conclusions": found,
+    return {"cases": out_json, "reduced_to_full_time_ratio": t_red / t_full, "conclusions": found,
             "cpu_s": {"reduced": t_red, "full": t_full}, "coexisting_states": coexist}

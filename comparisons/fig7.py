@@ -33,6 +33,7 @@ from shroud.core.plotting import figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
 from shroud.base.tables import write_records
+from shroud.core.verdict import Verdict
 
 OPTIONS = {
     "gaps_um": [600.0, 100.0, 50.0],
@@ -74,19 +75,29 @@ def curve_gap(line: np.ndarray, points: np.ndarray) -> float:
     return float(np.sqrt(np.mean((points[ok] - line[ok]) ** 2)) / np.max(line[ok])) if ok.any() else float("nan")
 
 
-def conclusions(rows: list[dict], coexist: list[dict], step_rpm: float, threshold: float) -> dict:
-    """What the report concludes, per case, as data: whether the beam curve has a resonance peak in the
-    range (PEAKED), then each model's resonant speed (r/min, settled points only) and whether both models resonate at the same speed (within the speed step; None without a peak), whether
-    the curves agree (curve gap within ``threshold``), and the verdicts at differing speeds."""
+def conclusions(rows: list[dict], coexist: list[dict], step_rpm: float, threshold: float, tolerance: float) -> dict:
+    """What the report concludes, per case, as data (verdicts with their margins, shroud.core.verdict):
+    whether the beam curve has a resonance peak in the range (its largest amplitude over its smallest
+    against PEAKED, each known to the settling ``tolerance``), then each model's resonant speed (r/min,
+    settled points only) and whether both resonate at the same speed (comparisons._families.same_speed;
+    None without a peak), whether the curves agree (curve gap against ``threshold``, the two amplitudes'
+    settling tolerance as the margin), and the verdicts at differing speeds."""
     out = {}
     for r in rows:
         verdicts = sorted({c["verdict"] for c in coexist if c["case"] == r["case"]})
-        out[r["case"]] = {"peaked": r["peaked"],
-                          "beam_resonance_rpm": r["reduced_resonance_rpm"] if r["peaked"] else None,
-                          "solid_resonance_rpm": r["fe_reduced_resonance_rpm"] if r["peaked"] else None,
-                          "same_resonant_speed": bool(abs(r["reduced_resonance_rpm"] - r["fe_reduced_resonance_rpm"])
-                                                      <= step_rpm + 1e-6) if r["peaked"] else None,
-                          "curves_agree": bool(r["curve_gap"] <= threshold),
+        peaked = Verdict.of(r["peak_ratio"], PEAKED, 2 * tolerance * PEAKED, below=False, above=True,
+                            reason="a peak: the largest amplitude PEAKED times the smallest; each known to the "
+                                   "settling tolerance")
+        has_peak = peaked.answer is True
+        out[r["case"]] = {"peaked": peaked,
+                          "beam_resonance_rpm": r["reduced_resonance_rpm"] if has_peak else None,
+                          "solid_resonance_rpm": r["fe_reduced_resonance_rpm"] if has_peak else None,
+                          "same_resonant_speed": fam.same_speed(r["reduced_resonance_rpm"],
+                                                                r["fe_reduced_resonance_rpm"], step_rpm)
+                          if has_peak else None,
+                          "curves_agree": Verdict.of(r["curve_gap"], threshold, 2 * tolerance, below=True,
+                                                     above=False, reason="curve gap (RMS difference over the "
+                                                     "beam's peak); each amplitude known to the settling tolerance"),
                           "differing_speed_verdicts": verdicts}
     return out
 
@@ -110,6 +121,7 @@ def run(scene, out: Path) -> dict:
                      "fe_reduced_resonance_rpm": res_pts["rpm"],
                      "fe_reduced_resonance_amplitude_m": res_pts["amplitude"],
                      "peaked": bool(np.nanmax(line.amplitude_v_L) > PEAKED * np.nanmin(line.amplitude_v_L)),
+                     "peak_ratio": float(np.nanmax(line.amplitude_v_L) / np.nanmin(line.amplitude_v_L)),
                      "unsettled_speeds": {m: int(sum(not x for x in s.settled)) for m, s in ((LINE, line), (POINTS, pts))},
                      "curve_gap": curve_gap(line.amplitude_v_L, pts.amplitude_v_L),
                      "reduced_cpu_s": line.cpu_s, "fe_reduced_cpu_s": pts.cpu_s})
@@ -124,9 +136,9 @@ def run(scene, out: Path) -> dict:
     figure_name = _figure(cases, sweeps, out)
     dofs = {m: sweeps[m][0].dofs for m in (LINE, POINTS)}
     step = float(rpms[1] - rpms[0])
-    found = conclusions(rows, coexist, step, o["coexist_threshold"])
+    found = conclusions(rows, coexist, step, o["coexist_threshold"], settling.tolerance)
     (out / "report.md").write_text(_report(scene, rows, dofs, build_s, figure_name, len(rpms), coexist,
-                                           settling, step))
+                                           settling, step, found))
     return {"rpm": rpms, "dofs": dofs, "reduction_build_s": build_s, "resonances": rows,
             "coexisting_states": coexist, "conclusions": found,
             "curves": {c.label: {m: sweeps[m][k].to_json() for m in (LINE, POINTS)} for k, c in enumerate(cases)}}
@@ -156,7 +168,7 @@ def _figure(cases, sweeps, out: Path) -> str:
     return save(fig, out / "fig7.png").name
 
 
-def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist, settling, step) -> str:
+def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist, settling, step, found) -> str:
     p = scene.params
     unsettled = [f"{r['case']}: {n} {'beam' if m == LINE else 'solid'}" for r in rows
                  for m, n in r["unsettled_speeds"].items() if n]
@@ -185,6 +197,10 @@ def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist, settling
              "resonant speed is read off it (the largest amplitude is the peak column). "
              "Curve gap: RMS of (FE - beam) amplitude over the speeds divided by the beam curve's peak. "
              "The paper shows the two models agreeing by eye; its numbers are not printed.\n",
+             "Verdicts per case (each with its number, threshold and margin; inside the margin 'not decided'):\n",
+             *[f"- {case}: peak {v['peaked'].sentence()}; curves agree {v['curves_agree'].sentence()}"
+               + (f"; same resonant speed {v['same_resonant_speed'].sentence()}" if v["same_resonant_speed"]
+                  else "") for case, v in found.items()], "",
              "Data: `fig7_curves.csv`, `fig7_resonances.csv`.\n",
              *_coexistence.section(coexist, scene.options, (LINE, POINTS), ("beam", "solid FE"))]
     return "\n".join(lines)

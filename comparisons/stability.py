@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from shroud.core.verdict import Verdict
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from shroud.analysis.transient import run as run_transient
@@ -37,6 +38,17 @@ OPTIONS = {"kn_values": [1e6, 1e7, 1e8, 1e9, 1e10], "steps_per_period": [256, 64
            "model": "reduced"}       # any transient model; "fe-reduced": scenes/stability_fe.toml
 
 TREATMENTS = ("implicit", "explicit")
+
+
+ENERGY_CLOSED = 1e-6    # the energy balance closes when its residual is below this share of the input work
+LINEAR_LIMIT = 1e-2     # a transient meets its linear limit when its amplitude is within 1 % of it
+
+
+def linear_limit(relative_difference: float, step_error: float) -> Verdict:
+    """Whether a transient's steady amplitude meets the exact linear one to LINEAR_LIMIT; the margin is the
+    transient's own step error (its largest v_L difference from a run at ``refine`` times the steps)."""
+    return Verdict.of(relative_difference, LINEAR_LIMIT, step_error, below=True, above=False,
+                      reason="margin: the transient's step error, measured against a finer-step run")
 
 
 @dataclass(frozen=True)
@@ -58,15 +70,23 @@ class StabilityResult:
 
     def conclusions(self) -> dict:
         """What the report concludes, as data: implicit bounded and its energy balance closed (to
-        1e-6) everywhere; whether the explicit treatment diverges anywhere, and at each kn and step;
-        each linear limit met to 1 %."""
+        1e-6, a verdict with the summed work's round-off as margin) everywhere; whether the explicit
+        treatment diverges anywhere, and at each kn and step (events, not thresholds); each linear limit
+        met to 1 % (a verdict with the transient's measured step error as margin)."""
         implicit = [r for r in self.rows if r["treatment"] == "implicit"]
         explicit = [r for r in self.rows if r["treatment"] == "explicit"]
+        worst = max(implicit, key=lambda r: r["energy_error"] if np.isfinite(r["energy_error"]) else -np.inf,
+                    default=None)
+        rows = {(r["case"], r["treatment"]): r for r in implicit}
         return {"implicit_bounded": all(r["bounded"] for r in implicit),
-                "implicit_energy_closed": all(r["energy_error"] < 1e-6 for r in implicit),
+                "implicit_energy_closed": None if worst is None else Verdict.of(
+                    worst["energy_error"], ENERGY_CLOSED, worst["steps"] * np.finfo(float).eps, below=True,
+                    above=False, reason="the balance's residual over the input work; margin: the round-off of "
+                                        "work summed over the run's steps (steps x machine epsilon)"),
                 "explicit_diverges_somewhere": any(not r["bounded"] for r in explicit),
                 "explicit_bounded": {f"{r['case']}, {r['steps_per_period']} steps": r["bounded"] for r in explicit},
-                "linear_limit_met": {k: v["relative_difference"] < 1e-2 for k, v in self.linear_limits.items()}}
+                "linear_limit_met": {k: linear_limit(v["relative_difference"], rows[(k, "implicit")]["error_vs_fine"])
+                                     for k, v in self.linear_limits.items()}}
 
     def to_json(self) -> dict:
         return {"rows": self.rows, "linear_limits": self.linear_limits, "explicit_lag": self.explicit_lag,
@@ -145,9 +165,9 @@ def lag_analysis(params, kn_values, spp_values, model: str) -> tuple[list[dict],
                          "zeta_structural": est["zeta_structural"], "share": est["share"],
                          "zeta_lag_estimate": est["zeta_lag"], "zeta_net_estimate": est["zeta_net"],
                          "frequency_hz_eigen": lag.frequency_hz,
-                         "zeta_net_eigen": lag.damping_ratio, "dt_s": p.time_step,
+                         "zeta_net_eigen": lag.damping_ratio, "time_step": p.time_step,
                          "steps_per_mode_period": 1.0 / (est["frequency_hz"] * p.time_step),
-                         "dt_stable_s": lag.dt_stable,
+                         "stable_time_step": lag.dt_stable,
                          "steps_per_period_needed": int(np.ceil(spp * p.time_step / lag.dt_stable))})
     return rows, None
 
@@ -172,7 +192,7 @@ def _row(case: Case, spp, treatment, tr, fine, refine):
             "energy_error": tr.energy.relative_error if bounded and tr.energy else float("nan"),
             "error_vs_fine": _error_vs_fine(tr, fine, spp, refine) if bounded else float("nan"),
             "amplitude_v_L_m": signals.amplitude(tr.tip[:, 0], spp) if bounded else float("nan"),
-            "time_s": tr.elapsed_s}
+            "steps": len(tr.tip) - 1, "time_s": tr.elapsed_s}
 
 
 def cases(params, opts) -> list[tuple[Case, list[int]]]:
@@ -268,11 +288,9 @@ def _conclusion_lines(result: StabilityResult, periods: int) -> list[str]:
     explicit = found["explicit_bounded"]
     lines = ["\n## What the runs conclude\n"]
     if implicit:
-        worst = max(r["energy_error"] for r in implicit)
         bounded = "bounded in every run" if found["implicit_bounded"] else "unbounded in some runs"
-        lines.append(f"- Implicit: {bounded}; "
-                     f"energy balance closed to {worst:.2g} at worst "
-                     f"({'below' if found['implicit_energy_closed'] else 'not below'} 1e-6).")
+        lines.append(f"- Implicit: {bounded}; energy balance closed below {ENERGY_CLOSED:g}: "
+                     f"{found['implicit_energy_closed'].sentence()}.")
     if explicit:
         grown = [k for k, v in explicit.items() if not v]
         lines.append(f"- Explicit: unbounded in {len(grown)} of {len(explicit)} runs"
@@ -285,10 +303,9 @@ def _conclusion_lines(result: StabilityResult, periods: int) -> list[str]:
                          "bounded although its contact mode has a negative net damping with the contacts stuck "
                          "(lag analysis below); a longer run may grow.")
     for case, met in found["linear_limit_met"].items():
-        v = result.linear_limits[case]
-        lines.append(f"- {case}: the transient {'meets' if met else 'misses'} its linear limit to 1 % "
-                     f"({v['relative_difference']:.2g})" + ("" if met else f": more than {periods} periods "
-                                                            "may be needed for its start-up to die") + ".")
+        lines.append(f"- {case}: the transient meets its linear limit to {100 * LINEAR_LIMIT:g} %: {met.sentence()}"
+                     + ("" if met.answer is True else f"; more than {periods} periods may be needed for its "
+                        "start-up to die, or finer steps") + ".")
     return lines
 
 
@@ -323,7 +340,7 @@ def _lag_section(lag: list[dict]) -> list[str]:
                              r["steps_per_mode_period"], r["share"], r["zeta_structural"],
                              r["zeta_lag_estimate"], r["zeta_net_estimate"], r["frequency_hz_eigen"],
                              r["zeta_net_eigen"],
-                             r["dt_stable_s"], r["steps_per_period_needed"],
+                             r["stable_time_step"], r["steps_per_period_needed"],
                              {True: "yes", False: "no", None: "-"}[r["explicit_run_bounded"]]) for r in lag]),
             f"\nLargest difference between the estimate and the amplification matrix where the mode has "
             f">= 20 steps per period: {agree:.2g} (the energy estimate assumes a small phase lag; on "

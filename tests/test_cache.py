@@ -78,3 +78,24 @@ def test_the_mesh_file_check_knows_a_cut_mesh(tmp_path):
     whole.write_text(whole.read_text()[:40])
     with pytest.raises(ValueError):
         check_msh_complete(whole)
+
+
+def test_a_cold_build_is_told_from_a_warm_one(tmp_path, monkeypatch):
+    """cache.builds() collects the entries built in a block (a cold build), none when they are read (warm);
+    an entry built inside another counts in the outer one only, so build times are never counted twice."""
+    from shroud.base.cache import builds
+    monkeypatch.setenv("SHROUD_CACHE", str(tmp_path / "cache"))
+
+    def inner(path: Path) -> None:
+        path.write_text("mesh")
+
+    def outer(path: Path) -> None:
+        cached("probe_mesh", {"n": 1}, ".txt", inner)
+        path.write_text("basis")
+
+    with builds() as cold:
+        cached("probe_basis", {"n": 1}, ".txt", outer)
+    with builds() as warm:
+        cached("probe_basis", {"n": 1}, ".txt", outer)
+    assert [what for what, _ in cold] == ["probe_basis"] and cold[0][1] >= 0
+    assert warm == []

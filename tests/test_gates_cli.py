@@ -19,7 +19,9 @@ from pathlib import Path
 
 import pytest
 
+from workbench import gates
 from workbench.cli import main
+from shroud.core.verdict import TIME_RATIO, RatioVerdict, Verdict
 
 FLAP1 = "results.modal.rows.flap1.reduced"
 BEAM = 'study = "default"\ntitle = "beam frequencies"\n' \
@@ -194,6 +196,83 @@ def test_a_number_missing_from_one_run_is_a_drift(two_runs):
     assert drift["path"] == "results.modal.rows.chord1.reduced" and drift["note"] == "missing in NEW"
 
 
+def _with_conclusions(two_runs: Path, name: str, found: dict) -> Path:
+    """A copy of the second run whose results carry the conclusions ``found``."""
+    copy = two_runs / name
+    shutil.copytree(two_runs / "new", copy)
+    record = json.loads((copy / "results.json").read_text())
+    record["results"]["conclusions"] = found
+    (copy / "results.json").write_text(json.dumps(record))
+    return copy
+
+
+def test_a_flipped_verdict_or_word_is_a_drift_that_exits_3_naming_it(two_runs):
+    """A verdict that changes side (its number moved across the threshold) is drift, as is a flipped
+    yes/no or a changed word; the verdict's own number drifts beside it."""
+    def found(value, order):
+        v = Verdict.of(value, threshold=0.05, margin=0.01, below="no effect", above="effect", reason="grid")
+        return {"no_effect": v.to_json(), "settled": value < 0.05, "state_order": order}
+    base = _with_conclusions(two_runs, "verdict_base", found(0.02, "separate > slip > stick"))
+    same = _with_conclusions(two_runs, "verdict_same", found(0.02, "separate > slip > stick"))
+    flipped = _with_conclusions(two_runs, "verdict_flipped", found(0.09, "separate > stick > slip"))
+    assert shroud("compare", base, same).returncode == 0
+    proc = shroud("compare", base, flipped, "--json")
+    assert proc.returncode == 3
+    drifted = {d["path"]: (d["base"], d["new"]) for d in json.loads(proc.stdout)["drifted"]}
+    assert drifted["results.conclusions.no_effect.answer"] == ("no effect", "effect")
+    assert drifted["results.conclusions.settled"] == (True, False)
+    assert drifted["results.conclusions.state_order"] == ("separate > slip > stick", "separate > stick > slip")
+    assert "results.conclusions.no_effect.value" in drifted
+    assert "no_effect.answer" in shroud("compare", base, flipped).stdout
+
+
+def test_run_times_are_skipped_by_what_they_are(two_runs):
+    """Keys ending in _s (and everything under them), _time_ratio keys and verdicts drawn from run
+    times differ between identical runs and are never drift; the same change to a physical number is."""
+    def found(scale):
+        cost = RatioVerdict(scale * 1.0, 10.0, factor=3.0, noise=2.0, above="costlier", below="cheaper",
+                            between="comparable", reason="timing noise", unit=TIME_RATIO)
+        return {"cost": cost.to_json(), "solve_s": {"4": scale * 0.003}, "reduced_to_full_time_ratio": scale,
+                "time_step": scale * 1e-5}
+    base = _with_conclusions(two_runs, "timed_base", found(1.0))
+    slower = _with_conclusions(two_runs, "timed_slower", found(5.0))
+    proc = shroud("compare", base, slower, "--json")
+    assert proc.returncode == 3
+    assert [d["path"] for d in json.loads(proc.stdout)["drifted"]] == ["results.conclusions.time_step"]
+
+
+# --- gates on yes/no and words -------------------------------------------------
+
+def test_a_gate_with_equals_holds_words_and_yes_no(tmp_path):
+    """equals holds a word (the study's name) and a yes/no; a wrong word, or a yes/no given as a number,
+    is a failed gate that says what was found."""
+    path = scene(tmp_path, '"study" = { equals = "default" }\n"quick" = { equals = false }\n')
+    out = tmp_path / "out"
+    assert shroud("run", path, "--out", out).returncode == 0
+    assert [r["passed"] for r in json.loads((out / "results.json").read_text())["gates"]] == [True, True]
+    proc = shroud("run", path, "--out", tmp_path / "flipped", "--gate", "study==fig8", "--gate", "quick==0")
+    assert proc.returncode == 3
+    records = {r["path"]: r for r in json.loads((tmp_path / "flipped" / "results.json").read_text())["gates"]}
+    assert not records["study"]["passed"] and "'default', not 'fig8'" in records["study"]["message"]
+    assert not records["quick"]["passed"]
+
+
+def test_a_gate_on_a_verdict_holds_its_answer(tmp_path):
+    """A path ending at a verdict record: equals gates its answer, max and min its number; a record
+    without a status is never a pass."""
+    v = Verdict.of(0.02, threshold=0.05, margin=0.01, below="no effect", above="effect", reason="grid")
+    document = {"status": "complete", "results": {"no_effect": v.to_json()}}
+    held = gates.hold((gates.from_option("results.no_effect==no effect"),
+                       gates.from_option("results.no_effect<=0.03")), document)
+    assert [r["passed"] for r in held] == [True, True]
+    flipped = {"status": "complete", "results": {"no_effect": Verdict.of(0.09, 0.05, 0.01, "no effect", "effect",
+                                                                          "grid").to_json()}}
+    [record] = gates.hold((gates.from_option("results.no_effect=='no effect'"),), flipped)
+    assert not record["passed"] and record["value"] == "effect"
+    [record] = gates.hold((gates.from_option("results.no_effect==no effect"),), {"results": document["results"]})
+    assert not record["passed"] and "status: missing" in record["message"]
+
+
 # --- campaigns -----------------------------------------------------------------
 
 def test_a_campaign_with_one_failing_gate_exits_3(tmp_path):
@@ -290,7 +369,7 @@ def test_bad_compare_arguments(tmp_path, capsys):
     empty, run = tmp_path / "empty", tmp_path / "run"
     empty.mkdir()
     run.mkdir()
-    (run / "results.json").write_text(json.dumps({"results": {"x": 1.0}}))
+    (run / "results.json").write_text(json.dumps({"study": "default", "status": "complete", "results": {"x": 1.0}}))
     report = tmp_path / "cmp.xml"
     line = _refused(capsys, ["compare", empty, run, "--junit", report], "BASE", report)
     assert "no results.json" in line
@@ -299,3 +378,10 @@ def test_bad_compare_arguments(tmp_path, capsys):
     _refused(capsys, ["compare", run, run, "--junit", empty], "--junit", report)
     (empty / "results.json").write_text("{not json")
     _refused(capsys, ["compare", empty, run, "--junit", report], "BASE", report)
+    # a record without a status is refused, never read as complete
+    (empty / "results.json").write_text(json.dumps({"study": "default", "results": {"x": 1.0}}))
+    assert "has no status" in _refused(capsys, ["compare", run, empty, "--junit", report], "NEW", report)
+    # two runs of different studies: said in one line, not as a list of missing numbers
+    (empty / "results.json").write_text(json.dumps({"study": "fig3", "status": "complete", "results": {"y": 1}}))
+    line = _refused(capsys, ["compare", run, empty, "--junit", report], "NEW", report)
+    assert "'default'" in line and "'fig3'" in line

@@ -81,11 +81,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     p.add_argument("--quick", action="store_true", help="a coarse, minute-scale version")
     p.add_argument("--gate", action="append", default=[], metavar="'PATH<=VALUE'",
-                   help="bound a number of results.json (repeatable; PATH<=VALUE or PATH>=VALUE); "
-                        "exit 3 if it does not hold")
+                   help="bound a number of results.json, or require a value (repeatable; PATH<=VALUE, "
+                        "PATH>=VALUE or PATH==VALUE, VALUE a number, true, false or a word); exit 3 if it "
+                        "does not hold")
     p.add_argument("--json", action="store_true")
 
-    p = sub.add_parser("compare", help="hold every number of NEW/results.json against BASE/results.json")
+    p = sub.add_parser("compare", help="hold every number, yes/no and word (verdict) of NEW/results.json "
+                                       "against BASE/results.json (run times skipped)")
     p.add_argument("base", metavar="BASE", help="output folder of an earlier run (scene or campaign)")
     p.add_argument("new", metavar="NEW", help="output folder of the run to check")
     p.add_argument("--rtol", type=float, default=DEFAULT_RTOL,
@@ -93,8 +95,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--atol", type=float, default=DEFAULT_ATOL,
                    help=f"absolute tolerance (default {DEFAULT_ATOL:g})")
     p.add_argument("--ignore", action="append", default=[], metavar="PATTERN",
-                   help="also ignore numbers whose dotted path matches this glob (repeatable); "
-                        "ignored always: " + " ".join(DEFAULT_IGNORE))
+                   help="also ignore values whose dotted path matches this glob (repeatable); "
+                        "ignored always: run times (keys ending in _s or _time_ratio, verdicts drawn from "
+                        "run times) and " + " ".join(DEFAULT_IGNORE))
     p.add_argument("--junit", metavar="FILE", help="write the comparison as JUnit XML")
     p.add_argument("--json", action="store_true")
     p = sub.add_parser("record", help="make again the records of full scenes that the quick-against-full tests "

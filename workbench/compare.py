@@ -1,17 +1,26 @@
-"""``shroud compare BASE NEW``: every number of NEW's results.json held against BASE's.
+"""``shroud compare BASE NEW``: every number, yes/no and word of NEW's results.json held against BASE's.
 
-A number agrees when |new - base| <= atol + rtol |base|. A number present in
-one run and missing in the other (or null there: NaN or infinity) is a
-drift. Strings (paths, dates, versions, the git revision, statuses) are never
-compared; numbers whose dotted path matches a pattern of ``DEFAULT_IGNORE``
-(wall and CPU times, which vary from run to run, and where and how the run
-was made) or of ``--ignore`` are skipped. Paths are those of gates
-(workbench.gates): lists of tables are named by their elements' label, name
-or model (``results.modal.rows.flap1.reduced``), other lists by index.
+A number agrees when |new - base| <= atol + rtol |base|; a boolean or a word
+(a verdict's answer: "stable", "larger", "separate > slip > stick") agrees
+when it is equal, so a flipped verdict is a drift. A value present in one run
+and missing in the other (or null there: NaN or infinity) is a drift.
 
-On campaign folders each scene's results.json is compared; paths start with
-the scene's name (``fig8/results.fig8.rpm``) and patterns match with or
-without it.
+Timings are recognised by what they are, not by a list of names
+(:func:`is_timing`): a key ending in ``_s`` holds wall or CPU times of the
+run's machine (the runner refuses anything but numbers under such a key,
+:func:`check_timings`), a key ending in ``_time_ratio`` a ratio of them, and
+a verdict whose unit is ``shroud.core.verdict.TIME_RATIO`` was drawn from
+them; these vary from run to run and are skipped, with the paths matching a
+pattern of ``DEFAULT_IGNORE`` (where and how the run was made) or of
+``--ignore``. Physical times (a time step) are named otherwise
+(``time_step``). Paths are those of gates (workbench.gates): lists of
+tables are named by their elements' label, name or model
+(``results.modal.rows.flap1.reduced``), other lists by index.
+
+A results.json without a ``status``, or two runs of different studies, are
+refused in one line. On campaign folders each scene's results.json is
+compared; paths start with the scene's name (``fig8/results.fig8.rpm``) and
+patterns match with or without it.
 """
 
 from __future__ import annotations
@@ -26,33 +35,33 @@ from typing import Any, Sequence
 from workbench import junit
 from workbench.gates import children, is_number
 from shroud.base.errors import InputError
+from shroud.core.verdict import TIME_RATIO, is_verdict
 
 DEFAULT_RTOL = 1e-6
 DEFAULT_ATOL = 1e-12
 DEFAULT_IGNORE = (
-    # wall and CPU times of this machine (s), and ratios of them: they vary from run to run
-    "*elapsed_s", "*cpu_s", "*build_s", "*run_s", "*solve_s", "*compile_s", "*draw_s", "*total_s",
-    "*time_s", "*transient_s", "*time_ratio*",
     # where and how the run was made
     "host.*", "versions.*", "command.*", "scene", "finished", "overrides.*", "incomplete_files.*",
     # gate records: their bounds are the scene's, their values are compared at their own paths
     "gates.*",
 )
+TIMING_SUFFIXES = ("_s", "_time_ratio")    # keys whose values are run times (s), or ratios of them
 _ABSENT = object()
 
 
 @dataclass(frozen=True)
 class Drift:
-    """A number that differs beyond tolerance; ``base``/``new`` None when null or absent."""
+    """A value that differs (a number beyond tolerance, a yes/no or word at all); ``base``/``new`` None
+    when null or absent."""
 
     path: str
-    base: float | None
-    new: float | None
+    base: Any
+    new: Any
     note: str = ""                   # "missing in NEW", "null in BASE", ...
 
     @property
     def relative(self) -> float:
-        if self.base is None or self.new is None:
+        if not (is_number(self.base) and is_number(self.new)):
             return math.inf
         if self.base == 0:
             return 0.0 if self.new == 0 else math.inf
@@ -61,6 +70,8 @@ class Drift:
     def describe(self) -> str:
         if self.note:
             return self.note
+        if not (is_number(self.base) and is_number(self.new)):
+            return f"{self.base!r} -> {self.new!r} (a verdict or word changed)"
         return f"{self.base:.10g} -> {self.new:.10g} (relative change {self.relative:.3g})"
 
 
@@ -73,8 +84,8 @@ class Comparison:
     ignore: tuple[str, ...]
     campaign: bool                   # paths start with "<scene>/"
     compared: list[str]              # paths held (in BASE order, then NEW's own)
-    ignored: int
-    drifts: list[Drift]              # largest relative change first
+    ignored: int                     # by pattern or as timings
+    drifts: list[Drift]              # changed words and yes/no first, then largest relative change
 
     def to_json(self) -> dict:
         return {"base": self.base, "new": self.new, "rtol": self.rtol, "atol": self.atol,
@@ -84,16 +95,42 @@ class Comparison:
                              "note": d.note} for d in self.drifts]}
 
 
-def numbers(document: Any, prefix: str = "") -> dict[str, float | None]:
-    """Every number (and null) of a results.json document by dotted path."""
-    out: dict[str, float | None] = {}
+def scalars(document: Any, prefix: str = "") -> dict[str, Any]:
+    """Every number, yes/no, word and null of a results.json document by dotted path."""
+    out: dict[str, Any] = {}
     for segment, value in children(document):
         path = f"{prefix}.{segment}" if prefix else segment
-        if value is None or is_number(value):
-            out[path] = value
+        if isinstance(value, (dict, list)):
+            out.update(scalars(value, path))
         else:
-            out.update(numbers(value, path))
+            out[path] = value
     return out
+
+
+def is_timing(path: str) -> bool:
+    """Whether a dotted path names a run time: one of its keys ends in ``TIMING_SUFFIXES``."""
+    return any(segment.endswith(TIMING_SUFFIXES) for segment in path.split("."))
+
+
+def timing_paths(document: Any, prefix: str = "") -> set[str]:
+    """Paths of the values drawn from run times: under a timing key, or in a verdict whose unit is TIME_RATIO."""
+    found: set[str] = set()
+    for segment, value in children(document):
+        path = f"{prefix}.{segment}" if prefix else segment
+        if is_timing(segment) or (is_verdict(value) and value["unit"] == TIME_RATIO):
+            found |= set(scalars(value, path)) if isinstance(value, (dict, list)) else {path}
+        elif isinstance(value, (dict, list)):
+            found |= timing_paths(value, path)
+    return found
+
+
+def check_timings(document: Any, prefix: str = "") -> None:
+    """Refuse (ValueError) a value under a timing key that is not a number or null: a verdict or a word
+    named like a time would never be compared."""
+    for path, value in scalars(document, prefix).items():
+        if is_timing(path) and value is not None and not is_number(value):
+            raise ValueError(f"{path} is {value!r}: keys ending in {' or '.join(TIMING_SUFFIXES)} hold run "
+                             "times (numbers), which shroud compare skips; name it otherwise")
 
 
 def _read(path: Path, key: str) -> dict:
@@ -109,20 +146,33 @@ def _read(path: Path, key: str) -> dict:
     return document
 
 
-def run_numbers(folder: str | Path, key: str) -> tuple[bool, dict[str, float | None]]:
-    """(is a campaign, numbers) of an output folder; a campaign's scenes prefixed ``<scene>/``."""
+def run_values(folder: str | Path, key: str) -> tuple[bool, dict[str, Any], set[str], str]:
+    """(is a campaign, values, timing paths, study or campaign title) of an output folder; a campaign's
+    scenes prefixed ``<scene>/``."""
     folder = Path(folder)
     if not folder.is_dir():
         raise InputError(key, f"{str(folder)!r} is not a folder; allowed: an output folder of shroud run")
-    document = _read(folder / "results.json", key)
+    document = _record(folder / "results.json", key)
     if "campaign" not in document:
-        return False, numbers(document)
-    found: dict[str, float | None] = {}
+        return False, scalars(document), timing_paths(document), str(document.get("study"))
+    found: dict[str, Any] = {}
+    timings: set[str] = set()
     for scene in document.get("scenes", []):
         record = folder / scene["results"]
         if record.is_file():          # a scene that never ran has no numbers: each of BASE's drifts
-            found.update({f"{scene['name']}/{p}": v for p, v in numbers(_read(record, key)).items()})
-    return True, found
+            run = _record(record, key)
+            found.update({f"{scene['name']}/{p}": v for p, v in scalars(run).items()})
+            timings |= {f"{scene['name']}/{p}" for p in timing_paths(run)}
+    return True, found, timings, str(document["campaign"])
+
+
+def _record(path: Path, key: str) -> dict:
+    """A results.json that says how its run ended: one without ``status`` is refused, never read as complete."""
+    document = _read(path, key)
+    if "status" not in document:
+        raise InputError(key, f"{str(path)!r} has no status (a run that never finished writing, or not a "
+                         "results.json of shroud run); allowed: a record with its status")
+    return document
 
 
 def _ignored(path: str, patterns: Sequence[str], campaign: bool) -> bool:
@@ -139,26 +189,31 @@ def _drift(path: str, base: Any, new: Any, rtol: float, atol: float) -> Drift | 
         return None
     if base is None or new is None:
         return Drift(path, base, new, f"null (NaN or infinity) in {'BASE' if base is None else 'NEW'}")
-    if abs(new - base) <= atol + rtol * abs(base):
-        return None
-    return Drift(path, float(base), float(new))
+    if is_number(base) and is_number(new):
+        return None if abs(new - base) <= atol + rtol * abs(base) else Drift(path, float(base), float(new))
+    return None if base == new and type(base) is type(new) else Drift(path, base, new)
 
 
 def compare(base: str | Path, new: str | Path, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
             ignore: Sequence[str] = (), junit_path: str | Path | None = None) -> Comparison:
-    """Hold NEW's numbers against BASE's; write ``junit_path`` (one test case per number) if given."""
+    """Hold NEW's values against BASE's; write ``junit_path`` (one test case per value) if given."""
     target = Path(junit_path) if junit_path else None
     if target is not None and target.is_dir():
         raise InputError("--junit", f"{str(target)!r} is a folder; allowed: a file path")
-    base_campaign, base_numbers = run_numbers(base, "BASE")
-    new_campaign, new_numbers = run_numbers(new, "NEW")
+    base_campaign, base_values, base_timings, base_name = run_values(base, "BASE")
+    new_campaign, new_values, new_timings, new_name = run_values(new, "NEW")
     if base_campaign != new_campaign:
         raise InputError("NEW", "one folder holds a campaign, the other a scene; allowed: two scene "
                          "folders or two campaign folders")
+    if base_name != new_name:
+        kind = "campaign" if new_campaign else "study"
+        raise InputError("NEW", f"BASE is a run of {kind} {base_name!r}, NEW of {kind} {new_name!r}; "
+                         f"allowed: two runs of one {kind}")
     patterns = DEFAULT_IGNORE + tuple(ignore)
-    paths = list(base_numbers) + [p for p in new_numbers if p not in base_numbers]
-    held = [p for p in paths if not _ignored(p, patterns, new_campaign)]
-    drifts = [d for p in held if (d := _drift(p, base_numbers.get(p, _ABSENT), new_numbers.get(p, _ABSENT),
+    timings = base_timings | new_timings
+    paths = list(base_values) + [p for p in new_values if p not in base_values]
+    held = [p for p in paths if p not in timings and not _ignored(p, patterns, new_campaign)]
+    drifts = [d for p in held if (d := _drift(p, base_values.get(p, _ABSENT), new_values.get(p, _ABSENT),
                                              rtol, atol)) is not None]
     drifts.sort(key=lambda d: (-d.relative, d.path))
     comparison = Comparison(str(base), str(new), rtol, atol, patterns, new_campaign, held,
@@ -185,16 +240,23 @@ def _suites(comparison: Comparison) -> list[tuple[str, list[junit.Case]]]:
 
 def markdown(comparison: Comparison) -> str:
     """The verdict and the drifted numbers, largest relative change first, as a Markdown table."""
-    head = (f"Compared {len(comparison.compared)} numbers of {comparison.new} against {comparison.base} "
-            f"(rtol {comparison.rtol:g}, atol {comparison.atol:g}; {comparison.ignored} ignored by pattern).")
+    head = (f"Compared {len(comparison.compared)} values of {comparison.new} against {comparison.base} "
+            f"(numbers within rtol {comparison.rtol:g}, atol {comparison.atol:g}; yes/no and words equal; "
+            f"{comparison.ignored} timings or ignored by pattern).")
     if not comparison.drifts:
         return head + "\nAll within tolerance."
     rows = ["| path | BASE | NEW | relative change | note |", "|---|---|---|---|---|"]
     for d in comparison.drifts:
         rows.append(f"| `{d.path}` | {_cell(d.base)} | {_cell(d.new)} | "
-                    f"{'inf' if math.isinf(d.relative) else f'{d.relative:.3g}'} | {d.note or '-'} |")
+                    f"{_change(d)} | {d.note or '-'} |")
     return f"{head}\n**{len(comparison.drifts)} drifted:**\n\n" + "\n".join(rows)
 
 
-def _cell(value: float | None) -> str:
-    return "-" if value is None else f"{value:.10g}"
+def _change(d: Drift) -> str:
+    if not (is_number(d.base) and is_number(d.new)):
+        return "changed" if not d.note else "-"
+    return "inf" if math.isinf(d.relative) else f"{d.relative:.3g}"
+
+
+def _cell(value: Any) -> str:
+    return "-" if value is None else f"{value:.10g}" if is_number(value) else f"`{value!r}`"

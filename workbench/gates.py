@@ -8,17 +8,28 @@ A scene's ``[gates]`` table names numbers by their dotted path in
     "results.modal.rows.flap1.reduced_vs_fe_percent" = { min = -0.5, max = 0.5 }
     "results.fig8.amplitude.reduced.v_L" = { max = 0.04, relative_to = "results.fig8.amplitude.fe-reduced.v_L" }
 
-``shroud run --gate 'PATH<=VALUE'`` / ``'PATH>=VALUE'`` adds a bound (or
-replaces the scene's bound of the same kind on the same path). A path walks
+A yes/no or a word (a verdict's answer) is required with ``equals``::
+
+    "results.conclusions.large_gaps_no_effect" = { equals = "no effect" }
+    "results.conclusions.settled.fe" = { equals = true }
+
+A path that ends at a verdict record (shroud.core.verdict: answer, value,
+threshold, margin, unit, reason) gates its ``answer`` with ``equals`` and its
+``value`` with ``max``/``min``.
+
+``shroud run --gate 'PATH<=VALUE'`` / ``'PATH>=VALUE'`` / ``'PATH==VALUE'``
+adds a bound (or replaces the scene's bound of the same kind on the same
+path); after ``==`` the value is ``true``, ``false``, a number or a word. A path walks
 tables by key and lists by index (``rows.0``) or by the ``label``, ``name``
 or ``model`` of their elements (``rows.flap1``). With ``relative_to`` the
 gated number is the relative difference |x / x_ref - 1| to the number at that
 other path.
 
 Every gate becomes a record ``{path, value, max, min, margin, passed,
-message}``; a path that is not in the results, a value that is not a number
-(NaN and infinity are stored as null) or a run that did not complete is a
-failed gate that says so, never a pass. ``margin`` is the distance to the
+message}`` (and ``equals``); a path that is not in the results, a bounded
+value that is not a number (NaN and infinity are stored as null) or a run
+that did not complete (or whose record has no ``status``) is a failed gate
+that says so, never a pass. ``margin`` is the distance to the
 nearest bound, negative when a bound is broken.
 """
 
@@ -31,22 +42,25 @@ from dataclasses import dataclass
 from typing import Any, Iterator, Mapping
 
 from shroud.base.errors import InputError
+from shroud.core.verdict import is_verdict
 
 BOUNDS = ("max", "min")
-KEYS = BOUNDS + ("relative_to",)
+KEYS = BOUNDS + ("equals", "relative_to")
 # Fields that name the elements of a list of tables (rows.flap1, table3.reduced).
 ELEMENT_NAMES = ("label", "name", "model")
-_OPTION = re.compile(r"^(?P<path>.*?)\s*(?P<op><=|>=)\s*(?P<value>[^<>=]*)$")
+_OPTION = re.compile(r"^(?P<path>[^<>=]*?)\s*(?P<op><=|>=|==)\s*(?P<value>.*)$")
 
 
 @dataclass(frozen=True)
 class Gate:
-    """Bounds on the number at ``path`` (or on its relative difference to ``relative_to``)."""
+    """Bounds on the number at ``path`` (or on its relative difference to ``relative_to``), or the
+    yes/no, word or number it ``equals``."""
 
     path: str
     max: float | None = None
     min: float | None = None
     relative_to: str | None = None
+    equals: bool | str | float | None = None
 
 
 def dotted_path(path: Any, key: str) -> str:
@@ -73,12 +87,18 @@ def _gate(path: str, spec: Mapping[str, Any], key: str) -> Gate:
     reference = spec.get("relative_to")
     if reference is not None:
         reference = dotted_path(reference, f"{key}.relative_to")
-    return _checked(Gate(path, relative_to=reference, **bounds), key)
+    equals = spec.get("equals")
+    if equals is not None and not (isinstance(equals, (bool, str)) or is_number(equals)):
+        raise InputError(f"{key}.equals", f"{equals!r} is not a yes/no, word or number; allowed: "
+                         "true, false, \"a word\" or a number")
+    return _checked(Gate(path, relative_to=reference, equals=equals, **bounds), key)
 
 
 def _checked(gate: Gate, key: str) -> Gate:
-    if gate.max is None and gate.min is None:
-        raise InputError(key, "no bound; allowed: { max = X }, { min = Y } or both")
+    if gate.max is None and gate.min is None and gate.equals is None:
+        raise InputError(key, "no bound; allowed: { max = X }, { min = Y }, both, or { equals = V }")
+    if gate.equals is not None and (gate.max is not None or gate.min is not None or gate.relative_to):
+        raise InputError(key, "equals with a bound or relative_to; allowed: { equals = V } alone, or bounds")
     if gate.max is not None and gate.min is not None and gate.min > gate.max:
         raise InputError(key, f"min {gate.min:g} is above max {gate.max:g}; allowed: min <= max")
     return gate
@@ -113,13 +133,15 @@ def _leaves(table: dict, prefix: str) -> Iterator[tuple[str, Any]]:
 
 
 def from_option(text: str) -> Gate:
-    """The gate of one ``--gate 'PATH<=VALUE'`` or ``'PATH>=VALUE'``."""
+    """The gate of one ``--gate 'PATH<=VALUE'``, ``'PATH>=VALUE'`` or ``'PATH==VALUE'``."""
     match = _OPTION.match(text.strip()) if isinstance(text, str) else None
     if not match or not match["path"] or not match["value"].strip():
-        raise InputError("--gate", f"{text!r} is not PATH<=VALUE or PATH>=VALUE; allowed: e.g. "
+        raise InputError("--gate", f"{text!r} is not PATH<=VALUE, PATH>=VALUE or PATH==VALUE; allowed: e.g. "
                          "--gate 'results.fig8.versus_reference.reduced.nrmse.v_L<=0.08'")
     path = dotted_path(match["path"], "--gate")
-    if "<" in path or ">" in path:
+    if match["op"] == "==":
+        return Gate(path, equals=_word(match["value"].strip()))
+    if any(c in match["value"] for c in "<>="):
         raise InputError("--gate", f"{text!r} has more than one bound; allowed: one per --gate "
                          "(give --gate twice for both)")
     try:
@@ -129,6 +151,16 @@ def from_option(text: str) -> Gate:
                          "allowed: a finite number") from None
     value = _number(value, "--gate")
     return Gate(path, **{("max" if match["op"] == "<=" else "min"): value})
+
+
+def _word(text: str) -> bool | str | float:
+    """The value after ``==``: true/false, a number, or the word itself (quotes around it dropped)."""
+    if text in ("true", "false"):
+        return text == "true"
+    try:
+        return _number(float(text), "--gate")
+    except (ValueError, InputError):
+        return text[1:-1] if len(text) > 1 and text[0] == text[-1] and text[0] in "'\"" else text
 
 
 def merged(*groups: tuple[Gate, ...]) -> tuple[Gate, ...]:
@@ -200,6 +232,8 @@ def _fmt(x: float) -> str:
 def _gated_value(gate: Gate, document: Any) -> tuple[float, str]:
     """The gated number and how it was formed; ``Missing`` when it cannot be."""
     value = lookup(document, gate.path)
+    if is_verdict(value):
+        value = value["value"]
     if not is_number(value):
         raise Missing(f"{gate.path} is {'null (NaN or infinity)' if value is None else repr(value)}, "
                       "not a number")
@@ -214,16 +248,27 @@ def _gated_value(gate: Gate, document: Any) -> tuple[float, str]:
 
 def hold(gates: tuple[Gate, ...], document: Mapping[str, Any]) -> list[dict]:
     """Each gate held against ``document`` (a results.json payload): its record."""
-    status = document.get("status", "complete")
+    status = document.get("status", "missing")          # a record without a status is not a complete run
     return [_record(gate, document, status) for gate in gates]
+
+
+def same(a: Any, b: Any) -> bool:
+    """Equal as JSON values: a yes/no equals only a yes/no (never 1 or 0), numbers by value."""
+    if isinstance(a, bool) or isinstance(b, bool):
+        return type(a) is type(b) and a == b
+    return a == b
 
 
 def _record(gate: Gate, document: Mapping[str, Any], status: str) -> dict:
     record = {"path": gate.path, "value": None, "max": gate.max, "min": gate.min}
     if gate.relative_to is not None:
         record["relative_to"] = gate.relative_to
+    if gate.equals is not None:
+        record["equals"] = gate.equals
     if status != "complete":
         return {**record, "margin": None, "passed": False, "message": f"not evaluated (run status: {status})"}
+    if gate.equals is not None:
+        return {**record, "margin": None, **_equality(gate, document)}
     try:
         value, shown = _gated_value(gate, document)
     except Missing as exc:
@@ -244,6 +289,21 @@ def _record(gate: Gate, document: Mapping[str, Any], status: str) -> dict:
     else:
         message = f"{shown} < min {_fmt(gate.min)} (under by {_fmt(gate.min - value)})"
     return {**record, "value": value, "margin": margin, "passed": passed, "message": message}
+
+
+def _equality(gate: Gate, document: Any) -> dict:
+    """value, passed and message of an ``equals`` gate (a verdict record gives its answer)."""
+    try:
+        value = lookup(document, gate.path)
+    except Missing as exc:
+        return {"value": None, "passed": False, "message": f"missing: {exc}"}
+    if is_verdict(value):
+        value = value["answer"]
+    if isinstance(value, (dict, list)):
+        return {"value": None, "passed": False, "message": f"{gate.path} is a table or list, not a value"}
+    if same(value, gate.equals):
+        return {"value": value, "passed": True, "message": f"{value!r} as required"}
+    return {"value": value, "passed": False, "message": f"{value!r}, not {gate.equals!r}"}
 
 
 def not_held(records: list[dict]) -> list[dict]:

@@ -57,6 +57,6 @@ def gate_cases(records: Sequence[dict]) -> list[Case]:
 
 
 def _gate_detail(record: dict) -> str:
-    fields = ("path", "relative_to", "value", "min", "max", "margin")
+    fields = ("path", "relative_to", "value", "equals", "min", "max", "margin")
     lines = [f"{f.replace('_', ' ')}: {record[f]}" for f in fields if record.get(f) is not None]
     return "\n".join(lines + [record["message"]])

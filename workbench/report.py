@@ -3,6 +3,7 @@ from the per-scene ``report.md`` files with their figures linked."""
 
 from __future__ import annotations
 
+import json
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -46,9 +47,14 @@ def stitch(out: Path, title: str, outcomes: Sequence[SceneOutcome], preamble: st
 
 def gate_table(records: Sequence[dict]) -> str:
     """A Markdown table of gate records: what held, what broke and by how much."""
-    rows = [("held" if r["passed"] else "**FAILED**", f"`{r['path']}`", r["value"], r["min"], r["max"],
-             r["margin"], r["message"]) for r in records]
-    return markdown_table(("gate", "path", "value", "min", "max", "margin", "detail"), rows)
+    rows = [("held" if r["passed"] else "**FAILED**", f"`{r['path']}`", _cell(r["value"]), r["min"], r["max"],
+             _cell(r.get("equals")), r["margin"], r["message"]) for r in records]
+    return markdown_table(("gate", "path", "value", "min", "max", "equals", "margin", "detail"), rows)
+
+
+def _cell(value):
+    """A gated value as the table shows it: a number as a number, a yes/no or word as JSON writes it."""
+    return json.dumps(value) if isinstance(value, (bool, str)) else value
 
 
 def open_with_gates(report: Path, records: Sequence[dict]) -> None:

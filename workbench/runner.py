@@ -42,6 +42,7 @@ from shroud.base.errors import InputError
 from shroud.base.log import info, warn
 from shroud.base.parallel import mpi_rank, mpi_size
 from workbench import junit
+from workbench.compare import check_timings
 from workbench.gates import Gate, hold, merged
 from workbench.report import open_with_gates
 from workbench.scene import Scene, load_scene, study_module
@@ -208,6 +209,7 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
     try:
         with sigterm_as_interrupt():
             results = module.run(scene, target) or {}
+            check_timings(jsonable(results), "results")   # run times named as such, so compare skips them
     except KeyboardInterrupt:
         elapsed = time.perf_counter() - t0
         marked = mark_incomplete(target, started, f"run interrupted after {elapsed:.1f} s")

@@ -9,18 +9,42 @@ Entries are written to a temporary name and renamed into place, so a run
 killed while writing leaves no entry behind; an entry that cannot be read
 all the same (a full disk, a copy cut short) is rebuilt with a warning.
 
+A cost measurement can tell a cold build (one that built entries) from a
+warm one (that read them): :func:`builds` collects the wall time spent
+building entries inside a block, so a build cached on disk is counted once
+and said so.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.util
 import json
 import os
+import time
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
 
 from shroud.base.log import info, warn
+
+
+_LISTENERS: list[list[tuple[str, float]]] = []
+_DEPTH = [0]          # entries being built now: an entry built inside another counts in the outer one
+
+
+@contextlib.contextmanager
+def builds():
+    """The entries built (not read) inside the block, as a list of (what, wall seconds) filled as they are.
+
+    An entry built while building another (a mesh inside a reduction basis) counts in the outer one only.
+    """
+    record: list[tuple[str, float]] = []
+    _LISTENERS.append(record)
+    try:
+        yield record
+    finally:
+        _LISTENERS.remove(record)
 
 
 def cache_root() -> Path:
@@ -74,7 +98,15 @@ def cached(kind: str, inputs: Mapping[str, Any], suffix: str, build: Callable[[P
         warn(f"cached {label} {path} cannot be read ({problem}): building it again")
     else:
         info(f"building {label} {path.name} (no cached entry for {_short(inputs)})")
-    _write_atomic(path, build)
+    t0 = time.perf_counter()
+    _DEPTH[0] += 1
+    try:
+        _write_atomic(path, build)
+    finally:
+        _DEPTH[0] -= 1
+    if _DEPTH[0] == 0:
+        for record in _LISTENERS:
+            record.append((label, time.perf_counter() - t0))
     record = {"inputs": dict(inputs), "code": source_digest(sources)}
     _write_atomic(folder / f"{key}.json",
                   lambda tmp: tmp.write_text(json.dumps(record, sort_keys=True, default=repr, indent=1)))

@@ -32,6 +32,8 @@ from dataclasses import dataclass
 from typing import Any
 
 NOT_DECIDED = "not decided"
+KEYS = ("answer", "value", "threshold", "margin", "unit", "reason")   # a verdict's JSON, in this order
+TIME_RATIO = "time ratio"   # the unit of a verdict drawn from run times: a timing, whatever its answer
 
 
 @dataclass(frozen=True)
@@ -70,15 +72,27 @@ class Verdict:
         gap = abs(self.value - self.threshold)
         return gap / self.margin if self.margin > 0 else math.inf
 
-    def sentence(self, fmt: str = "{:.3g}") -> str:
+    def sentence(self, fmt: str = "{:.4g}") -> str:
         """``answer (value V against T +- M unit: reason)`` for reports."""
         unit = f" {self.unit}" if self.unit else ""
-        return (f"{self.answer} ({fmt.format(self.value)}{unit} against {fmt.format(self.threshold)}"
+        return (f"{_word(self.answer)} ({fmt.format(self.value)}{unit} against {fmt.format(self.threshold)}"
                 f" +- {fmt.format(self.margin)}{unit}: {self.reason})")
 
     def to_json(self) -> dict:
         return {"answer": self.answer, "value": _finite_or_none(self.value), "threshold": self.threshold,
                 "margin": self.margin, "unit": self.unit, "reason": self.reason}
+
+
+def _word(answer: Any) -> str:
+    """An answer as a sentence starts: yes/no for booleans."""
+    return {True: "yes", False: "no"}.get(answer, str(answer)) if isinstance(answer, bool) else str(answer)
+
+
+def _factor(noise: float) -> str:
+    """A margin factor as a reader takes it in: a share below x1.5 ("0.2 %"), a factor above ("x2")."""
+    if not math.isfinite(noise):
+        return "an unmeasured margin"
+    return f"{100 * (noise - 1):.2g} %" if noise < 1.5 else f"x{noise:.3g}"
 
 
 def _finite_or_none(x: float) -> float | None:
@@ -104,6 +118,7 @@ class RatioVerdict:
     below: Any
     between: Any
     reason: str
+    unit: str = "ratio"
 
     def __post_init__(self):
         if not (self.a > 0 and self.b > 0 and self.factor >= 1 and self.noise >= 1):
@@ -116,17 +131,89 @@ class RatioVerdict:
 
     @property
     def answer(self) -> Any:
-        r, edge, noise = abs(math.log(self.ratio)), math.log(self.factor), math.log(self.noise)
-        if abs(r - edge) <= noise:
-            return NOT_DECIDED
-        if r < edge:
-            return self.between
-        return self.above if self.ratio > 1 else self.below
+        return _three_way(math.log(self.ratio), math.log(self.factor), math.log(self.noise),
+                          self.above, self.below, self.between)
 
-    def sentence(self, fmt: str = "{:.3g}") -> str:
-        return (f"{self.answer} (ratio {fmt.format(self.ratio)} against a band of x{fmt.format(self.factor)}"
-                f" +- x{fmt.format(self.noise)}: {self.reason})")
+    def sentence(self, fmt: str = "{:.4g}") -> str:
+        return (f"{_word(self.answer)} (ratio {fmt.format(self.ratio)} against a band of x{self.factor:.4g}"
+                f" +- {_factor(self.noise)}: {self.reason})")
 
     def to_json(self) -> dict:
         return {"answer": self.answer, "value": self.ratio, "threshold": self.factor,
-                "margin": self.noise, "unit": "ratio", "reason": self.reason}
+                "margin": self.noise, "unit": self.unit, "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class BandVerdict:
+    """How a signed difference ``value`` lies against a band ``+- band`` around zero, with a ``margin``.
+
+    ``above`` when value > band, ``below`` when value < -band, ``between``
+    inside; :data:`NOT_DECIDED` within ``margin`` of either edge (e.g. a
+    frequency "higher", "lower" or "the same" as the solid's, the band the
+    solid mesh's own error).
+
+    >>> BandVerdict(0.8, band=0.5, margin=0.1, above="higher", below="lower", between="the same",
+    ...             reason="mesh", unit="%").answer
+    'higher'
+    """
+
+    value: float
+    band: float
+    margin: float
+    above: Any
+    below: Any
+    between: Any
+    reason: str
+    unit: str = ""
+
+    def __post_init__(self):
+        if not (self.band >= 0 and self.margin >= 0):
+            raise ValueError(f"a band verdict needs band, margin >= 0 (got {self.band}, {self.margin})")
+
+    @property
+    def answer(self) -> Any:
+        if not math.isfinite(self.value):
+            return NOT_DECIDED
+        return _three_way(self.value, self.band, self.margin, self.above, self.below, self.between)
+
+    def sentence(self, fmt: str = "{:.4g}") -> str:
+        unit = f" {self.unit}" if self.unit else ""
+        band = f"a band of +-{fmt.format(self.band)}" if self.band > 0 else "0"
+        return (f"{_word(self.answer)} ({fmt.format(self.value)}{unit} against {band}"
+                f" +- {fmt.format(self.margin)}{unit}: {self.reason})")
+
+    def to_json(self) -> dict:
+        return {"answer": self.answer, "value": _finite_or_none(self.value), "threshold": self.band,
+                "margin": self.margin, "unit": self.unit, "reason": self.reason}
+
+
+def _three_way(x: float, edge: float, margin: float, above: Any, below: Any, between: Any) -> Any:
+    """``above`` for x > edge, ``below`` for x < -edge, ``between`` inside; not decided within the margin."""
+    if abs(abs(x) - edge) <= margin:
+        return NOT_DECIDED
+    if abs(x) < edge:
+        return between
+    return above if x > 0 else below
+
+
+def is_verdict(document: Any) -> bool:
+    """Whether a JSON value is a verdict's record (the keys of :meth:`Verdict.to_json`)."""
+    return isinstance(document, dict) and tuple(document) == KEYS
+
+
+def answer_of(document: Any) -> Any:
+    """A verdict record's answer; any other value as it is (conclusions stored before verdicts had margins)."""
+    return document["answer"] if is_verdict(document) else document
+
+
+def contradicts(a: Any, b: Any) -> bool:
+    """Whether two runs' answers (records or plain values) take different sides.
+
+    An answer :data:`NOT_DECIDED` contradicts nothing: a coarser run that
+    cannot decide within its margin does not disagree with a finer one that can.
+
+    >>> contradicts("larger", NOT_DECIDED), contradicts(True, False), contradicts("same", "same")
+    (False, True, False)
+    """
+    a, b = answer_of(a), answer_of(b)
+    return a != NOT_DECIDED and b != NOT_DECIDED and a != b

@@ -1,0 +1,274 @@
+"""Each study's verdicts flip where their number crosses the threshold and read "not decided" within the margin.
+
+The studies' own verdict functions on synthetic inputs: a number well below the threshold, one well above
+(the answer flips), and one inside the margin (``not decided``). The margins are the numbers' measured
+uncertainties (speed grid, settling, timing noise); shroud.core.verdict holds the arithmetic, these tests
+hold that each study hands it the right number, threshold and margin and reads the right side.
+"""
+
+import json
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from comparisons import (_bands, _coexistence, _families, convergence, default, error_vs_time, fig3, fig7, fig8, friction,
+                         gap_preload, stability, table1)
+from comparisons.paper import TABLE1_FE, TABLE1_LABELS, TABLE1_REDUCED
+from shroud.core.results import SweepResult
+from shroud.core.verdict import KEYS, NOT_DECIDED, TIME_RATIO, contradicts, is_verdict
+
+STEP = 400.0      # r/min, a speed grid's step
+
+
+# --- the speed grid: resonant speeds ---------------------------------------------
+
+@pytest.mark.parametrize("difference, answer", [(0.0, True), (STEP, NOT_DECIDED), (2 * STEP, False)])
+def test_same_resonant_speed_is_decided_outside_one_grid_step(difference, answer):
+    """fig4, fig7: equal readings are one speed, two steps apart two speeds; one step apart may be either."""
+    assert _families.same_speed(8000.0, 8000.0 + difference, STEP).answer == answer
+
+
+@pytest.mark.parametrize("speeds, answer", [([8000, 8400, 13600], True), ([8000, 8000, 13600], NOT_DECIDED),
+                                            ([8000, 7600, 13600], NOT_DECIDED), ([8000, 7200, 13600], False)])
+def test_resonant_speed_rises_as_the_gap_closes(speeds, answer):
+    """gap_preload: a rise of a step is a rise; equal readings or a step down are not decided; two down fall."""
+    ordered = [{"resonance_rpm": float(s)} for s in speeds]
+    assert gap_preload.rises(ordered, STEP).answer == answer
+
+
+def test_grid_margin_is_the_change_on_every_other_speed():
+    """A sharp peak that the odd speeds miss moves its amplitude by the difference; a flat curve by nothing."""
+    rpm = np.arange(5.0) * STEP
+    def sweep(a):
+        return SweepResult("m", rpm, np.asarray(a, float), rpm, (1,) * 5, rpm, 1, 0.0, 0.0, (True,) * 5)
+    case = _families.Case("gap 600 um", "gap", 600.0, None)
+    amplitude = lambda rows: rows[0]["resonance_amplitude_m"]            # noqa: E731
+    assert _families.grid_margin({"a": [(case, sweep([1, 2, 4, 2, 1]))]}, amplitude) == 2.0
+    assert _families.grid_margin({"a": [(case, sweep([1, 1, 1, 1, 1]))]}, amplitude) == 0.0
+
+
+# --- friction: "no effect at large gaps" and the small-gap trends ----------------
+
+def family_rows(big_gap_amplitudes: tuple[float, float], small_gap: tuple[tuple[float, float], ...]) -> list[dict]:
+    """Resonance rows of two variants: one gap of 100 um and the small gap (rpm, amplitude)."""
+    rows = []
+    for k, name in enumerate(("mu 0.1", "mu 0.5")):
+        rows.append({"variant": name, "case": "gap 100 um", "kind": "gap", "value": 100.0, "resonance_rpm": 10000.0,
+                     "beyond_range": False, "resonance_amplitude_m": big_gap_amplitudes[k]})
+        rpm, amp = small_gap[k]
+        rows.append({"variant": name, "case": "gap 1 um", "kind": "preload", "value": -10.0, "resonance_rpm": rpm,
+                     "beyond_range": False, "resonance_amplitude_m": amp})
+    return rows
+
+
+MARGINS = friction.Margins(tolerance=2e-3, step_rpm=STEP, spread=0.006, change=0.01)   # spread margin 1 %
+
+
+@pytest.mark.parametrize("spread, answer", [(0.03, True), (0.045, NOT_DECIDED), (0.055, NOT_DECIDED),
+                                            (0.07, False)])
+def test_large_gaps_no_effect_flips_at_five_percent_with_the_measured_margin(spread, answer):
+    rows = family_rows((1e-4, 1e-4 * (1 - spread)), ((27000.0, 2e-5), (29000.0, 1e-5)))
+    found = friction.conclusions(rows, 1.0, MARGINS)
+    verdict = found["large_gaps_no_effect"]
+    assert verdict.value == pytest.approx(spread)
+    assert verdict.margin == pytest.approx(2 * 2e-3 + 0.006)
+    assert verdict.answer == answer
+
+
+@pytest.mark.parametrize("rpms, answer", [((27000.0, 28200.0), 1), ((27000.0, 27400.0), NOT_DECIDED),
+                                          ((27000.0, 26200.0), -1)])
+def test_small_gap_speed_trend_needs_more_than_one_grid_step(rpms, answer):
+    rows = family_rows((1e-4, 1e-4), ((rpms[0], 2e-5), (rpms[1], 1e-5)))
+    assert friction.conclusions(rows, 1.0, MARGINS)["gap 1 um"]["speed_trend"].answer == answer
+
+
+@pytest.mark.parametrize("ratio, answer", [(0.5, -1), (0.99, NOT_DECIDED), (1.2, 1)])
+def test_small_gap_amplitude_trend_is_not_decided_within_settling_and_grid(ratio, answer):
+    rows = family_rows((1e-4, 1e-4), ((27000.0, 2e-5), (29000.0, 2e-5 * ratio)))
+    assert friction.conclusions(rows, 1.0, MARGINS)["gap 1 um"]["amplitude_trend"].answer == answer
+
+
+# --- fig7: peak and curve agreement ------------------------------------------------
+
+def fig7_row(peak_ratio: float, curve_gap: float) -> dict:
+    return {"case": "gap 600 um", "peak_ratio": peak_ratio, "curve_gap": curve_gap,
+            "reduced_resonance_rpm": 8400.0, "fe_reduced_resonance_rpm": 8400.0}
+
+
+@pytest.mark.parametrize("gap, answer", [(0.01, True), (0.0515, NOT_DECIDED), (0.09, False)])
+def test_fig7_curves_agree_flips_at_the_coexistence_threshold(gap, answer):
+    found = fig7.conclusions([fig7_row(3.0, gap)], [], STEP, 0.05, 2e-3)["gap 600 um"]
+    assert found["curves_agree"].answer == answer
+    assert found["same_resonant_speed"].answer is True
+
+
+@pytest.mark.parametrize("ratio, answer", [(3.0, True), (1.501, NOT_DECIDED), (1.1, False)])
+def test_fig7_a_curve_without_a_clear_peak_reads_no_resonant_speed(ratio, answer):
+    found = fig7.conclusions([fig7_row(ratio, 0.01)], [], STEP, 0.05, 2e-3)["gap 600 um"]
+    assert found["peaked"].answer == answer
+    assert (found["beam_resonance_rpm"] is None) == (answer is not True)
+
+
+# --- fig8: amplitudes, slip, NRMSE targets, cost -----------------------------------
+
+def fig8_results(v_l: float = 1.0, slip: float = 0.3, nrmse: float = 0.005, change: float = 1e-3,
+                 times: tuple[float, float] = (1.0, 1.0)) -> dict:
+    """A results.json's numbers for two models and a reference, as fig8.run returns them."""
+    states = lambda s: {side: {"separate": 0.5, "slip": s, "stick": 0.5 - s} for side in ("side1", "side2")}  # noqa: E731
+    return {"reference": "fe-reduced", "periods": 100, "steps_per_period": 256,
+            "amplitude": {"reduced": {"v_L": v_l * 40e-6, "w_L": 10e-6},
+                          "full": {"v_L": 40e-6, "w_L": 10e-6}, "fe-reduced": {"v_L": 40e-6, "w_L": 10e-6}},
+            "versus_reference": {"reduced": {"worst_nrmse": 0.1}, "full": {"worst_nrmse": 0.1}},
+            "pairs": {"reduced vs full": {"worst_nrmse": nrmse, "target": 0.01}},
+            "state_fraction": {"reduced": states(slip), "full": states(0.3), "fe-reduced": states(0.3)},
+            "amplitude_change": {"reduced": change, "full": change, "fe-reduced": change},
+            "table3": [{"model": "reduced", "total_s": times[0], "status": "complete"},
+                       {"model": "full", "total_s": times[1], "status": "complete"}]}
+
+
+@pytest.mark.parametrize("scale, answer", [(1.02, "larger"), (1.0055, NOT_DECIDED), (1.001, "the same"),
+                                           (0.98, "smaller")])
+def test_fig8_amplitude_against_the_reference_with_the_runs_settling_as_margin(scale, answer):
+    """Band 0.5 %, margin the runs' settling change (0.1 %): 0.55 % is within it of the band's edge."""
+    found = fig8.conclusions(fig8_results(v_l=scale))
+    assert found["amplitude_vs_reference"]["reduced"]["v_L"].answer == answer
+
+
+@pytest.mark.parametrize("slip, answer", [(0.35, "more"), (0.3201, NOT_DECIDED), (0.31, "the same"),
+                                          (0.25, "less")])
+def test_fig8_slip_share_against_the_reference_with_one_time_step_as_margin(slip, answer):
+    """Band 0.02 of the window, margin one step of 10 periods x 256 steps (0.0004)."""
+    assert fig8.conclusions(fig8_results(slip=slip))["slip_vs_reference"]["reduced"].answer == answer
+
+
+@pytest.mark.parametrize("nrmse, answer", [(0.005, True), (0.010005, NOT_DECIDED), (0.02, False)])
+def test_fig8_pair_target_flips_at_its_nrmse_target(nrmse, answer):
+    assert fig8.conclusions(fig8_results(nrmse=nrmse))["pairs_met"]["reduced vs full"].answer == answer
+
+
+@pytest.mark.parametrize("times, answer", [((1.0, 1.0), "comparable"), ((1.0, 3.0), NOT_DECIDED),
+                                           ((1.0, 5.0), NOT_DECIDED), ((1.0, 7.0), "cheaper"),
+                                           ((7.0, 1.0), "costlier")])
+def test_fig8_cost_is_never_decided_by_timing_noise(times, answer):
+    """Band x3, margin the measured timing noise x2: a 5x ratio is within noise of the band's edge."""
+    cost = fig8.conclusions(fig8_results(times=times))["cost"]["reduced vs full"]
+    assert cost.answer == answer
+    assert cost.to_json()["unit"] == TIME_RATIO and cost.noise == _bands.TIMING_NOISE
+
+
+def test_fig8_verdicts_serialize_as_answer_value_threshold_margin_unit_reason():
+    found = json.loads(json.dumps(fig8.conclusions(fig8_results()), default=lambda v: v.to_json()))
+    for group in ("pairs_met", "settled", "slip_vs_reference", "cost"):
+        for record in found[group].values():
+            assert is_verdict(record) and tuple(record) == KEYS, (group, record)
+
+
+# --- default: frequencies against the solid ----------------------------------------
+
+@pytest.mark.parametrize("percent, answer", [(0.5, "higher"), (0.1, "the same"), (-0.5, "lower"),
+                                             (float("nan"), NOT_DECIDED)])
+def test_default_frequency_against_the_solid(percent, answer):
+    results = {"modal": {"rows": [{"label": "flap1", "reduced_vs_fe_percent": percent}]}}
+    assert default.conclusions(results)["frequency_vs_solid"]["flap1"]["reduced"].answer == answer
+
+
+# --- error_vs_time: errors and costs -------------------------------------------------
+
+@pytest.mark.parametrize("ratio, answer", [(0.5, "smaller"), (0.9, NOT_DECIDED), (1.2, NOT_DECIDED),
+                                           (2.0, "larger")])
+def test_error_ordering_is_not_decided_within_the_reference_error(ratio, answer):
+    assert error_vs_time.ordering(0.1, 0.1 * ratio).answer == answer
+
+
+@pytest.mark.parametrize("ratio, answer", [(0.5, True), (0.9, NOT_DECIDED), (2.0, False)])
+def test_beats_every_beam(ratio, answer):
+    assert error_vs_time.beats(0.1 * ratio, 0.1).answer == answer
+
+
+@pytest.mark.parametrize("a, answer", [(1.0, "comparable"), (0.1, "cheaper"), (0.25, NOT_DECIDED)])
+def test_cost_versus_has_the_timing_noise_as_its_margin(a, answer):
+    assert _bands.cost_versus(a, 1.0).answer == answer
+
+
+# --- table1 and fig3 -------------------------------------------------------------------
+
+def table1_rows(scale: float) -> tuple[list[dict], dict, dict]:
+    """Rows at N = 6 and 7 at ``scale`` times the paper's beam column, and a converged reference at the
+    paper's ANSYS column (N = 14, N = 13 the same)."""
+    rows = [{"N": N, "f": {lab: scale * TABLE1_REDUCED[N][k] for k, lab in enumerate(TABLE1_LABELS)}}
+            for N in (6, 7)]
+    ref = {"N": 14, "f": dict(zip(TABLE1_LABELS, TABLE1_FE))}
+    return rows, ref, {**ref, "N": 13}
+
+
+@pytest.mark.parametrize("scale, answer", [(1.01, True), (1.02, NOT_DECIDED), (1.03, False)])
+def test_table1_within_two_percent_of_the_paper(scale, answer):
+    rows, ref, before = table1_rows(scale)
+    assert table1.conclusions(rows, ref, before)["within_2pct_of_paper"]["N 6, flap3"].answer == answer
+
+
+def test_table1_converged_reference_margin_holds_its_own_convergence():
+    """The reference's change from one N less is part of the margin: a reference still moving by 0.2 %
+    cannot decide "within 0.1 %"."""
+    rows, ref, before = table1_rows(1.0)
+    assert table1.conclusions(rows, ref, before)["converged_within_0.1pct_of_paper_fe"]["flap1"].answer is True
+    moving = {**before, "f": {lab: 1.002 * f for lab, f in before["f"].items()}}
+    assert table1.conclusions(rows, ref, moving)["converged_within_0.1pct_of_paper_fe"]["flap1"].answer == NOT_DECIDED
+
+
+def test_table1_falls_with_N():
+    rows, ref, before = table1_rows(1.0)
+    assert table1.conclusions(rows, ref, before)["falls_with_N"]["flap1"].answer is True    # 7 below 6
+    rows.reverse()
+    assert table1.conclusions(rows, ref, before)["falls_with_N"]["flap1"].answer is False
+
+
+@pytest.mark.parametrize("error, answer", [(0.08, True), (1.5, False)])
+def test_fig3_reduction_error_below_one_percent(error, answer):
+    assert fig3.reduction_verdict(error, 30).answer == answer
+
+
+# --- the quick-against-full rule --------------------------------------------------------
+
+def test_a_quick_not_decided_contradicts_no_full_side():
+    decided = {"answer": True, "value": 0.02, "threshold": 0.05, "margin": 0.01, "unit": "", "reason": ""}
+    open_ = {**decided, "answer": NOT_DECIDED}
+    assert not contradicts(open_, decided) and not contradicts(open_, False)
+    assert contradicts({**decided, "answer": False}, decided) and contradicts(decided, False)
+    assert not math.isnan(decided["value"])
+
+
+# --- convergence and stability -----------------------------------------------------------
+
+@pytest.mark.parametrize("worst, answer", [(0.10, True), (0.14, NOT_DECIDED), (0.20, False)])
+def test_convergence_mesh_within_tolerance_is_not_decided_within_how_well_the_values_are_known(worst, answer):
+    """Tolerance 0.15 %; the converged values known to 0.02 % (the other cell kind's estimate)."""
+    assert convergence.within(worst, 0.15, 0.02).answer == answer
+    assert convergence.within(worst, 0.15, None).margin == 0.0
+
+
+@pytest.mark.parametrize("difference, step_error, answer", [(0.005, 1e-4, True), (0.0095, 1e-3, NOT_DECIDED),
+                                                             (0.02, 1e-3, False)])
+def test_linear_limit_holds_the_transients_step_error_as_margin(difference, step_error, answer):
+    assert stability.linear_limit(difference, step_error).answer == answer
+
+
+@pytest.mark.parametrize("difference, answer", [(0.002, True), (0.011, NOT_DECIDED), (0.02, False),
+                                                (math.inf, NOT_DECIDED)])
+def test_coexisting_states_match_within_one_percent_and_twice_the_settling_tolerance(difference, answer):
+    assert _coexistence.state_match(difference, 2e-3).answer == answer
+
+
+def test_fig8_a_run_too_short_to_measure_its_settling_decides_nothing_from_its_window():
+    """Fewer periods than two windows: the settling is unknown (None), so amplitudes, slip and the NRMSE
+    target read "not decided" however far apart the numbers are; its cost (run times) is still decided."""
+    results = fig8_results(v_l=2.0, slip=0.1, nrmse=0.001, times=(1.0, 100.0))
+    results["amplitude_change"] = {m: None for m in results["amplitude_change"]}
+    found = fig8.conclusions(results)
+    assert found["amplitude_vs_reference"]["reduced"]["v_L"].answer == NOT_DECIDED
+    assert found["slip_vs_reference"]["reduced"].answer == NOT_DECIDED
+    assert found["pairs_met"]["reduced vs full"].answer == NOT_DECIDED
+    assert found["settled"]["reduced"].answer == NOT_DECIDED
+    assert found["cost"]["reduced vs full"].answer == "cheaper"
