@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._agreement import agreement, signals_of
+from shroud.analysis.agreement import agreement, signals_of
 from comparisons._bands import CHEAPER, TIMING_NOISE, cost_versus, versus
 from shroud.analysis import api
 from shroud.analysis.hb import solve_at

@@ -5,7 +5,7 @@ on all six cases; the reduced model takes ~70 % of the full model's time.
 
 Where the curves differ by more than ``coexist_threshold``, both models are
 restarted from the same physical initial states to tell coexisting steady
-states from model error (comparisons._coexistence).
+states from model error (shroud.analysis.coexistence).
 """
 
 from __future__ import annotations
@@ -15,14 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons import _coexistence, paper
+from comparisons import paper
+from shroud.analysis import coexistence
 from comparisons._families import grid_limits, same_speed
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
-           "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 53, **_coexistence.OPTIONS}
+           "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 53, **coexistence.OPTIONS}
 MODELS = ("reduced", "full")
 
 
@@ -57,7 +58,7 @@ def run(scene, out: Path) -> dict:
                         "same_resonant_speed": same_speed(res["reduced"]["rpm"], res["full"]["rpm"],
                                                           float(rpms[1] - rpms[0]))}
     save(fig, out / "fig4_reduced_vs_full.png")
-    coexist = _coexistence.coexistence(cases, sweeps, rpms, opts, MODELS)
+    coexist = coexistence.coexistence(cases, sweeps, rpms, opts, MODELS)
     for label in found:      # curves apart from rest only where both models have the same or shared states
         found[label]["differing_speed_verdicts"] = sorted({c["verdict"] for c in coexist if c["case"] == label})
     unsettled = {m: sum(not x for s in sweeps[m] for x in s.settled) for m in MODELS}
@@ -79,7 +80,7 @@ def run(scene, out: Path) -> dict:
              f"What these settings cannot resolve: {grid_limits(rpms[1] - rpms[0])}.\n",
              "| paper | here |", "|---|---|",
              f"| reduced and full agree on all six cases | largest amplitude difference from rest "
-             f"{max(r[5] for r in rows):.3f} % of the full model's peak{_coexistence.summary(coexist)} |",
+             f"{max(r[5] for r in rows):.3f} % of the full model's peak{coexistence.summary(coexist)} |",
              f"| reduced run time ~{100 * paper.FIG4_TIME_SHARE:.0f} % of the full one | {100 * t_red / t_full:.0f} % "
              f"({seconds(t_red)} vs {seconds(t_full)}, build + integration summed over all runs) |", "",
              markdown_table(["case", "resonance reduced (r/min)", "resonance full (r/min)",
@@ -88,7 +89,7 @@ def run(scene, out: Path) -> dict:
              "\nSame resonant speed, reduced and full (each verdict with its number, threshold and margin):\n",
              *[f"- {label}: {v['same_resonant_speed'].sentence()}" for label, v in found.items()], "",
              "![fig4_reduced_vs_full.png](fig4_reduced_vs_full.png)",
-             *_coexistence.section(coexist, opts, MODELS, MODELS)]
+             *coexistence.section(coexist, opts, MODELS, MODELS)]
     (out / "report.md").write_text("\n".join(lines) + "\n")
     return {"cases": out_json, "reduced_to_full_time_ratio": t_red / t_full, "conclusions": found,
             "cpu_s": {"reduced": t_red, "full": t_full}, "coexisting_states": coexist}

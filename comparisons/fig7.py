@@ -15,7 +15,7 @@ over the speeds divided by the beam curve's peak). Where the curves differ
 by more than ``coexist_threshold`` at a speed, both models are restarted
 from the same initial states to tell coexisting steady states (a jump
 reached from rest by one model and not the other) from model error
-(comparisons._coexistence).
+(shroud.analysis.coexistence).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons import _coexistence
+from shroud.analysis import coexistence
 from comparisons import _families as fam
 from shroud.base.errors import InputError
 from shroud.base.log import Progress, info
@@ -41,7 +41,7 @@ OPTIONS = {
     "preloads_N": [0.0, 10.0, 50.0],
     "rpm_from": 6000.0, "rpm_to": 14000.0, "rpm_count": 17,
     "models": ["reduced", "fe-reduced"],
-    **_coexistence.OPTIONS,
+    **coexistence.OPTIONS,
 }
 LINE, POINTS = "reduced", "fe-reduced"
 PEAKED = 1.5     # a curve has a resonance peak in the range when its largest amplitude is this many times its smallest
@@ -130,7 +130,7 @@ def run(scene, out: Path) -> dict:
                            "fe_reduced_v_L_m": pts.amplitude_v_L[i], "reduced_w_L_m": line.amplitude_w_L[i],
                            "fe_reduced_w_L_m": pts.amplitude_w_L[i], "reduced_settled": line.settled[i],
                            "fe_reduced_settled": pts.settled[i]})
-    coexist = _coexistence.coexistence([(c.label, c.params) for c in cases], sweeps, rpms, o, (LINE, POINTS))
+    coexist = coexistence.coexistence([(c.label, c.params) for c in cases], sweeps, rpms, o, (LINE, POINTS))
     write_records(out / "fig7_curves.csv", curves)
     write_records(out / "fig7_resonances.csv", rows)
     figure_name = _figure(cases, sweeps, out)
@@ -202,5 +202,5 @@ def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist, settling
                + (f"; same resonant speed {v['same_resonant_speed'].sentence()}" if v["same_resonant_speed"]
                   else "") for case, v in found.items()], "",
              "Data: `fig7_curves.csv`, `fig7_resonances.csv`.\n",
-             *_coexistence.section(coexist, scene.options, (LINE, POINTS), ("beam", "solid FE"))]
+             *coexistence.section(coexist, scene.options, (LINE, POINTS), ("beam", "solid FE"))]
     return "\n".join(lines)

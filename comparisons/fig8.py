@@ -38,7 +38,7 @@ import time
 from pathlib import Path
 
 from comparisons import convergence
-from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
+from shroud.analysis.agreement import SIGNALS, Agreement, agreement, signals_of
 from comparisons._bands import CHEAPER, TIMING_NOISE, cost_versus, versus
 from comparisons.paper import TABLE3_SECONDS
 from shroud.analysis import api
