@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 
 from shroud import api
+from shroud.core import registry
 from shroud.core.contact import contact_law
 from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.core.signals import amplitude
@@ -119,8 +120,8 @@ def chain_system(case: dict, omega: float, tip: tuple[int, int] = (0, 0)) -> api
 
 
 def register(name: str, case: dict, tip: tuple[int, int] = (0, 0)) -> api.Parameters:
-    """Register ``case`` as a workbench model; its parameters (excitation order 1: the speed in rad/s is
-    the forcing frequency; the Jenkins elements' kt, mu, N0 as the contact's)."""
+    """Register ``case`` as a workbench model; its parameters (excitation order 1: the rotation speed
+    Omega, rad/s, is the forcing frequency; the Jenkins elements' kt, mu, N0 as the contact's)."""
     for element in case["jenkins"]:
         assert (element["kt"], element["mu"], element["N0"]) == (KT, MU, N0)     # one law for every element
     api.register_model(api.ModelEntry(name, build_system=lambda p: chain_system(case, p.load.ke * p.speed.omega, tip),
@@ -159,6 +160,15 @@ def one_oscillator_comparison(theirs: dict, name: str) -> dict:
             "workbench_2H": np.array([ours(w, 2 * H, None) for w in omega[inside]]),
             "stuck": np.array(theirs["stuck_share"])[inside, 0], "last_omega": float(omega[-1]),
             "pyharm_s": theirs["elapsed_s"]}
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _models_leave_with_the_module():
+    """The models these tests register (:func:`register`) are gone after them."""
+    saved = dict(registry._MODELS)
+    yield
+    registry._MODELS.clear()
+    registry._MODELS.update(saved)
 
 
 @pytest.fixture(scope="module")
