@@ -155,6 +155,7 @@ def one_oscillator_comparison(theirs: dict, name: str) -> dict:
         return api.harmonic_balance(p, name, rpm(w), harmonics=harmonics, samples=samples, start=start).amplitude_v_L
 
     return {"complete": branch.complete, "omega": omega[inside], "branch_points": len(branch.rpm),
+            "branch_omega": np.asarray(branch.rpm) * 2 * math.pi / 60.0, "branch_amplitude": branch.amplitude_v_L,
             "pyharm": np.array([half_range(c)[0] for c in theirs["coefficients"][inside]]),
             "workbench": np.array([ours(w, H, start_on(branch, w)) for w in omega[inside]]),
             "workbench_2H": np.array([ours(w, 2 * H, None) for w in omega[inside]]),
@@ -286,9 +287,35 @@ def test_a_tuned_chain_by_pyharm_against_the_whole_chain_in_time(chain):
         assert np.abs(np.array(row["newmark"]) / np.array(row["pyharm"]) - 1).max() < 5e-3, row
 
 
-if __name__ == "__main__":          # the numbers of docs/pyharm.md
+def draw(one: dict, chain: dict, in_time: dict, path: Path) -> Path:
+    """The one oscillator's curves (H = 10) and the chain's: pyHarm's points, the workbench's branch or
+    its whole-chain HB at pyHarm's frequencies, the chain in time."""
+    from shroud.core.plotting import figure, save
+    fig, ax = figure(1, 2, width=7.5, height=3.0)
+    a, b = ax[0]
+    a.plot(one["branch_omega"], one["branch_amplitude"] * 1e3, "-", color="tab:red", label="workbench, continuation")
+    a.plot(one["omega"], one["pyharm"] * 1e3, "o", ms=3, mfc="none", color="black", label="pyHarm, continuation")
+    a.axhline(X_SLIP * 1e3, color="tab:gray", ls=":", label="slip onset mu N0 / kt")
+    a.set(title="one oscillator, Jenkins element to the ground (H = 10)", xlabel="forcing frequency (rad/s)",
+          ylabel="amplitude (mm)")
+    b.plot(chain["omega"], chain["workbench"][:, 0] * 1e3, "-", color="tab:red", label="workbench, whole-chain HB")
+    b.plot(chain["omega"], chain["pyharm"][:, 0] * 1e3, "o", ms=3, mfc="none", color="black", label="pyHarm")
+    b.plot([r["omega"] for r in in_time["points"]], [r["newmark"][0] * 1e3 for r in in_time["points"]], "s",
+           ms=6, mfc="none", color="tab:blue", label="Newmark, whole chain")
+    b.axhline(X_SLIP * 1e3, color="tab:gray", ls=":")
+    b.set(title=f"tuned chain of {BLADES}, engine order {ENGINE_ORDER}, blade 0 (H = {CHAIN_H})",
+          xlabel="forcing frequency (rad/s)", ylabel="amplitude (mm)")
+    for panel in (a, b):
+        panel.set_ylim(0.0, 0.56)                  # the legends above the resonances
+        panel.legend(loc="upper left")
+    return save(fig, path)
+
+
+if __name__ == "__main__":          # the numbers of docs/pyharm.md; with a path, its figure
+    import sys
+    ones = {}
     for H in (10, 20):
-        r = one_oscillator_comparison(pyharm(jenkins_case(harmonics=H)), f"jenkins-one-{H}")
+        r = ones[H] = one_oscillator_comparison(pyharm(jenkins_case(harmonics=H)), f"jenkins-one-{H}")
         slipping = (r["stuck"] > 0.05) & (r["stuck"] < 0.95)
         print(f"one oscillator, H = {H}: {len(r['omega'])} pyHarm points in {r['pyharm_s']:.1f} s "
               f"({slipping.sum()} in stick-slip), "
@@ -304,8 +331,11 @@ if __name__ == "__main__":          # the numbers of docs/pyharm.md
           f"{np.abs(r['workbench'] / r['pyharm'][:, [0, BLADES // 2]] - 1).max():.2e}; H 20 / H {CHAIN_H} - 1 "
           f"{np.abs(r['workbench_20'] / r['workbench'] - 1).max():.2e}; resonance "
           f"{r['pyharm'][:, 0].max() * 1e3:.4f} mm at {r['omega'][np.argmax(r['pyharm'][:, 0])]:.2f} rad/s")
-    for row in newmark_comparison(theirs)["points"]:
+    in_time = newmark_comparison(theirs)
+    for row in in_time["points"]:
         print(f"chain in time at {row['omega']:.3f} rad/s: blades 0, 3 {row['newmark'][0] * 1e3:.5f}, "
               f"{row['newmark'][1] * 1e3:.5f} mm against pyHarm {row['pyharm'][0] * 1e3:.5f}, "
               f"{row['pyharm'][1] * 1e3:.5f} mm ({row['newmark'][0] / row['pyharm'][0] - 1:+.1e}); "
               f"settled to {row['settled']:.1e}")
+    if len(sys.argv) > 1:
+        print(f"wrote {draw(ones[10], r, in_time, Path(sys.argv[1]))}")
