@@ -25,7 +25,6 @@ share of the period each Jenkins element sticks. This file imports nothing from 
 from __future__ import annotations
 
 import json
-import logging
 import os
 import sys
 import time
@@ -71,7 +70,6 @@ def run(case: dict) -> dict:
 
     t0 = time.perf_counter()
     maestro = Maestro(pyharm_input(case))
-    logging.disable(logging.CRITICAL)          # pyHarm logs to stdout: keep it for the JSON answer
     maestro.operate()
     analysis = maestro.nls["frf"]
     n, H = len(case["mass"]), case["harmonics"]
@@ -83,7 +81,7 @@ def run(case: dict) -> dict:
     for sol in analysis.SolList:
         if not sol.flag_accepted:
             continue
-        x = maestro.system._expand_q(sol.x)
+        x = sol.x                              # every DOF (no kinematic conditions), then omega
         c = np.zeros((2 * H + 1, n))
         c[row, node] = x[:-1]
         points["omega"].append(float(x[-1]))
@@ -101,6 +99,6 @@ def run(case: dict) -> dict:
 if __name__ == "__main__":
     case = json.load(sys.stdin)
     out = sys.stdout
-    sys.stdout = sys.stderr                    # anything pyHarm prints goes to stderr
+    sys.stdout = sys.stderr                    # pyHarm's banner and log go to stderr
     answer = run(case)
     json.dump(answer, out)
