@@ -182,8 +182,8 @@ def test_one_jenkins_oscillator_by_pyharm_and_by_the_workbench(one_oscillator, H
     """The frequency-response curve from 80 to 180 rad/s, through the resonance, by both codes with
     continuation in the forcing frequency, H harmonics each: at each of pyHarm's points the workbench
     (Newton at that frequency from its own branch) gives the same amplitude within 0.5 % (measured:
-    1.8e-5, pyHarm's solver tolerance); the curve runs from stuck through stick-slip (the resonance at 3.5 x_slip) back to stuck,
-    and it is converged in H: the workbench's amplitudes at H and 2 H differ by less than 0.05 %
+    1.8e-5, pyHarm's solver tolerance); the curve runs from stuck through stick-slip (the resonance
+    at 3.6 x_slip) back to stuck, and it is converged in H: the workbench's amplitudes at H and 2 H differ by less than 0.05 %
     (measured 6e-5 at H = 10), so pyHarm's at H = 10 and 20 are both the converged curve."""
     r = one_oscillator_comparison(one_oscillator[H], f"jenkins-one-{H}")
     assert r["complete"] and r["omega"][0] == pytest.approx(OMEGA[0]) and r["last_omega"] >= OMEGA[1]
