@@ -75,7 +75,8 @@ def half_range(coefficients: np.ndarray) -> np.ndarray:
     a_0, a_1, b_1, ..., sampled at 4096 instants."""
     tau = np.linspace(0.0, 2 * np.pi, 4096, endpoint=False)
     k = np.arange(1, (coefficients.shape[0] - 1) // 2 + 1)
-    x = coefficients[0] + np.cos(np.outer(tau, k)) @ coefficients[1::2] + np.sin(np.outer(tau, k)) @ coefficients[2::2]
+    phase = np.outer(tau, k)
+    x = coefficients[0] + np.cos(phase) @ coefficients[1::2] + np.sin(phase) @ coefficients[2::2]
     return 0.5 * (x.max(axis=0) - x.min(axis=0))
 
 
@@ -124,7 +125,10 @@ def register(name: str, case: dict, tip: tuple[int, int] = (0, 0)) -> api.Parame
     Omega, rad/s, is the forcing frequency; the Jenkins elements' kt, mu, N0 as the contact's)."""
     for element in case["jenkins"]:
         assert (element["kt"], element["mu"], element["N0"]) == (KT, MU, N0)     # one law for every element
-    api.register_model(api.ModelEntry(name, build_system=lambda p: chain_system(case, p.load.ke * p.speed.omega, tip),
+    def build(params: api.Parameters) -> api.StructuralSystem:
+        return chain_system(case, params.load.ke * params.speed.omega, tip)
+
+    api.register_model(api.ModelEntry(name, build_system=build,
                                       description="oscillators with Jenkins friction elements (tests/test_pyharm.py)"))
     return api.parameters({"contact.kt": KT, "contact.mu": MU, "contact.N0": N0, "contact.kn": KN, "load.ke": 1})
 
@@ -183,8 +187,9 @@ def test_one_jenkins_oscillator_by_pyharm_and_by_the_workbench(one_oscillator, H
     continuation in the forcing frequency, H harmonics each: at each of pyHarm's points the workbench
     (Newton at that frequency from its own branch) gives the same amplitude within 0.5 % (measured:
     1.8e-5, pyHarm's solver tolerance); the curve runs from stuck through stick-slip (the resonance
-    at 3.6 x_slip) back to stuck, and it is converged in H: the workbench's amplitudes at H and 2 H differ by less than 0.05 %
-    (measured 6e-5 at H = 10), so pyHarm's at H = 10 and 20 are both the converged curve."""
+    at 3.6 x_slip) back to stuck, and it is converged in H: the workbench's amplitudes at H and 2 H
+    differ by less than 0.05 % (measured 6e-5 at H = 10), so pyHarm's at H = 10 and 20 are both the
+    converged curve."""
     r = one_oscillator_comparison(one_oscillator[H], f"jenkins-one-{H}")
     assert r["complete"] and r["omega"][0] == pytest.approx(OMEGA[0]) and r["last_omega"] >= OMEGA[1]
     assert np.all(np.diff(r["omega"]) > 0)
