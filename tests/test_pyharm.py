@@ -128,8 +128,7 @@ def register(name: str, case: dict, tip: tuple[int, int] = (0, 0)) -> api.Parame
     def build(params: api.Parameters) -> api.StructuralSystem:
         return chain_system(case, params.load.ke * params.speed.omega, tip)
 
-    api.register_model(api.ModelEntry(name, build_system=build,
-                                      description="oscillators with Jenkins friction elements (tests/test_pyharm.py)"))
+    api.register_model(api.ModelEntry(name, build_system=build, description="oscillators with Jenkins elements"))
     return api.parameters({"contact.kt": KT, "contact.mu": MU, "contact.N0": N0, "contact.kn": KN, "load.ke": 1})
 
 
