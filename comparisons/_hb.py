@@ -5,20 +5,22 @@ from __future__ import annotations
 import numpy as np
 
 
-def crossings(branch, rpm: float, stable: bool) -> list[float]:
-    """Amplitudes (m) where stretches of ``branch`` with the given stability cross ``rpm`` (interpolated)."""
+def crossings(branch, rpm: float, stable: bool | None) -> list[float]:
+    """Amplitudes (m) where stretches of ``branch`` with the given stability (True, False, or None:
+    undecided, HBResult.stable) cross ``rpm`` (interpolated)."""
     out = []
     for i in range(len(branch.rpm) - 1):
         r0, r1 = branch.rpm[i], branch.rpm[i + 1]
-        if (r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1) and branch.stable[i] == stable
-                and branch.stable[i + 1] == stable):
+        if (r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1) and branch.stable[i] is stable
+                and branch.stable[i + 1] is stable):
             t = (rpm - r0) / (r1 - r0)
             out.append(float((1 - t) * branch.amplitude_v_L[i] + t * branch.amplitude_v_L[i + 1]))
     return sorted(out)
 
 
-def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) -> list[tuple[float, bool]]:
-    """Every P1 state of ``branch`` at ``rpm``: (amplitude m, stable), solved there by harmonic balance.
+def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) -> list[tuple[float, bool | None]]:
+    """Every P1 state of ``branch`` at ``rpm``: (amplitude m, stable: True, False or None where undecided),
+    solved there by harmonic balance.
 
     Each crossing of the branch with the speed is interpolated and then
     converged at exactly that speed (Newton from the interpolated
@@ -38,21 +40,23 @@ def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) 
 
 def starts_at(branch, rpm: float) -> list[tuple[np.ndarray, bool]]:
     """Every crossing of ``branch`` with ``rpm``: its coefficients interpolated there, and whether the two
-    branch points around it are stable."""
+    branch points around it are both stable (True, not undecided)."""
     out = []
     for i in range(len(branch.rpm) - 1):
         r0, r1 = branch.rpm[i], branch.rpm[i + 1]
         if r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1):
             t = (rpm - r0) / (r1 - r0)
-            out.append(((1 - t) * branch.X[i] + t * branch.X[i + 1], bool(branch.stable[i] and branch.stable[i + 1])))
+            out.append(((1 - t) * branch.X[i] + t * branch.X[i + 1],
+                        branch.stable[i] is True and branch.stable[i + 1] is True))
     return out
 
 
-def landed_on(states: list[tuple[float, bool]], amplitude: float, period, match: float) -> str:
-    """Name of the P1 state (from :func:`states_at`) a time-domain point landed on."""
+def landed_on(states: list[tuple[float, bool | None]], amplitude: float, period, match: float) -> str:
+    """Name of the P1 state (from :func:`states_at`) a time-domain point landed on: a stable one, else one
+    of undecided stability (its |multiplier| within its error of 1), else why none."""
     if not np.isfinite(amplitude):
         return "diverged"
-    stable = sorted(a for a, s in states if s)
+    stable = sorted(a for a, s in states if s is True)
     names = (["lower stable", "upper stable"] if len(stable) == 2 else
              [f"stable {i + 1} of {len(stable)}" for i in range(len(stable))] if len(stable) > 2 else
              ["stable"])
@@ -60,11 +64,13 @@ def landed_on(states: list[tuple[float, bool]], amplitude: float, period, match:
         i = int(np.argmin([abs(a / amplitude - 1) for a in stable]))
         if abs(stable[i] / amplitude - 1) <= match:
             return names[i]
+    if period == 1 and any(s is None and abs(a / amplitude - 1) <= match for a, s in states):
+        return "undecided P1 state (|multiplier| within its error of 1)"
     if period is None:
         return "no steady state within the run (no period detected: still drifting, or quasi-periodic)"
     if period != 1:
         return f"P{period} (no P1 branch holds it)"
-    if any(not s for _, s in states) and not stable:
+    if any(s is False for _, s in states) and not stable:
         return "beside an unstable P1 branch"
     return "off the P1 branches"
 
