@@ -2,7 +2,15 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+from shroud.core.verdict import Verdict
+
+SAME_RESONANCE = 0.01     # two models' resonant amplitudes this close (relative): the same resonance
+SAME_REASON = ("1 %: the match within which the studies put a time-domain point on a branch; margin: each "
+               "resonance's change at twice the harmonics plus its rise between branch points")
 
 
 def crossings(branch, rpm: float, stable: bool | None) -> list[float]:
@@ -78,3 +86,53 @@ def landed_on(states: list[tuple[float, bool | None]], amplitude: float, period,
 def on_stable(name: str) -> bool:
     """Whether a name from :func:`landed_on` is a stable P1 branch."""
     return name.endswith("stable") or name.startswith("stable")
+
+
+def resonance_of(branch) -> dict:
+    """A branch's resonance as conclusions hold it (HBResult.resonance: on the points not shown unstable):
+    rpm (r/min) and amplitude_m with their errors, its stability (True, or None: undecided), and the larger
+    unstable peak beside it (rpm, amplitude_m) or None."""
+    r = branch.resonance
+    other = r["unstable_peak"]
+    return {"rpm": r["rpm"], "rpm_error": r["rpm_error"], "amplitude_m": r["amplitude"],
+            "amplitude_error_m": r["amplitude_error"], "stable": r["stable"],
+            "unstable_peak": None if other is None else {"rpm": other["rpm"], "amplitude_m": other["amplitude"]}}
+
+
+def relative_error(resonance: dict) -> float:
+    """The relative error of a :func:`resonance_of` amplitude (inf where unknown)."""
+    a, e = resonance["amplitude_m"], resonance["amplitude_error_m"]
+    return e / a if a > 0 and math.isfinite(e) else math.inf
+
+
+def same_resonance(a: dict, b: dict, names: tuple[str, str]) -> Verdict:
+    """Whether two :func:`resonance_of` amplitudes are the same (within SAME_RESONANCE, margin their
+    relative errors summed)."""
+    value = abs(a["amplitude_m"] / b["amplitude_m"] - 1) if b["amplitude_m"] > 0 else math.nan
+    return Verdict.of(value, SAME_RESONANCE, relative_error(a) + relative_error(b), below="same", above="different",
+                      reason=f"{names[0]} against {names[1]}: {SAME_REASON}")
+
+
+def rises(resonances: list[dict], what: str) -> Verdict:
+    """Whether the resonant speed of successive :func:`resonance_of` entries rises: the smallest step from
+    one to the next (r/min) against 0, margin that pair's speed errors summed."""
+    steps = [(b["rpm"] - a["rpm"], a["rpm_error"] + b["rpm_error"]) for a, b in zip(resonances, resonances[1:])]
+    value, margin = min(steps, default=(math.nan, 0.0))
+    return Verdict.of(value, 0.0, margin, below=False, above=True, unit="r/min",
+                      reason=f"{what}: the smallest rise of the resonant speed from one case to the next, against "
+                             "0 within the two peaks' speed errors (half the branch steps around each)")
+
+
+def notes_line(named: list[tuple[str, object]]) -> str:
+    """One sentence of what named branches say about their own trust (HBResult.notes: incomplete, kinks
+    stepped over, a tail target missed, points of undecided stability); empty when none says anything."""
+    notes = [f"{name}: {'; '.join(br.notes())}" for name, br in named if br.notes()]
+    return ("Branch notes: " + " | ".join(notes) + ".") if notes else ""
+
+
+def verdict_text(v: dict, scale: float = 1.0, unit: str = "") -> str:
+    """A verdict's JSON (shroud.core.verdict) in words: answer (value against threshold +- margin), the
+    numbers times ``scale`` in ``unit``."""
+    def num(x):
+        return "-" if x is None or not math.isfinite(x) else f"{scale * x:.3g}"
+    return f"{v['answer']} ({num(v['value'])} against {num(v['threshold'])} +- {num(v['margin'])}{unit})"

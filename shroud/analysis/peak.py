@@ -70,6 +70,7 @@ class PeakCurve:
     stopped: str | None
     elapsed_s: float
     X: np.ndarray
+    amplitude_error: np.ndarray | None = None   # per point: the amplitude's change at 2 H, m (nan: not taken)
 
     def __post_init__(self):      # one spelling of the three verdicts: True, False, None (undecided)
         object.__setattr__(self, "stable", np.array([None if v is None else bool(v) for v in self.stable], object))
@@ -89,12 +90,14 @@ class PeakCurve:
             lowest = {"N0": float(self.n0[j]), "rpm": float(self.rpm[j]), "amplitude": float(self.amplitude_v_L[j])}
         if not kept.size:
             nan = float("nan")
-            return {"N0": nan, "rpm": nan, "amplitude": nan, "stable": None, "bracket": [nan, nan], "at_end": True,
+            return {"N0": nan, "rpm": nan, "amplitude": nan, "amplitude_error": nan, "stable": None,
+                    "bracket": [nan, nan], "at_end": True,
                     "unstable_minimum": lowest}
         i = int(kept[np.argmin(self.amplitude_v_L[kept])])
         smaller = lowest is not None and lowest["amplitude"] < float(self.amplitude_v_L[i])
+        error = float("inf") if self.amplitude_error is None else float(self.amplitude_error[i])
         return {"N0": float(self.n0[i]), "rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]),
-                "stable": self.stable[i],
+                "amplitude_error": error if np.isfinite(error) else float("inf"), "stable": self.stable[i],
                 "bracket": [float(self.n0[max(i - 1, 0)]), float(self.n0[min(i + 1, len(self.n0) - 1)])],
                 "at_end": bool(i in (0, len(self.n0) - 1)), "unstable_minimum": lowest if smaller else None}
 
@@ -243,4 +246,5 @@ def track_peak(params: Parameters, model: str, n0_from: float, n0_to: float, rpm
     return PeakCurve(model=model, harmonics=harmonics, samples=n, n0=np.array([pt[1] for pt in points]),
                      rpm=ys[:, -1] / extended.c, amplitude_v_L=np.array([pt[2]["amplitude_v_L"] for pt in points]),
                      stable=np.array([pt[2]["stable"] for pt in points], object), complete=stopped is None,
-                     stopped=stopped, elapsed_s=time.perf_counter() - t0, X=ys[:, :-1])
+                     stopped=stopped, elapsed_s=time.perf_counter() - t0, X=ys[:, :-1],
+                     amplitude_error=np.array([pt[2]["amplitude_error"] for pt in points]))

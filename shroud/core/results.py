@@ -353,6 +353,7 @@ class HBResult:
     harmonics_tried: tuple[dict, ...] = ()   # {"harmonics", "spectral_tail"} when H was chosen to a tail
     critical: tuple[tuple[str, float | None], ...] = ()   # per point: floquet.crossing of its multipliers
     multiplier_error: np.ndarray | None = None   # per point: the error of the largest |multiplier|
+    amplitude_error: np.ndarray | None = None    # per point: the v_L amplitude's change at 2 H, m (nan: not taken)
     kinks: tuple[dict, ...] = ()
     tail_target: float | None = None
 
@@ -380,6 +381,7 @@ class HBResult:
                    condensed=condensed, elapsed_s=elapsed_s, X=None if X is None else np.array(X),
                    critical=tuple(crossing(d["multipliers"]) for d in details),
                    multiplier_error=np.array([d["multiplier_error"] for d in details], float),
+                   amplitude_error=np.array([d.get("amplitude_error", np.nan) for d in details], float),
                    kinks=tuple(kinks))
 
     @property
@@ -393,22 +395,35 @@ class HBResult:
         return None if self.tail_target is None else bool(self.spectral_tail <= self.tail_target)
 
     def _peak(self, points: np.ndarray) -> dict | None:
+        """The largest amplitude among ``points`` (mask) with its errors: ``rpm_error`` half the larger step
+        to its neighbours (r/min: the peak lies between them); ``amplitude_error`` (m) its change at 2 H
+        plus how far it may rise between the points (its excess over the larger neighbour): inf where the
+        change at 2 H was not taken."""
         if not points.any():
             return None
         i = int(np.flatnonzero(points)[np.argmax(self.amplitude_v_L[points])])
+        around = [j for j in (i - 1, i + 1) if 0 <= j < len(self.rpm)]
+        rpm_error = max((abs(self.rpm[j] - self.rpm[i]) / 2 for j in around), default=0.0)
+        step = self.amplitude_v_L[i] - max((self.amplitude_v_L[j] for j in around), default=self.amplitude_v_L[i])
+        truncation = np.inf if self.amplitude_error is None else self.amplitude_error[i]
+        error = float(truncation + max(step, 0.0)) if np.isfinite(truncation) else float("inf")
         return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]), "stable": self.stable[i],
-                "max_multiplier": float(self.max_multiplier[i])}
+                "max_multiplier": float(self.max_multiplier[i]), "rpm_error": float(rpm_error),
+                "amplitude_error": error}
 
     @property
     def resonance(self) -> dict:
         """The largest v_L amplitude on the points not shown unstable: {"rpm", "amplitude" (m), "stable"
-        (True, or None where undecided), "max_multiplier", "unstable_peak"}: ``unstable_peak`` the largest on
-        unstable points where larger (else None). rpm and amplitude are nan where every point is unstable."""
+        (True, or None where undecided), "max_multiplier", "rpm_error", "amplitude_error" (:meth:`_peak`),
+        "unstable_peak"}: ``unstable_peak`` the largest on unstable points where larger (else None). rpm and
+        amplitude are nan where every point is unstable."""
         shown_unstable = np.array([s is False for s in self.stable], bool)
         kept = self._peak(~shown_unstable)
         other = self._peak(shown_unstable)
         if kept is None:
-            kept = {"rpm": float("nan"), "amplitude": float("nan"), "stable": None, "max_multiplier": float("nan")}
+            nan = float("nan")
+            kept = {"rpm": nan, "amplitude": nan, "stable": None, "max_multiplier": nan, "rpm_error": nan,
+                    "amplitude_error": nan}
         larger = other is not None and not other["amplitude"] <= kept["amplitude"]
         return {**kept, "unstable_peak": other if larger else None}
 
