@@ -362,7 +362,8 @@ def on_branches(branches: list[HBResult], rpm: float, amplitude: float, match: f
     for br in branches:
         for i in range(len(br.rpm) - 1):
             r0, r1 = br.rpm[i], br.rpm[i + 1]
-            if r0 == r1 or not min(r0, r1) <= rpm <= max(r0, r1) or (br.stable[i] is False and br.stable[i + 1] is False):
+            unstable = br.stable[i] is False and br.stable[i + 1] is False
+            if r0 == r1 or not min(r0, r1) <= rpm <= max(r0, r1) or unstable:
                 continue
             t = (rpm - r0) / (r1 - r0)
             if abs(((1 - t) * br.amplitude_v_L[i] + t * br.amplitude_v_L[i + 1]) / amplitude - 1) <= match:
@@ -523,6 +524,7 @@ class Checkpoint:
     stable: bool | None
     stability: str
     largest_multiplier: dict[int, float]
+    multiplier_error: float | None      # the largest |multiplier|'s own error (own multipliers only)
     dofs: int
     condensed_on: int
     linear_s: float
@@ -584,11 +586,10 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     if not sol.converged and X0 is not None:
         sol, how = hb.solve(system, law, harmonics, n, lin=lin), f"linear solution, load homotopy ({how} failed)"
     t3 = time.perf_counter()
-    stable, stability, largest = None, NO_FLOQUET, {}
+    stable, stability, largest, error = None, NO_FLOQUET, {}, None
     if speeds is not None:
         details = point_details(speeds, law, sol.basis, sol.X, rpm)
-        stable = details["stable"]
-        stability = f"Floquet multipliers (error {details['multiplier_error']:.3g})"
+        stable, stability, error = details["stable"], "Floquet multipliers", details["multiplier_error"]
         largest = {system.dofs: float(np.abs(details["multipliers"]).max(initial=0.0))}
     elif entry.reduced_by is not None and sol.converged and lin.condensed:
         proj = projected_multipliers(params, entry.reduced_by, rpm, sol.X.reshape(sol.basis.nh, lin.nx), sol.basis)
@@ -602,7 +603,8 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
                       iterations=int(sol.iterations),
                       spectral_tail=float(sol.spectral_tail), start=how,
                       start_amplitude_v_L=None if start_amplitude is None else float(start_amplitude),
-                      stable=stable, stability=stability, largest_multiplier=largest, dofs=system.dofs,
+                      stable=stable, stability=stability, largest_multiplier=largest, multiplier_error=error,
+                      dofs=system.dofs,
                       condensed_on=lin.nx if lin.condensed else 0,
                       linear_s=t1 - t0, start_s=t2 - t1, newton_s=t3 - t2, stability_s=time.perf_counter() - t3)
 
