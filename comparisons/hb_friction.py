@@ -6,7 +6,7 @@ with its stability (shroud.analysis.hb; stable solid, unstable dashed,
 stability changes marked), over a speed range extended beyond the paper's
 so that the preloads' resonances lie inside it. The resonant speed and
 amplitude over the gap (Fig. 13a-b) are read off the branches (largest P1
-amplitude, stable or not); over the preload (Fig. 13c-d) they are the
+amplitude on the points not shown unstable); over the preload (Fig. 13c-d) they are the
 resonance followed in N0 from touching (N0 = 0) on (shroud.analysis.peak),
 with the branches' peaks as markers (the 1 um gap: its branch's peak). Where the time-domain sweep is run
 (``time_domain``) its points are overlaid and named by the HB state they
@@ -97,7 +97,8 @@ class Variant:
     sweeps: list[SweepResult] | None
 
     def gap_rows(self) -> list[dict]:
-        """Resonance of every gap branch (Fig. 13a-b): largest P1 amplitude on it, stable or not."""
+        """Resonance of every gap branch (Fig. 13a-b): largest P1 amplitude on its points not shown unstable
+        (HBResult.resonance), with its errors and stability."""
         return [{"variant": self.name, "case": label, "gap_um": value, "rpm": br.resonance["rpm"],
                  "amplitude_m": br.resonance["amplitude"], "rpm_error": br.resonance["rpm_error"],
                  "amplitude_error_m": br.resonance["amplitude_error"], "stable": br.resonance["stable"],

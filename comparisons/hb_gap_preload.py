@@ -10,7 +10,7 @@ landed on: a stable P1 branch (the lower or upper one where several
 coexist), or none (a run still drifting, or a P3/P5/... state the P1
 curves cannot hold; the Neimark-Sacker and period-doubling marks say
 where those begin). The resonance of each case (largest P1 amplitude on
-the branch, stable or not) and the optimal preload are read off the
+the branch's points not shown unstable) and the optimal preload are read off the
 branches; both methods' costs are reported side by side.
 """
 

@@ -390,7 +390,7 @@ def test_points_within_the_multipliers_error_are_undecided_and_the_resonance_is_
     verdicts = list(br.stable)
     assert True in verdicts and False in verdicts and None in verdicts
     for s, m, e in zip(br.stable, br.max_multiplier, br.multiplier_error):
-        assert e >= 0.01
+        assert e >= floquet.MULTIPLIER_FLOOR
         if s is None:
             assert abs(m - 1) <= e or not np.isfinite(e)
         else:

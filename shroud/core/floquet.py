@@ -57,9 +57,10 @@ from shroud.core.linear_solvers import dense
 
 UNIT_CIRCLE_TOL = 1e-6    # |mu| = 1 within round-off: where a branch's nominal stability changes (bifurcation)
 # The least error of the largest |multiplier|: the monodromy and Hill's method on the same orbits (reduced beam,
-# gap 0.1 mm, H 12, 1024 samples) differ by MULTIPLIER_FLOOR at mu 0 and 0.03 at mu 0.3 (Hill takes the
-# sliders' history at s = 0); the sampling error (:func:`sampling_error`) is added where larger.
-MULTIPLIER_FLOOR = 0.01
+# gap 0.1 mm, H 12, 1024 samples) differ by 0.0046 (9000 r/min, mu 0), 0.020 (8000, mu 0.3), < 1e-4 (12000,
+# mu 0.3; 10000, mu 0.1): Hill takes the sliders' history at s = 0 (docs/hb-stability.md). The sampling and
+# truncation errors are taken instead where larger.
+MULTIPLIER_FLOOR = 0.02
 GRAZING = 1e-3            # a touch at a normal speed below this share of the element's largest: grazing
 
 
