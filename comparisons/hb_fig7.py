@@ -197,13 +197,20 @@ def checkpoint_report(checks: list[dict], cost: dict) -> list[str]:
                             "Newton iterations", "condensation (s)", "Newton (s)", "stability (s)"],
                            [(p["case"], f"{p['rpm']:.0f}",
                              f"{p['start_amplitude_v_L'] * 1e6:.3f}" if p["start_amplitude_v_L"] else "-",
-                             f"{p['amplitude_v_L'] * 1e6:.3f}" + ("" if p["converged"] else " (not converged)"),
+                             f"{p['amplitude_v_L'] * 1e6:.3f}" + _newton_note(p),
                              f"{100 * p['difference']:.3f}" if p["difference"] is not None else "-",
                              _word(p["reduced_branch_stable"]), _word(p["stable"]),
                              ", ".join(f"{d}: {m:.4f}" for d, m in p["largest_multiplier"].items()) or "-",
                              p["iterations"], f"{p['linear_s']:.1f}", f"{p['start_s'] + p['newton_s']:.1f}",
                              f"{p['stability_s']:.1f}")
                             for p in checks])]
+
+
+def _newton_note(p: dict) -> str:
+    """What a checkpoint's Newton reached, where short of what was asked (Checkpoint.converged, .short)."""
+    if not p["converged"]:
+        return " (not converged)"
+    return f" (residual {p['residual']:.1e}: short of the tolerance asked)" if p["short"] else ""
 
 
 def _word(stable: bool | None) -> str:

@@ -243,7 +243,7 @@ def plot(out: Path, variants: list[Variant]) -> list[str]:
         axes[i][1].plot(c.rpm, c.amplitude_v_L * 1e3, "k-", lw=1.2, label="resonance over N0")
         small = next(label for label, kind, _, _ in v.cases if kind == "preload")
         for j, what in enumerate(("initial gaps", f"{small} and preloads")):
-            axes[i][j].set_title(f"{v.name}: {what}" + (" (HB stable -, unstable --, undecided :o; time domain .)"
+            axes[i][j].set_title(f"{v.name}: {what}" + (" (HB stable -, unstable --, undecided :x; time domain .)"
                                                          if v.sweeps else ""))
             axes[i][j].legend(ncol=2, fontsize=7)
     files = [save(fig, out / "hb_branches.png").name]

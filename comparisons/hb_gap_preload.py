@@ -93,7 +93,7 @@ def run(scene, out: Path) -> dict:
         curves[label] = br.to_json()
     for j, title in enumerate(("(a) initial gaps", "(b) 1 um gap and initial preloads")):
         ax = axes[0][j]
-        ax.set_title(f"{title}: HB stable -, unstable --, undecided :o; time domain .")
+        ax.set_title(f"{title}: HB stable -, unstable --, undecided :x; time domain .")
         ax.legend(ncol=2)
     save(fig, out / "hb_fig11.png")
     pre = [r for r in rows if r["kind"] == "preload" and r["value"] >= 0

@@ -528,8 +528,8 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
         sw = by_label[c.label]
         for ax_ in (ax, axm):
             ax_.axvspan(lo, hi, color="0.93", zorder=0)
-        c.branch.plot(ax, label="HB P1 branch, continued from below (stable -, unstable --, undecided :o)", colour="k",
-                      scale=1e6, lw=1.0)
+        c.branch.plot(ax, label="HB P1 branch, continued from below (stable -, unstable --, undecided :x)",
+                      colour="k", scale=1e6, lw=1.0)
         for k, br in enumerate(c.seeded):
             br.plot(ax, label="HB P1 branch through a seeded state" if k == 0 else None, colour="tab:purple",
                     scale=1e6, lw=1.0)

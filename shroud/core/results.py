@@ -472,7 +472,7 @@ class HBResult:
 
     def plot(self, ax=None, label: str | None = None, colour=None, scale: float = 1e3, **line):
         """v_L amplitude (mm) over speed: stable stretches solid, unstable dashed, undecided dotted with
-        small open circles; bifurcations marked.
+        small crosses; bifurcations marked.
 
         ``line``: further matplotlib line properties (e.g. linewidth).
         """
@@ -480,7 +480,7 @@ class HBResult:
         drawn = None
         start = 0
         styles = {True: {"linestyle": "-"}, False: {"linestyle": "--"},
-                  None: {"linestyle": ":", "marker": "o", "ms": 2.5, "mfc": "none"}}
+                  None: {"linestyle": ":", "marker": "x", "ms": 3.0}}
         for i in range(1, len(self.rpm) + 1):
             if i == len(self.rpm) or self.stable[i] is not self.stable[start]:
                 sl = slice(start, min(i + 1, len(self.rpm)))
