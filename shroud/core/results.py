@@ -397,16 +397,20 @@ class HBResult:
     def _peak(self, points: np.ndarray) -> dict | None:
         """The largest amplitude among ``points`` (mask) with its errors: ``rpm_error`` half the larger step
         to its neighbours (r/min: the peak lies between them); ``amplitude_error`` (m) its change at 2 H
-        plus how far it may rise between the points (its excess over the larger neighbour): inf where the
-        change at 2 H was not taken."""
+        plus how far the top may rise between the points: for a parabolic top a quarter of its drop to the
+        lower neighbour (the top at d from the point, |d| <= h / 2: rise c d^2 <= c h^2 / 4, drop to the
+        far neighbour c (h^2 + 2 h |d|) >= c h^2). inf where the change at 2 H was not taken, or where the
+        point has fewer than two neighbours (a peak at the branch's end: the top may lie beyond it)."""
         if not points.any():
             return None
         i = int(np.flatnonzero(points)[np.argmax(self.amplitude_v_L[points])])
         around = [j for j in (i - 1, i + 1) if 0 <= j < len(self.rpm)]
         rpm_error = max((abs(self.rpm[j] - self.rpm[i]) / 2 for j in around), default=0.0)
-        step = self.amplitude_v_L[i] - max((self.amplitude_v_L[j] for j in around), default=self.amplitude_v_L[i])
         truncation = np.inf if self.amplitude_error is None else self.amplitude_error[i]
-        error = float(truncation + max(step, 0.0)) if np.isfinite(truncation) else float("inf")
+        error = float("inf")
+        if len(around) == 2 and np.isfinite(truncation):
+            rise = 0.25 * (self.amplitude_v_L[i] - min(self.amplitude_v_L[j] for j in around))
+            error = float(truncation + max(rise, 0.0))
         return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]), "stable": self.stable[i],
                 "max_multiplier": float(self.max_multiplier[i]), "rpm_error": float(rpm_error),
                 "amplitude_error": error}
