@@ -21,12 +21,16 @@ from typing import Callable
 
 import numpy as np
 
+from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
 from shroud.core.continuation import continue_branch
+from shroud.core.linear_solvers import dense
+from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.core.results import HBResult
+from shroud.core.signals import detect_period
 from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
 
@@ -317,10 +321,6 @@ def time_domain_state(params: Parameters, model: str, rpm: float, harmonics: int
     the harmonics are those of the state a sweep from rest reaches: a start for Newton on a condensed
     model (unknowns y) that lands on the P1 states a continuation from the linear solution may miss.
     """
-    from shroud.analysis.api import build_system
-    from shroud.core.linear_solvers import dense
-    from shroud.core.newmark import NewmarkScheme, integrate
-    from shroud.core.signals import detect_period
     q = params.updated({"speed.rpm": float(rpm)})
     system = build_system(q, model)
     if system.contact is None:
@@ -342,7 +342,8 @@ def time_domain_state(params: Parameters, model: str, rpm: float, harmonics: int
 class Seed:
     """A time-domain state at one speed read as a start for a branch: its run's period, the P1 state Newton
     reached from it (amplitude m, stability), and what became of it: "new branch", "on a branch" (within
-    ``match`` of a computed one) or why it gave none."""
+    ``match`` of a computed one) or why it gave none (among them an unstable state: a disagreement of the
+    two methods, reported, not followed)."""
 
     rpm: float
     period: int | None
@@ -416,7 +417,10 @@ def run_hb_family(params: Parameters, model: str, rpm_from: float, rpm_to: float
             seeds.append(Seed(rpm, period, None, None, "Newton did not converge from it"))
             continue
         a = float(sol.amplitude_v_L)
-        if info["stable"] is False or on_branches(branches, rpm, a, match):
+        if info["stable"] is False:       # the run stayed where HB says it cannot: not a branch to follow
+            seeds.append(Seed(rpm, period, a, False, "Newton reached an unstable state from it (not continued)"))
+            continue
+        if on_branches(branches, rpm, a, match):
             seeds.append(Seed(rpm, period, a, info["stable"], "on a branch"))
             continue
         branches.append(run_hb_through(params, model, sol.X, rpm, rpm_from, rpm_to, harmonics, samples, min_points))
