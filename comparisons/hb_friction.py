@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import hb_optimal_preload as peak
-from comparisons._hb import landed_on, notes_line, on_stable, states_at, verdict_text
+from comparisons._hb import landed_on, notes_line, on_stable, rises, states_at, verdict_text
 from comparisons.hb_gap_preload import cases as fig11_cases
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
@@ -184,6 +184,9 @@ def conclusions(variants: list[Variant]) -> dict:
         return max(found, key=lambda v: v.value, default=Verdict.of(0.0, NO_EFFECT, 0.0, True, False,
                                                                     NO_EFFECT_REASON))
     amp_v, rpm_v = widest("amplitude_m", "amplitude_error_m"), widest("rpm", "rpm_error")
+    touching = [{"rpm": float(v.preload.curve.rpm[0]), "rpm_error": 0.0} for v in variants]   # tracked: exact
+    closing = [rises(sorted(rows, key=lambda r: -r["gap_um"]) + [end], "gaps closing down to touching (N0 = 0)")
+               for rows, end in zip(gaps, touching)]
     opt = [v.preload.curve.optimum for v in variants]
     stuck = [v.preload.stuck_from_N0 for v in variants]
     ends = [float(v.preload.curve.amplitude_v_L[-1]) for v in variants]
@@ -192,9 +195,8 @@ def conclusions(variants: list[Variant]) -> dict:
     minimum_v = spread_verdict([o["amplitude"] for o in opt], [o["amplitude_error"] for o in opt], NEARLY_SAME,
                                True, False, NEARLY_SAME_REASON)
     out = {
-        "resonant_speed_rises_as_gap_closes": {
-            v.name: bool(np.all(np.diff([r["rpm"] for r in sorted(rows, key=lambda r: -r["gap_um"])]
-                                        + [v.preload.curve.rpm[0]]) > 0)) for v, rows in zip(variants, gaps)},
+        "resonant_speed_rises_as_gap_closes": {v.name: r.answer for v, r in zip(variants, closing)},
+        "resonant_speed_rises_as_gap_closes_verdict": {v.name: r.to_json() for v, r in zip(variants, closing)},
         "large_gaps": {"amplitude_spread": amp_v.value, "speed_spread": rpm_v.value, "no_effect": both(amp_v, rpm_v),
                        "amplitude_spread_verdict": amp_v.to_json(), "speed_spread_verdict": rpm_v.to_json()},
         "preload_cases": {pre[0][i]["case"]: {"speed_trend": trend([rows[i]["rpm"] for rows in pre]),
@@ -309,7 +311,9 @@ def report(scene, variants: list[Variant], concl: dict, points: list[dict], file
         f"{verdict_text(lg['speed_spread_verdict'], 100, ' %')}, amplitude "
         f"{verdict_text(lg['amplitude_spread_verdict'], 100, ' %')} |",
         "| the resonant speed rises as the gap closes (down to touching, N0 = 0) | " + "; ".join(
-            f"{n}: {'yes' if ok else 'no'}" for n, ok in concl["resonant_speed_rises_as_gap_closes"].items()) + " |",
+            f"{n}: {_answer_word(ok)} (smallest rise "
+            f"{verdict_text(concl['resonant_speed_rises_as_gap_closes_verdict'][n], unit=' r/min')})"
+            for n, ok in concl["resonant_speed_rises_as_gap_closes"].items()) + " |",
         f"| 1 um gap or a preload: the resonant speed as {describe} grows | " + "; ".join(
             f"{c}: {_trend_word(t['speed_trend'])}" for c, t in pre.items()) + " |",
         f"| ... the resonant amplitude as {describe} grows | " + "; ".join(
