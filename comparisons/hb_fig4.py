@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._hb import landed_on, on_stable, states_at
+from comparisons._hb import (landed_on, notes_line, on_stable, resonance_of, same_resonance, states_at,
+                             verdict_text)
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
@@ -32,6 +33,17 @@ MODELS = ("reduced", "full")
 
 def _fold_speeds(branch) -> list[float]:
     return [float(b["rpm"]) for b in branch.bifurcations if b["kind"] == "fold"]
+
+
+def conclusions(labels: list[str], branches: dict) -> dict:
+    """Per case: each model's resonance (on points not shown unstable, with its errors and stability;
+    comparisons._hb.resonance_of) and whether the two are the same (a Verdict: the paper's "good
+    agreement" of the reduced and full beams, Fig. 4)."""
+    out = {}
+    for i, label in enumerate(labels):
+        res = {m: resonance_of(branches[m][i]) for m in MODELS}
+        out[label] = {**res, "same_resonance": same_resonance(res["reduced"], res["full"], MODELS).to_json()}
+    return out
 
 
 def run(scene, out: Path) -> dict:
@@ -92,6 +104,11 @@ def run(scene, out: Path) -> dict:
              f"Time-domain points not on a stable P1 branch within {100 * opts['match']:g} %: {len(off)} of "
              f"{len(points)} (listed in td_points_by_branch.csv with the branch each landed on).",
              "", "![hb_fig4_reduced_vs_full.png](hb_fig4_reduced_vs_full.png)"]
+    concl = conclusions([label for label, _ in cases], branches)
+    lines[-2:-2] = ["Same resonance (reduced against full, relative amplitude difference): " + "; ".join(
+        f"{label}: {verdict_text(c['same_resonance'], 100, ' %')}" for label, c in concl.items()) + ". " + notes_line([(f"{m} {label}", branches[m][i]) for m in MODELS
+                                                             for i, (label, _) in enumerate(cases)]), ""]
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"cases": rows, "branches": out_json, "time_domain_points": points,
+    return {"conclusions": concl, "cases": rows, "branches": out_json, "time_domain_points": points,
             "cost_s": {"harmonic_balance": hb_cost, "time_domain_cpu": td_cost}}
+

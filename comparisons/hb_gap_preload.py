@@ -10,7 +10,7 @@ landed on: a stable P1 branch (the lower or upper one where several
 coexist), or none (a run still drifting, or a P3/P5/... state the P1
 curves cannot hold; the Neimark-Sacker and period-doubling marks say
 where those begin). The resonance of each case (largest P1 amplitude on
-the branch, stable or not) and the optimal preload are read off the
+the branch's points not shown unstable) and the optimal preload are read off the
 branches; both methods' costs are reported side by side.
 """
 
@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._hb import landed_on, on_stable, states_at
+from comparisons._hb import landed_on, notes_line, on_stable, resonance_of, rises, states_at, verdict_text
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
@@ -47,6 +47,19 @@ def cases(params, opts) -> list[tuple[str, str, float, object]]:
                 params.updated({"contact.gap": g * 1e-6})))
     out += [(f"N0 {n:g} N", "preload", n, params.updated({"contact.N0": n})) for n in opts["preloads_N"]]
     return out
+
+
+def conclusions(cs, branches, best: dict | None) -> dict:
+    """What the study concludes, as data: every case's resonance (on points not shown unstable, with its
+    errors and stability: comparisons._hb.resonance_of); whether the resonant speed rises as the gap closes
+    (the gaps from the largest down to the small gap: a Verdict, paper Sect. 3.1); the optimal preload read
+    off the branches (N0, N, with its resonance's stability; None when no preload peaks inside the range)."""
+    res = {label: resonance_of(br) for (label, _, _, _), br in zip(cs, branches)}
+    closing = [res[label] for label, kind, value, _ in sorted(cs, key=lambda c: -abs(c[2]) if c[1] == "gap" else 0.0)
+               if kind == "gap" or value < 0]
+    return {"resonances": res,
+            "resonant_speed_rises_as_gap_closes": rises(closing, "gaps closing down to the small gap").to_json(),
+            "optimal_preload": None if best is None else {"N0": best["value"], "stable": res[best["case"]]["stable"]}}
 
 
 def run(scene, out: Path) -> dict:
@@ -80,13 +93,14 @@ def run(scene, out: Path) -> dict:
         curves[label] = br.to_json()
     for j, title in enumerate(("(a) initial gaps", "(b) 1 um gap and initial preloads")):
         ax = axes[0][j]
-        ax.set_title(f"{title}: HB stable -, unstable --; time domain .")
+        ax.set_title(f"{title}: HB stable -, unstable --, undecided :x; time domain .")
         ax.legend(ncol=2)
     save(fig, out / "hb_fig11.png")
     pre = [r for r in rows if r["kind"] == "preload" and r["value"] >= 0
            and opts["rpm_from"] < r["hb_resonance_rpm"] < opts["rpm_to"]]      # peaks inside the range only
     best = min(pre, key=lambda r: r["hb_resonance_amplitude_m"]) if pre else None
     write_records(out / "td_points_by_branch.csv", points)
+    concl = conclusions(cs, branches, best)
     hb_total, td_total = sum(r["hb_s"] for r in rows), sum(r["td_cpu_s"] for r in rows)
     off = [p for p in points if not on_stable(p["branch"])]
     lines = [f"# {scene.title}\n",
@@ -115,8 +129,11 @@ def run(scene, out: Path) -> dict:
              *(markdown_table(["case", "rpm", "amplitude (mm)", "period", "landed on"],
                               [(p["case"], f"{p['rpm']:.0f}", p["amplitude_m"] * 1e3, p["period"] or "-",
                                 p["branch"]) for p in off]).splitlines() if off else []),
+             "", "Resonant speed rises as the gap closes (its smallest rise from one gap to the next): "
+             + verdict_text(concl["resonant_speed_rises_as_gap_closes"], unit=" r/min") + ". "
+             + notes_line([(label, br) for (label, _, _, _), br in zip(cs, branches)]),
              "", "![hb_fig11.png](hb_fig11.png)"]
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"cases": rows, "branches": curves, "time_domain_points": points,
+    return {"conclusions": concl, "cases": rows, "branches": curves, "time_domain_points": points,
             "optimal_preload_N": best["value"] if best else None,
             "cost_s": {"harmonic_balance_wall": hb_total, "time_domain_cpu": td_total}}

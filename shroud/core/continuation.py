@@ -39,6 +39,7 @@ class Branch:
     iterations: list[int] = field(default_factory=list)
     complete: bool = True
     stopped: str | None = None          # where and why an incomplete branch stopped
+    kinks: list[dict] = field(default_factory=list)   # {"p", "turn_rad"}: corners stepped over, not resolved
 
 
 def _tangent(J: np.ndarray, Rp: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
@@ -68,8 +69,8 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     ``dp_max`` bounds the parameter's advance per step. A step whose tangent
     turns by more than ``max_turn`` (rad) is retried shorter, down to
     ``ds_kink``: below it the turn is a kink of the branch (the contact law
-    is piecewise linear: grazing, the onset of stick) and is stepped over.
-    The last point is
+    is piecewise linear: grazing, the onset of stick) and is stepped over,
+    recorded in ``Branch.kinks`` (its parameter value and the turn). The last point is
     put exactly at p_end. ``on_point(x, p)`` is called for every accepted point.
     ``p_scale`` scales the parameter in the arclength (default |p0|; give it
     where p0 may be 0, e.g. a preload continued from N0 = 0).
@@ -106,6 +107,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
             ds = dp_max / (abs(t[-1]) * p_scale)
         u_pred = u + ds * t
         u_new, it, ok, R, J, Rp = _corrector(residual, u_pred, t, x_scale, p_scale)
+        turn = 0.0
         if ok:
             t_new = _tangent(J * x_scale, Rp() * p_scale, t)
             turn = math.acos(min(1.0, max(-1.0, float(t_new @ t))))
@@ -134,6 +136,8 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
                 branch.complete = False
                 branch.stopped = f"no solution found at the last parameter value p = {p_end:g}"
             return branch
+        if turn > max_turn:
+            branch.kinks.append({"p": float(p_new), "turn_rad": float(turn)})
         u, t = u_new, t_new
         x = u[:-1] * x_scale
         branch.x.append(x), branch.p.append(p_new), branch.iterations.append(it)

@@ -1,0 +1,75 @@
+"""The harmonic-balance studies' quick versions conclude what their full versions conclude (hb_fig4, hb_fig7,
+hb_gap_preload).
+
+As tests/test_quick_conclusions.py: each quick scene runs as a user would (shroud.app.runner.run_scene) and
+its conclusions (``results["conclusions"]``) are held against the full scene's, recorded in
+tests/data/full_conclusions.json. Resonances (taken on points not shown unstable) must agree within their
+own errors (speed: half the branch steps around each peak; amplitude: the change at twice the harmonics
+plus the rise between points), their stability and every verdict's answer exactly. Until a full run is
+recorded under a study's key the test skips, saying so.
+"""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from shroud.app.runner import run_scene
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+FULL = json.loads((Path(__file__).parent / "data" / "full_conclusions.json").read_text())
+
+
+def quick(study: str, tmp_path: Path) -> dict:
+    """The conclusions of the quick version of scenes/<study>.toml."""
+    if study not in FULL:
+        pytest.skip(f"no full run of {study} recorded in tests/data/full_conclusions.json yet")
+    run_scene(SCENES / f"{study}.toml", tmp_path / study, quick=True)
+    record = json.loads((tmp_path / study / "results.json").read_text())
+    assert record["status"] == "complete" and record["quick"]
+    return record["results"]["conclusions"]
+
+
+def same_resonance(q: dict, f: dict) -> None:
+    """Two comparisons._hb.resonance_of entries: the same peak within their errors, the same stability."""
+    assert abs(q["rpm"] - f["rpm"]) <= q["rpm_error"] + f["rpm_error"], (q, f)
+    assert abs(q["amplitude_m"] - f["amplitude_m"]) <= q["amplitude_error_m"] + f["amplitude_error_m"], (q, f)
+    assert q["stable"] == f["stable"], (q, f)
+    assert (q["unstable_peak"] is None) == (f["unstable_peak"] is None), (q, f)
+
+
+@pytest.mark.slow
+def test_hb_fig4_quick_agrees_with_full(tmp_path):
+    got = quick("hb_fig4", tmp_path)
+    full = FULL["hb_fig4"]["conclusions"]
+    cases = got.keys() & full.keys()
+    assert len(cases) == 6
+    for case in cases:
+        for model in ("reduced", "full"):
+            same_resonance(got[case][model], full[case][model])
+        assert got[case]["same_resonance"]["answer"] == full[case]["same_resonance"]["answer"], case
+
+
+@pytest.mark.fe
+@pytest.mark.slow
+def test_hb_fig7_quick_agrees_with_full(tmp_path):
+    got = quick("hb_fig7", tmp_path)
+    full = FULL["hb_fig7"]["conclusions"]
+    cases = got.keys() & full.keys()
+    assert cases
+    for case in cases:
+        same_resonance(got[case]["beam"], full[case]["beam"])
+        assert got[case]["same_resonance"]["answer"] == full[case]["same_resonance"]["answer"], case
+
+
+@pytest.mark.slow
+def test_hb_gap_preload_quick_agrees_with_full(tmp_path):
+    got = quick("hb_gap_preload", tmp_path)
+    full = FULL["hb_gap_preload"]["conclusions"]
+    cases = got["resonances"].keys() & full["resonances"].keys()
+    assert len(cases) >= 4
+    for case in cases:
+        same_resonance(got["resonances"][case], full["resonances"][case])
+    key = "resonant_speed_rises_as_gap_closes"
+    assert got[key]["answer"] == full[key]["answer"]
+    # the optimal preload is not held: the quick scene has two preloads against the full scene's five
