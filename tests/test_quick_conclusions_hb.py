@@ -1,12 +1,11 @@
 """The harmonic-balance studies' quick versions conclude what their full versions conclude (hb_fig4, hb_fig7,
 hb_gap_preload).
 
-As tests/test_quick_conclusions.py: each quick scene runs as a user would (shroud.app.runner.run_scene) and
+As tests/test_quick_conclusions.py: each quick scene runs as a user would (workbench.runner.run_scene) and
 its conclusions (``results["conclusions"]``) are held against the full scene's, recorded in
-tests/data/full_conclusions.json. Resonances (taken on points not shown unstable) must agree within their
+tests/data/records/<scene>.json by `shroud record` (tests/test_records.py holds each record current). Resonances (taken on points not shown unstable) must agree within their
 own errors (speed: half the branch steps around each peak; amplitude: the change at twice the harmonics
-plus the rise between points), their stability and every verdict's answer exactly. Until a full run is
-recorded under a study's key the test skips, saying so.
+plus the rise between points), their stability and every verdict's answer exactly.
 """
 
 import json
@@ -14,16 +13,14 @@ from pathlib import Path
 
 import pytest
 
-from shroud.app.runner import run_scene
+from workbench import records
+from workbench.runner import run_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
-FULL = json.loads((Path(__file__).parent / "data" / "full_conclusions.json").read_text())
 
 
 def quick(study: str, tmp_path: Path) -> dict:
     """The conclusions of the quick version of scenes/<study>.toml."""
-    if study not in FULL:
-        pytest.skip(f"no full run of {study} recorded in tests/data/full_conclusions.json yet")
     run_scene(SCENES / f"{study}.toml", tmp_path / study, quick=True)
     record = json.loads((tmp_path / study / "results.json").read_text())
     assert record["status"] == "complete" and record["quick"]
@@ -41,7 +38,7 @@ def same_resonance(q: dict, f: dict) -> None:
 @pytest.mark.slow
 def test_hb_fig4_quick_agrees_with_full(tmp_path):
     got = quick("hb_fig4", tmp_path)
-    full = FULL["hb_fig4"]["conclusions"]
+    full = records.load("hb_fig4")["conclusions"]
     cases = got.keys() & full.keys()
     assert len(cases) == 6
     for case in cases:
@@ -54,7 +51,7 @@ def test_hb_fig4_quick_agrees_with_full(tmp_path):
 @pytest.mark.slow
 def test_hb_fig7_quick_agrees_with_full(tmp_path):
     got = quick("hb_fig7", tmp_path)
-    full = FULL["hb_fig7"]["conclusions"]
+    full = records.load("hb_fig7")["conclusions"]
     cases = got.keys() & full.keys()
     assert cases
     for case in cases:
@@ -65,7 +62,7 @@ def test_hb_fig7_quick_agrees_with_full(tmp_path):
 @pytest.mark.slow
 def test_hb_gap_preload_quick_agrees_with_full(tmp_path):
     got = quick("hb_gap_preload", tmp_path)
-    full = FULL["hb_gap_preload"]["conclusions"]
+    full = records.load("hb_gap_preload")["conclusions"]
     cases = got["resonances"].keys() & full["resonances"].keys()
     assert len(cases) >= 4
     for case in cases:
