@@ -22,6 +22,7 @@ from shroud.core.plotting import figure, save
 from shroud.analysis.sweep import PLATEAU, SETTLING_OPTIONS, Settling, run_sweeps, steady_resonance
 from shroud.core.results import SweepResult
 from shroud.base.tables import write_records
+from shroud.base.outputs import open_replacing
 
 FAMILY_OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
@@ -156,7 +157,7 @@ def write_outputs(out: Path, family, rows: list[dict], title: str) -> list[str]:
     axes[0][0].set_xscale("log")
     axes[1][0].set_xscale("log")
     files.append(save(fig, out / "resonance_characteristics.png").name)
-    with open(out / "amplitude_frequency.csv", "w", newline="") as fh:
+    with open_replacing(out / "amplitude_frequency.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["variant", "case", "rpm", "amplitude_v_L_m", "amplitude_w_L_m", "period", "settled"])
         for name in names:

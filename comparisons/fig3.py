@@ -15,6 +15,7 @@ from shroud.analysis.api import build_system, compile_kernels
 from shroud.core.plotting import figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.transient import simulate
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {"nr_values": [6, 30], "zoom_periods": 2}
 
@@ -60,8 +61,8 @@ def run(scene, out: Path) -> dict:
              markdown_table(["nr", "DOF", "amplitude v_L (mm)", "max error vs largest nr (%)",
                              "build", "transient"], rows),
              "![fig3_waveforms.png](fig3_waveforms.png)"]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
-    with open(out / "fig3_errors.csv", "w", newline="") as fh:
+    write_text(out / "report.md", "\n".join(lines) + "\n")
+    with open_replacing(out / "fig3_errors.csv") as fh:
         csv.writer(fh).writerows([("nr", "dofs", "amplitude_v_L_mm", "max_error_percent", "build_s", "transient_s"),
                                   *[(r[0], r[1], r[2], r[3], runs[r[0]][0].build_s, runs[r[0]][1].elapsed_s)
                                     for r in rows]])

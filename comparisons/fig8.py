@@ -53,6 +53,7 @@ from shroud.analysis.sweep import Settling, amplitude_change
 from shroud.analysis.transient import simulate
 from shroud.base.tables import write_records
 from shroud.params import FE
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "models": ["reduced", "full", "extended", "fe-reduced", "fe"],
@@ -161,8 +162,8 @@ def run(scene, out: Path) -> dict:
         "settled": {m: c <= Settling.tolerance if math.isfinite(c) else None for m, c in change.items()},
     }
     results["conclusions"] = conclusions(results)
-    (out / "report.md").write_text(_report(scene, runs, table3, compile_s, versus_ref, pairs, states,
-                                           figures, maps, results))
+    write_text(out / "report.md", _report(scene, runs, table3, compile_s, versus_ref, pairs, states,
+                                          figures, maps, results))
     return results
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 from comparisons import _families as fam
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import Settling, coexisting_states
+from shroud.base.outputs import write_text
 
 OPTIONS = {**fam.FAMILY_OPTIONS, "values": [0.1, 0.3, 0.5], "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0]}
 JUMP_THRESHOLD = 0.05     # curves apart by more than this share of the peak: a jump, not "no effect"
@@ -151,5 +152,5 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
     """compute -> plot (the families' figures and CSV) -> report, for one varied contact parameter."""
     result = compute_variants(scene, variants)
     files = fam.write_outputs(out, result.family, result.rows, scene.title)
-    (out / "report.md").write_text(report_variants(result, scene, describe, files))
+    write_text(out / "report.md", report_variants(result, scene, describe, files))
     return result.to_json(scene.options["small_gap_um"])

@@ -23,6 +23,7 @@ from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 4000.0, "rpm_to": 30000.0, "td_rpm_count": 53,
@@ -92,6 +93,6 @@ def run(scene, out: Path) -> dict:
              f"Time-domain points not on a stable P1 branch within {100 * opts['match']:g} %: {len(off)} of "
              f"{len(points)} (listed in td_points_by_branch.csv with the branch each landed on).",
              "", "![hb_fig4_reduced_vs_full.png](hb_fig4_reduced_vs_full.png)"]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    write_text(out / "report.md", "\n".join(lines) + "\n")
     return {"cases": rows, "branches": out_json, "time_domain_points": points,
             "cost_s": {"harmonic_balance": hb_cost, "time_domain_cpu": td_cost}}

@@ -36,6 +36,7 @@ from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "small_gap_um": 1.0, "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 6000.0, "rpm_to": 14000.0, "td_rpm_count": 17, "harmonics": 7, "samples": 256,
@@ -147,7 +148,7 @@ def run(scene, out: Path) -> dict:
                               ", ".join(f"{x:.0f}" for x in r["solid_folds_rpm"]) or "none",
                               f"{r['td_on_stable']}/{r['td_points']}") for r in rows]),
              "", "![hb_fig7.png](hb_fig7.png)", "", *checkpoint_report(checks, cost)]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    write_text(out / "report.md", "\n".join(lines) + "\n")
     return {"cases": rows, "branches": curves, "time_domain_points": points, "basis_error": errors, "cost_s": cost,
             "full_solid_checkpoints": checks}
 

@@ -26,6 +26,7 @@ from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
@@ -116,7 +117,7 @@ def run(scene, out: Path) -> dict:
                               [(p["case"], f"{p['rpm']:.0f}", p["amplitude_m"] * 1e3, p["period"] or "-",
                                 p["branch"]) for p in off]).splitlines() if off else []),
              "", "![hb_fig11.png](hb_fig11.png)"]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    write_text(out / "report.md", "\n".join(lines) + "\n")
     return {"cases": rows, "branches": curves, "time_domain_points": points,
             "optimal_preload_N": best["value"] if best else None,
             "cost_s": {"harmonic_balance_wall": hb_total, "time_domain_cpu": td_total}}

@@ -29,6 +29,7 @@ from shroud.base.errors import InputError
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "N_values": [4, 5, 6, 7],
@@ -119,7 +120,7 @@ def run(scene, out: Path) -> dict:
 
     write_records(out / "table1.csv", table)
     _figure(rows, ref, fe, out / "table1_convergence.png")
-    (out / "report.md").write_text(_report(scene, rows, ref, fe, terms, table, extended))
+    write_text(out / "report.md", _report(scene, rows, ref, fe, terms, table, extended))
     return {
         "rpm": rpm, "labels": list(PAPER_LABELS), "N": [r["N"] for r in rows],
         "f_hz": {str(r["N"]): r["f"] for r in rows},

@@ -132,11 +132,14 @@ def cmd_modal(args) -> None:
 
 def cmd_transient(args) -> None:
     from shroud.analysis.api import transient
-    params = _params(args)
-    out = Path(args.out)             # made by simulate when there is a time series to write
+    from shroud.app.runner import holding, output_folder
     from shroud.base.parallel import mpi_rank
-    csv_path = out / f"transient_{args.model}.csv" if mpi_rank() == 0 else None   # one rank writes
-    result = transient(params, args.model, csv_path=csv_path)
+    params = _params(args)
+    out = output_folder("transient", args.out)
+    writer = mpi_rank() == 0
+    csv_path = out / f"transient_{args.model}.csv" if writer else None   # one rank writes
+    with holding(out, writer):
+        result = transient(params, args.model, csv_path=csv_path)
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
 

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
 
 from shroud.base.log import info, warn
+from shroud.base.outputs import replacing
 
 
 def cache_root() -> Path:
@@ -96,12 +97,8 @@ def _unreadable(path: Path, check: Callable[[Path], None] | None) -> str | None:
 
 def _write_atomic(path: Path, write: Callable[[Path], None]) -> None:
     """``write(tmp)`` to a temporary name beside ``path``, then rename it into place."""
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
-    try:
+    with replacing(path) as tmp:
         write(tmp)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def _short(inputs: Mapping[str, Any]) -> str:

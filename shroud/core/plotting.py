@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from shroud.base.outputs import replacing
+
 STYLE = {
     "figure.dpi": 110, "savefig.dpi": 150, "font.size": 9, "axes.grid": True,
     "grid.alpha": 0.3, "axes.titlesize": 9, "legend.fontsize": 8, "lines.linewidth": 1.2,
@@ -31,6 +33,7 @@ def figure(nrows: int = 1, ncols: int = 1, width: float = 6.4, height: float | N
 def save(fig, path: Path, top: float = 1.0) -> Path:
     """Lay out and write ``fig``; ``top`` < 1 keeps the strip above it free (a legend for every panel)."""
     fig.tight_layout(rect=(0.0, 0.0, 1.0, top))
-    fig.savefig(path)
+    with replacing(Path(path)) as tmp:
+        fig.savefig(tmp)
     _pyplot().close(fig)
     return path
