@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
+import tomllib
 from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
@@ -239,6 +240,18 @@ def _allowed(key: str, typ: type) -> str:
     return rule[1] if rule else typ.__name__
 
 
+def parse_value(text: str) -> Any:
+    """A ``--set`` value: a TOML value (``8500``, ``1e-4``, ``"explicit"``, ``[4, 6]``, ``true``), else the bare word.
+
+    >>> parse_value('"explicit"'), parse_value("explicit"), parse_value("1e-4"), parse_value("[4, 6]")
+    ('explicit', 'explicit', 0.0001, [4, 6])
+    """
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text          # bare words are strings
+
+
 def unknown_key(key: str, known: list[str]) -> InputError:
     near = difflib.get_close_matches(key, known, n=1)
     hint = f" (did you mean {near[0]}?)" if near else ""
@@ -275,13 +288,17 @@ class Parameters:
         return (base or cls()).updated(flat)
 
     def with_overrides(self, assignments: list[str]) -> "Parameters":
-        """Apply ``--set key=value`` strings."""
+        """Apply ``--set key=value`` strings (values read as TOML, bare words as strings).
+
+        >>> Parameters().with_overrides(['time.contact="explicit"', "reduced.shroud=rigid"]).time.contact
+        'explicit'
+        """
         flat = {}
         for text in assignments:
             key, sep, value = text.partition("=")
             if not sep:
                 raise InputError(text, "--set needs key=value, e.g. --set speed.rpm=8500")
-            flat[key.strip()] = value
+            flat[key.strip()] = parse_value(value.strip())
         return self.updated(flat)
 
     def updated(self, flat: Mapping[str, Any]) -> "Parameters":
