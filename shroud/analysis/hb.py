@@ -182,6 +182,7 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     """
     t0 = time.perf_counter()
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
+    params.updated({"speed.rpm": rpm_to})            # the models' speed bound (shroud.params) holds to the end
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(build or model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm_from)
@@ -388,6 +389,7 @@ def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAU
     t0 = time.perf_counter()
     for rpm in rpms:
         check_inputs(harmonics, samples, 0.5 * rpm, rpm)
+        params.updated({"speed.rpm": float(rpm)})     # the models' speed bound (shroud.params)
     points = [checkpoint(params, model, float(rpm), harmonics, samples) for rpm in rpms]
     return {"model": model, "method": "hb", "harmonics": harmonics, "samples": points[0].samples,
             "rpm": [p.rpm for p in points], "amplitude_v_L": [p.amplitude_v_L for p in points],

@@ -144,7 +144,7 @@ def cmd_transient(args) -> None:
     _emit(args, payload, json.dumps(payload, indent=1))
 
 
-def cmd_sweep(args) -> None:
+def cmd_sweep(args) -> int | None:
     from shroud.app.models import registry
     if args.method not in ("time", "hb"):
         raise InputError("--method", f"{args.method!r} is unknown; allowed: time, hb")
@@ -176,9 +176,14 @@ def cmd_sweep(args) -> None:
     result = sweep(params, args.model, np.linspace(args.rpm_from, args.rpm_to, args.rpm_count))
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
+    diverged = result.rpm[~np.isfinite(result.amplitude_v_L)]
+    if diverged.size:
+        print(f"error: run diverged at {diverged.size} of {result.rpm.size} speeds "
+              f"({', '.join(f'{r:g}' for r in diverged)} r/min): their amplitudes are null", file=sys.stderr)
+        return EXIT_RUN_FAILED
 
 
-def _sweep_hb(args) -> None:
+def _sweep_hb(args) -> int:
     from shroud.analysis.hb import DEFAULT_HARMONICS, check_inputs, run_hb, run_hb_to_tail
     if args.tail is not None and args.harmonics is not None:
         raise InputError("--tail", "give --harmonics or --tail, not both")
@@ -202,8 +207,8 @@ def _sweep_hb(args) -> None:
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
     if not result.complete:
-        from shroud.base.log import warn
-        warn(f"the branch is incomplete: {result.stopped}")
+        print(f"error: the branch is incomplete: {result.stopped}", file=sys.stderr)
+        return EXIT_RUN_FAILED
 
 
 def _sweep_checkpoints(args) -> None:
@@ -243,6 +248,9 @@ def cmd_run(args) -> int:
     _emit(args, summary, "\n".join(lines))
     if summary["status"] == "complete with failures":     # a failed scene outranks a failed gate
         return EXIT_RUN_FAILED
+    if summary["status"].startswith("diverged"):
+        print(f"error: run {summary['status']}: see {summary['out']}/report.md", file=sys.stderr)
+        return EXIT_RUN_FAILED
     return EXIT_GATE_FAILED if failed else 0
 
 
@@ -259,6 +267,9 @@ def cmd_compare(args) -> int:
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
+        if args.command != "compare":
+            from shroud.base.cache import check_cache
+            check_cache()                # a cache that cannot be written stops the run before any work
         return {"modal": cmd_modal, "transient": cmd_transient, "sweep": cmd_sweep,
                 "run": cmd_run, "compare": cmd_compare}[args.command](args) or 0
     except InputError as exc:

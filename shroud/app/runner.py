@@ -4,7 +4,8 @@ Each study module (``comparisons/<study>.py``) has ``OPTIONS`` (defaults of
 its own options) and ``run(scene, out) -> dict`` returning every number its
 figures show; it writes its figures, CSVs and ``report.md`` into ``out``.
 The runner adds ``results.json``: those numbers plus the parameters, options,
-versions, cost and status (``complete``, ``partial`` or ``failed``).
+versions, cost and status (``complete``, ``diverged (<models>)`` when a study reports runs that
+left the bounded regime in its ``diverged`` entry, ``partial`` or ``failed``).
 
 Gates (the scene's ``[gates]`` table merged with those of the command line
 or campaign; shroud.app.gates) are held against that results.json once it is
@@ -40,7 +41,7 @@ import numpy as np
 
 from shroud.base.errors import InputError
 from shroud.base.log import info, warn
-from shroud.base.outputs import FolderLock, write_text
+from shroud.base.outputs import FolderLock, check_writable, write_text
 from shroud.base.parallel import mpi_rank, mpi_size, on_rank_zero
 from shroud.app import junit
 from shroud.app.gates import Gate, hold, merged
@@ -141,23 +142,8 @@ def output_folder(scene_path: str | Path, out: str | Path | None) -> Path:
     folder = Path(out) if out else Path("out") / Path(scene_path).stem
     if folder.exists() and not folder.is_dir():
         raise InputError("--out", f"{str(folder)!r} is an existing file; allowed: a folder path")
-    _check_writable(folder)
+    check_writable(folder, "--out")
     return folder
-
-
-def _check_writable(folder: Path) -> None:
-    """Refuse ``folder`` if it cannot be made or written into (probed in its nearest existing folder)."""
-    existing = folder.absolute()
-    while not existing.exists():
-        existing = existing.parent
-    allowed = "allowed: a folder that exists or can be made, in a place this user may write"
-    if not existing.is_dir():
-        raise InputError("--out", f"{str(folder)!r} cannot be made: {str(existing)!r} is a file; {allowed}")
-    try:
-        tempfile.TemporaryDirectory(dir=existing, prefix=".shroud-probe-").cleanup()
-    except OSError as exc:
-        raise InputError("--out", f"{str(folder)!r} cannot be written: {exc.strerror} in "
-                         f"{str(existing)!r}; {allowed}") from None
 
 
 @contextlib.contextmanager
@@ -253,6 +239,10 @@ def _run_study(scene: Scene, module, path, out: Path, writer: bool, quick: bool,
         if not writer:
             shutil.rmtree(target, ignore_errors=True)
     elapsed = time.perf_counter() - t0
+    diverged = results.get("diverged") or {}        # a study's runs that left the bounded regime, by model
+    if diverged:
+        status = f"diverged ({', '.join(diverged)})"
+        warn(f"{', '.join(diverged)} diverged: the run failed (results.json says {status!r})")
     records = write_results(target, scene, status, elapsed, results, overrides, gates=gates) if writer else []
     info(f"scene {scene.study} done in {elapsed:.1f} s")
     return {"study": scene.study, "title": scene.title, "out": str(out),

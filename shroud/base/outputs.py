@@ -18,6 +18,7 @@ import datetime
 import fcntl
 import os
 import socket
+import tempfile
 from pathlib import Path
 from typing import IO, Iterator
 
@@ -66,6 +67,23 @@ class FolderLock:
 
     def __exit__(self, *exc) -> None:
         self.release()
+
+
+def check_writable(folder: Path, key: str) -> None:
+    """Refuse (InputError ``key``) a folder that cannot be made or written into (probed in its nearest
+    existing folder, which is left as it was)."""
+    folder = Path(folder)
+    existing = folder.absolute()
+    while not existing.exists():
+        existing = existing.parent
+    allowed = "allowed: a folder that exists or can be made, in a place this user may write"
+    if not existing.is_dir():
+        raise InputError(key, f"{str(folder)!r} cannot be made: {str(existing)!r} is a file; {allowed}")
+    try:
+        tempfile.TemporaryDirectory(dir=existing, prefix=".shroud-probe-").cleanup()
+    except OSError as exc:
+        raise InputError(key, f"{str(folder)!r} cannot be written: {exc.strerror} in "
+                         f"{str(existing)!r}; {allowed}") from None
 
 
 def _temporary(path: Path) -> Path:
