@@ -23,6 +23,7 @@ import numpy as np
 
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError
+from shroud.base.log import Progress
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
 from shroud.core.continuation import continue_branch
@@ -193,10 +194,16 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     x_scale = max(float(np.abs(hb.linear_solution(lin) if start is None else start).max()), gap, 1e-7)
     count = max(min_points or MIN_POINTS, 2)
     details: list[dict] = []
+    progress = Progress(f"HB branch {model} {rpm_from:g}-{rpm_to:g} r/min", 1)
+
+    def on_point(X, rpm):
+        details.append(point_details(speeds, law, basis, X, rpm, residual.last))
+        progress.update((rpm - rpm_from) / (rpm_to - rpm_from),       # turning points step back: a share of the range
+                        f"{len(details)} points, at {rpm:.0f} r/min, amplitude {details[-1]['amplitude_v_L']:.3g} m")
+
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
-                             dp_max=(rpm_to - rpm_from) / (count - 1),
-                             on_point=lambda X, rpm: details.append(point_details(speeds, law, basis, X, rpm,
-                                                                                  residual.last)))
+                             dp_max=(rpm_to - rpm_from) / (count - 1), on_point=on_point)
+    progress.done()
     return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
                                 iterations=branch.iterations, complete=branch.complete,
                                 stopped=branch.stopped, dofs=system.dofs, condensed=lin.condensed,

@@ -61,8 +61,11 @@ def map_parallel(func: Callable[[T], R], items: Iterable[T], processes: int | No
     """``[func(x) for x in items]``, spread over MPI ranks or local processes.
 
     Under mpirun each rank takes every size-th item and the results are
-    gathered on all ranks. Otherwise a fork-based process pool is used when
-    more than one worker and more than one item are available. ``func`` must
+    gathered on all ranks. Otherwise a process pool is used when more than
+    one worker and more than one item are available; its workers are forked
+    from a fresh single-threaded server (``forkserver``, ``func``'s module
+    preloaded there), never from this process, whose BLAS and numba threads
+    a fork would copy half-held (the deadlock Python warns of). ``func`` must
     be a module-level function (it is pickled). Inside an item of an outer
     map (a sweep within a campaign) the map runs serially in place.
     """
@@ -82,7 +85,9 @@ def map_parallel(func: Callable[[T], R], items: Iterable[T], processes: int | No
     chunk = max(1, len(items) // (4 * n))
     # Leaving the block terminates the workers: an interrupted map stops at
     # once instead of finishing every queued item first.
-    with get_context("fork").Pool(n, initializer=_enter_worker) as pool:
+    context = get_context("forkserver")
+    context.set_forkserver_preload([func.__module__])      # takes effect when the server first starts
+    with context.Pool(n, initializer=_enter_worker) as pool:
         return pool.map(func, items, chunksize=chunk)
 
 
