@@ -50,9 +50,9 @@ class Progress:
             return
         self.last = now
         frac = min(max(done / self.total, 0.0), 1.0)
-        eta = (now - self.t0) * (1 - frac) / frac if frac > 0 else float("nan")
+        left = f", ~{(now - self.t0) * (1 - frac) / frac:.0f} s left" if frac > 0 else ""
         where = detail or f"{done:g}/{self.total}"
-        _say(f"[shroud] {self.label}: {where} ({100 * frac:.0f} %), {now - self.t0:.1f} s, ~{eta:.0f} s left")
+        _say(f"[shroud] {self.label}: {where} ({100 * frac:.0f} %), {now - self.t0:.1f} s{left}")
 
     def done(self) -> float:
         elapsed = time.perf_counter() - self.t0

@@ -414,8 +414,10 @@ class HBResult:
                                 label=label if start == 0 else None, **line)
                 start = i
         marks = {"fold": "o", "period-doubling": "s", "Neimark-Sacker": "^"}
-        for b in self.bifurcations:
-            ax.plot(b["rpm"], b["amplitude"] * scale, marks[b["kind"]], color="k", ms=4, mfc="none")
+        for b in self.bifurcations:       # each kind in the legend once per panel
+            named = b["kind"] in ax.get_legend_handles_labels()[1]
+            ax.plot(b["rpm"], b["amplitude"] * scale, marks[b["kind"]], color="k", ms=4, mfc="none",
+                    label=None if named else b["kind"], zorder=4)
         ax.set_xlabel("speed (r/min)")
         ax.set_ylabel("amplitude of v_L (mm)")
         return ax
