@@ -16,6 +16,7 @@ passes it through.
 from __future__ import annotations
 
 import importlib
+import sys
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -47,6 +48,7 @@ class ModelEntry:
 
 
 _MODELS: dict[str, ModelEntry] = {}
+_REGISTERED_BY: dict[str, str] = {}       # model name -> the module whose import registered it
 
 
 def lazy(module: str, function: str, **fixed) -> Callable:
@@ -64,6 +66,13 @@ def lazy(module: str, function: str, **fixed) -> Callable:
 def register(entry: ModelEntry) -> None:
     """Make ``entry`` known by its name (a second registration of a name replaces the first)."""
     _MODELS[entry.name] = entry
+    _REGISTERED_BY[entry.name] = sys._getframe(1).f_globals.get("__name__", "")
+
+
+def packages() -> tuple[str, ...]:
+    """The modules whose import registered the known models: what a fresh worker process imports to
+    know the same models (shroud.base.parallel.map_parallel's ``preload``)."""
+    return tuple(sorted({m for m in _REGISTERED_BY.values() if m and m != "__main__"}))
 
 
 def model(name: str) -> ModelEntry:
