@@ -251,3 +251,17 @@ def test_an_incomplete_harmonic_balance_branch_exits_1(capsys, monkeypatch):
     assert json.loads(captured.out)["complete"] is False
     assert [l for l in captured.err.splitlines() if l.startswith("error:")] == \
         [l for l in captured.err.splitlines() if l.startswith("error: the branch is incomplete:")]
+
+
+@pytest.mark.parametrize("argv, key, words", [
+    (["sweep", "--method", "hb", "--rpm-from", "8000", "--rpm-to", "9000", "--harmonics", "100000"],
+     "--harmonics", "Fourier basis"),                       # was a numpy MemoryError (1.53 TiB), exit 1
+    (["sweep", "--method", "hb", "--rpm-from", "8000", "--rpm-to", "9000", "--harmonics", "5",
+      "--samples", "100000000000"], "--samples", "Fourier basis"),
+    (["transient", "--set", "time.steps_per_period=100000000"], "time.steps_per_period",
+     "steps per period"),                                   # was "at most 0 periods" on time.periods
+])
+def test_more_resolution_than_the_machine_holds(tmp_path, capsys, argv, key, words):
+    out = tmp_path / "out"
+    line = _refused(capsys, argv + (["--out", str(out)] if argv[0] == "transient" else []), key, out)
+    assert words in line

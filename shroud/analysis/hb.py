@@ -24,6 +24,8 @@ import numpy as np
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError
 from shroud.base.log import Progress
+from shroud.base.resources import in_words, physical_memory
+from shroud.analysis.checks import MEMORY_SHARE
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
 from shroud.core.continuation import continue_branch
@@ -45,6 +47,12 @@ def check_inputs(H: int, samples: int | None, rpm_from: float, rpm_to: float) ->
                                       f"allowed: at least 2 H + 1 = {2 * H + 1}")
     if not 0 < rpm_from < rpm_to:
         raise InputError("--rpm-from", f"{rpm_from:g} .. {rpm_to:g}: allowed: 0 < rpm-from < rpm-to")
+    need, memory = 8.0 * n * (2 * H + 1), physical_memory()    # one sampled Fourier basis, samples x (2H + 1)
+    if need > MEMORY_SHARE * memory:
+        raise InputError("--harmonics" if samples is None else "--samples",
+                         f"{H} harmonics at {n} samples a period need a {in_words(need)} Fourier basis before any "
+                         f"point, more than {MEMORY_SHARE:.0%} of this machine's {in_words(memory)}; allowed: a basis "
+                         f"within {in_words(MEMORY_SHARE * memory)} (the default H is {DEFAULT_HARMONICS})")
     return n
 
 
