@@ -75,7 +75,7 @@ def run(scene, out: Path) -> dict:
                             [(r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
              fam.settling_text(rows, opts),
-             *[f"![{f}]({f})" for f in files]]
+             *[f"![{f}]({f})" for f in files], "", fam.WIDEST_FIRST]
     write_text(out / "report.md", "\n".join(lines) + "\n")
     every_preload_beyond = all(r["beyond_range"] for r in rows if r["kind"] == "preload" and r["value"] > 0)
     return {"resonances": rows, "curves": fam.curves_json(family),
