@@ -9,7 +9,10 @@ DOLFINx (that happens when one is built):
   Floquet multipliers those of its own orbit with the perturbations on
   fe-reduced's basis (at 1x and 2x the kept modes);
 * ``fe-reduced``: its free-interface component-mode-synthesis reduction, which
-  also offers one basis for a speed range (``at_speed``, reference_fe.frequency).
+  also offers one basis for a speed range (``at_speed``, reference_fe.frequency);
+* ``shell``: the Reissner-Mindlin shell of the blade's mid-surface with the
+  shroud as a plate on its tip (reference_fe.shell, docs/shell.md);
+* ``shell-reduced``: its free-interface reduction to ``shell.cms_modes`` modes.
 """
 
 from shroud.core.registry import ModelEntry, lazy, register
@@ -17,6 +20,7 @@ from shroud.core.registry import ModelEntry, lazy, register
 register(ModelEntry("fe", build_system=lazy("reference_fe.system", "build_system", reduced=False),
                     modal=lazy("reference_fe.modal", "modal_analysis"), sweepable=False,
                     linear_harmonics=lazy("reference_fe.harmonic", "condensed_at"), reduced_by="fe-reduced",
+                    static=lazy("reference_fe.static", "static_response", kind="fe"),
                     description="full solid, quadratic cells"))
 
 
@@ -28,3 +32,19 @@ def twice_the_modes(params):
 register(ModelEntry("fe-reduced", build_system=lazy("reference_fe.system", "build_system", reduced=True),
                     at_speed=lazy("reference_fe.frequency", "at_speed"), refined=twice_the_modes,
                     description="solid reduced by free-interface CMS"))
+
+
+register(ModelEntry("shell", build_system=lazy("reference_fe.system", "build_system", reduced=False, kind="shell"),
+                    modal=lazy("reference_fe.modal", "modal_analysis", kind="shell"), sweepable=False,
+                    static=lazy("reference_fe.static", "static_response", kind="shell"),
+                    reduced_by="shell-reduced", description="Reissner-Mindlin shell of the mid-surface, P2/CR"))
+
+
+def twice_the_shell_modes(params):
+    """The reduced shell with twice its kept normal modes."""
+    return params.updated({"shell.cms_modes": 2 * params.shell.cms_modes})
+
+
+register(ModelEntry("shell-reduced", build_system=lazy("reference_fe.system", "build_system", reduced=True,
+                                                       kind="shell"),
+                    refined=twice_the_shell_modes, description="shell reduced by free-interface CMS"))

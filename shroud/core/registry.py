@@ -44,6 +44,9 @@ class ModelEntry:
     reduced_by: str | None = None
     # params -> the parameters of this model on a larger basis (a reduction's convergence check)
     refined: Callable[[Any], Any] | None = None
+    # (params, rpm, force (3,) N along X, Y, Z) -> shroud.core.results.StaticResult: the static response
+    # to a force at the blade tip on top of the centrifugal state; None: the model has no static solve.
+    static: Callable[..., Any] | None = None
 
 
 _MODELS: dict[str, ModelEntry] = {}
@@ -76,9 +79,11 @@ def model(name: str) -> ModelEntry:
 
 
 def names(capability: str = "transient") -> tuple[str, ...]:
-    """Registered model names that offer ``capability``: "transient", "modal" or "sweep"."""
+    """Registered model names that offer ``capability``: "transient", "modal", "static" or "sweep"."""
     if capability == "modal":
         return tuple(n for n, e in _MODELS.items() if e.modal is not None)
+    if capability == "static":
+        return tuple(n for n, e in _MODELS.items() if e.static is not None)
     if capability == "sweep":
         return tuple(n for n, e in _MODELS.items() if e.sweepable)
     return tuple(_MODELS)
