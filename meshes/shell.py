@@ -216,6 +216,7 @@ def _build_model(gmsh, spec: ShellSpec) -> None:
         raise RuntimeError(f"gmsh mid-surface lacks facet groups {missing}: {groups}")
     for tag in groups[CONTACT_SIDE1] + groups[CONTACT_SIDE2]:
         model.mesh.setTransfiniteCurve(tag, spec.contact_points)
+    _structured(model, spec, blade, tol)
     for tag, name in ((ROOT, "root"), (TIP, "tip"), (CONTACT_SIDE1, "contact_side1"),
                       (CONTACT_SIDE2, "contact_side2")):
         if groups[tag]:
@@ -224,6 +225,25 @@ def _build_model(gmsh, spec: ShellSpec) -> None:
     if shroud:
         model.addPhysicalGroup(2, shroud, SHROUD, name="shroud")
     return blade
+
+
+def _structured(model, spec: ShellSpec, blade: list[int], tol: float) -> None:
+    """Each half of the helicoid as a structured grid of triangles (alternating diagonals).
+
+    Cells of one shape over the span and the chord: the torsion mode's
+    boundary layer along the free chord edges (width h / sqrt(10)) is then
+    resolved alike at every station, and its frequency converges smoothly
+    with the size (with free triangles it wandered by +/- 0.5 % between
+    sizes of 2 and 4 mm).
+    """
+    along_span = 1 + max(2, math.ceil(spec.length / spec.size))
+    along_chord = 1 + max(1, math.ceil(0.5 * spec.width / spec.size))
+    for surface in blade:
+        for _, curve in model.getBoundary([(2, surface)], oriented=False):
+            lo = model.getBoundingBox(1, abs(curve))
+            spans = lo[3] - lo[0] > 0.01 * spec.length      # (OCC pads boxes by 1e-7 m)
+            model.mesh.setTransfiniteCurve(abs(curve), along_span if spans else along_chord)
+        model.mesh.setTransfiniteSurface(surface, "Alternate")
 
 
 def write_mesh(spec: ShellSpec, path: Path) -> None:

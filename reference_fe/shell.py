@@ -89,6 +89,7 @@ class ShellModel(FEModel):
     clamped_dofs: np.ndarray     # local indices of clamped DOFs (owned and ghost)
     tip_dofs: np.ndarray         # (3, 3) displacement DOFs of the tip centre and centre -/+ b/4 e_w(L); -1 elsewhere
     thickness: Any               # DG0 field: blade.thickness on the blade, shroud.thickness on the plate
+    offset: Any                  # DG0 field: how far out (along +X) the material sits from the cell: t_s/2 on the plate
     drilling: float = DRILLING
     contact_tags: tuple[int, int] = (CONTACT_SIDE1, CONTACT_SIDE2)
 
@@ -124,10 +125,13 @@ def _shell_model(spec: ShellSpec, material: Material, drilling: float, alone: bo
         dofs = fem.locate_dofs_topological((V.sub(i), Vi), fdim, root)
         bcs.append(fem.dirichletbc(fem.Function(Vi), dofs, V.sub(i)))
         clamped.append(dofs[0])
-    thickness = fem.Function(fem.functionspace(msh, ("DG", 0)), name="thickness")
+    DG0 = fem.functionspace(msh, ("DG", 0))
+    thickness, offset = fem.Function(DG0, name="thickness"), fem.Function(DG0, name="offset")
     thickness.x.array[:] = spec.thickness
     if spec.has_shroud:
-        thickness.x.array[data.cell_tags.find(SHROUD)] = spec.shroud_thickness
+        plate = data.cell_tags.find(SHROUD)
+        thickness.x.array[plate] = spec.shroud_thickness
+        offset.x.array[plate] = 0.5 * spec.shroud_thickness
     info(f"shell: {comm.allreduce(msh.topology.index_map(2).size_local)} triangles, "
          f"{V.dofmap.index_map.size_global} DOF (P2/CR, size {spec.size:g} m)")
     _, e_w = section_frame(spec.beta_tip)
@@ -135,7 +139,8 @@ def _shell_model(spec: ShellSpec, material: Material, drilling: float, alone: bo
     tips = np.array([centre, centre - 0.25 * spec.width * e_w, centre + 0.25 * spec.width * e_w])
     return ShellModel(spec=spec, material=material, mesh=msh, V=V, cell_tags=data.cell_tags,
                       facet_tags=data.facet_tags, bcs=tuple(bcs), clamped_dofs=np.unique(np.concatenate(clamped)),
-                      tip_dofs=displacement_dofs(V, tips, spec.size), thickness=thickness, drilling=drilling)
+                      tip_dofs=displacement_dofs(V, tips, spec.size), thickness=thickness, offset=offset,
+                      drilling=drilling)
 
 
 def displacement_dofs(V, points: np.ndarray, size: float) -> np.ndarray:
@@ -223,13 +228,17 @@ def _forms(model: ShellModel):
            + ufl.inner(h**3 / 12 * plane_stress(k.bending(dth), mat), k.bending(eta))
            + SHEAR_CORRECTION * G * h * ufl.dot(k.shear(du, dth), k.shear(v, eta))
            + drill * k.drilling(du, dth) * k.drilling(v, eta)) * dx
-    m = (rho * h * ufl.dot(du, v)
+    # The material of a cell sits ``offset`` out along +X from it (the shroud plate's, at the box's
+    # centre plane): it moves with U = u + theta x (d e_X) and is spun at X + d.
+    d, e_X = model.offset, ufl.as_vector((1.0, 0.0, 0.0))
+    dU, V = du + d * ufl.cross(dth, e_X), v + d * ufl.cross(eta, e_X)
+    m = (rho * h * ufl.dot(dU, V)
          + rho * h**3 / 12 * ufl.dot(ufl.cross(k.e3, dth), ufl.cross(k.e3, eta))) * dx
     return k, dict(
         m=m, k_e=k_e,
-        k_spin=-rho * h * ufl.inner(ufl.cross(Om, du), ufl.cross(Om, v)) * dx,
-        g=2.0 * rho * h * ufl.inner(ufl.cross(Om, du), v) * dx,
-        f_c=rho * h * ufl.inner(ufl.as_vector((X[0], X[1], 0.0)), v) * dx,
+        k_spin=-rho * h * ufl.inner(ufl.cross(Om, dU), ufl.cross(Om, V)) * dx,
+        g=2.0 * rho * h * ufl.inner(ufl.cross(Om, dU), V) * dx,
+        f_c=rho * h * ufl.inner(ufl.as_vector((X[0] + d, X[1], 0.0)), V) * dx,
         f_aero=ufl.inner(e_v / spec.width, v) * dx(BLADE),
     )
 
