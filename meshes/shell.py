@@ -52,6 +52,7 @@ from shroud.params import Parameters
 
 TIP = 4                 # facet tag of the blade's tip line
 MAX_TWIST_PER_SECTION = math.radians(2.0)
+EDGE_TOLERANCE = 1e-6     # relative to b/2: far above the skin's error, far below any cell
 
 
 @dataclass(frozen=True)
@@ -148,11 +149,15 @@ def on_helicoid(points: np.ndarray, spec: ShellSpec) -> np.ndarray:
     """``points`` (k, 3) moved onto the helicoid along their section plane X = const: (X, s e_w(x)).
 
     s is the point's coordinate along e_w(x) of its own section; a point
-    already on the surface is returned unchanged.
+    within EDGE_TOLERANCE of a chord edge is put on it (the skin's edges
+    stray from the helix by ~1e-8 m between its sections). A point already
+    on the surface is returned unchanged.
     """
     beta = spec.beta(points[:, 0])
     e_w = np.stack([np.zeros_like(beta), -np.sin(beta), np.cos(beta)], axis=1)
     s = np.einsum("ij,ij->i", points, e_w)
+    edge = np.abs(s) > 0.5 * spec.width * (1.0 - EDGE_TOLERANCE)
+    s[edge] = np.sign(s[edge]) * 0.5 * spec.width
     return np.column_stack([points[:, 0], s[:, None] * e_w[:, 1:]])
 
 

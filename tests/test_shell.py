@@ -1,0 +1,177 @@
+"""The shell model (reference_fe.shell on meshes.shell) against published benchmarks and the solid.
+
+Independent truths: the exact helicoid; MacNeal & Harder's (1985) twisted
+beam; NAFEMS FV16 (cantilevered thin square plate); the 3D solid
+(reference_fe.solid), a second formulation of the same blade. Benchmarks go
+through the ``shroud`` command, as a user would run them.
+"""
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+SHROUD = str(Path(sys.executable).with_name("shroud"))
+
+
+def shroud(*args, timeout=600):
+    return subprocess.run([SHROUD, *args], capture_output=True, text=True, timeout=timeout)
+
+
+def sets(values: dict) -> list[str]:
+    return [a for k, v in values.items() for a in ("--set", f"{k}={v}")]
+
+
+def run_json(*args) -> dict:
+    r = shroud(*args, "--json")
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout)
+
+
+# MacNeal & Harder (1985), twisted beam: L = 12, b = 1.1, 90 deg twist, E = 29e6, nu = 0.22, unit
+# tip loads (consistent units). Root section: width along Z (e_w at beta = 0), thickness along Y.
+MACNEAL_HARDER = {"blade.disk_radius": 0.0, "blade.length": 12.0, "blade.width": 1.1, "blade.stagger_deg": 0.0,
+                  "blade.twist_deg": 90.0, "shroud.thickness": 0.0, "material.E": 29e6, "material.nu": 0.22,
+                  "shell.mesh_size": 0.15}
+# (thickness, element size, load, published tip deflection along the load): thick and thin cases.
+# The thin case (a/h = 3750) locks on coarse meshes of flat facets (membrane locking at the kinks
+# between facets of the twisted strip): -17 % at 0.3, -2.6 % at 0.15, -0.7 % at 0.1 (docs/shell.md).
+MACNEAL_HARDER_CASES = [(0.32, 0.15, "Y", 1.0, 5.424e-3), (0.32, 0.15, "Z", 1.0, 1.754e-3),
+                        (0.0032, 0.1, "Y", 1e-6, 5.256e-3), (0.0032, 0.1, "Z", 1e-6, 1.294e-3)]
+
+
+@pytest.mark.parametrize("thickness, size, axis, load, published", MACNEAL_HARDER_CASES)
+def test_macneal_harder_twisted_beam_tip_deflection_within_1_5_percent(thickness, size, axis, load, published):
+    """Thick case (a/h = 37.5) as the issue asks; the thin one (a/h = 3750) on a finer mesh."""
+    force = {"Y": ["0", str(load), "0"], "Z": ["0", "0", str(load)]}[axis]
+    out = run_json("static", "--model", "shell", "--tip-force", *force, "--rpm", "0",
+                   *sets({**MACNEAL_HARDER, "blade.thickness": thickness, "shell.mesh_size": size}))
+    assert out["tip"][axis] == pytest.approx(published, rel=0.015)
+
+
+# NAFEMS FV16: 10 m x 10 m x 0.05 m steel plate (a/h = 200) clamped along one edge; target frequencies, Hz.
+FV16 = {"blade.disk_radius": 0.0, "blade.length": 10.0, "blade.width": 10.0, "blade.thickness": 0.05,
+        "blade.stagger_deg": 0.0, "blade.twist_deg": 0.0, "shroud.thickness": 0.0, "material.E": 200e9,
+        "material.nu": 0.3, "material.rho": 8000.0, "shell.mesh_size": 0.5}
+FV16_HZ = [0.421, 1.029, 2.582, 3.306, 3.753, 6.555]
+
+
+def test_nafems_fv16_first_six_frequencies_within_1_percent():
+    out = run_json("modal", "--model", "shell", "--rpm", "0", "--modes", "6", "--no-coriolis", *sets(FV16))
+    f = np.array([m["f_hz"] for m in out["modes"]])
+    np.testing.assert_allclose(f, FV16_HZ, rtol=0.01)
+
+
+def _blade_frequencies(model: str, rpm: float, stage: dict) -> dict[str, float]:
+    out = run_json("modal", "--model", model, "--rpm", str(rpm), "--modes", "6", *sets(stage))
+    return {m["label"]: m["f_hz"] for m in out["modes"]}
+
+
+BARE_TOLERANCE = {"flap1": 0.01, "chord1": 0.01, "flap2": 0.01, "torsion1": 0.02, "flap3": 0.02}
+SHROUDED_TOLERANCE = {"flap1": 0.01, "chord1": 0.02, "flap2": 0.02, "torsion1": 0.03, "flap3": 0.03}
+
+
+@pytest.mark.parametrize("rpm", [0.0, 10000.0])
+def test_bare_twisted_blade_matches_the_solid(rpm):
+    """Rotation (prestress, spin softening, Coriolis) and the twisted geometry, against the 3D solid."""
+    shell = _blade_frequencies("shell", rpm, {"shroud.thickness": 0.0})
+    solid = _blade_frequencies("fe", rpm, {"shroud.thickness": 0.0})
+    for label, tol in BARE_TOLERANCE.items():
+        assert shell[label] == pytest.approx(solid[label], rel=tol), label
+
+
+@pytest.mark.parametrize("rpm", [8500.0, 10000.0])
+def test_shrouded_blade_matches_the_solid(rpm):
+    shell = _blade_frequencies("shell", rpm, {})
+    solid = _blade_frequencies("fe", rpm, {})
+    for label, tol in SHROUDED_TOLERANCE.items():
+        assert shell[label] == pytest.approx(solid[label], rel=tol), label
+
+
+def test_rotation_stiffens_the_shell_as_the_solid():
+    """The Southwell shift of flap1 between 0 and 10000 r/min, shell against solid: the prestress terms
+    (geometric stiffness of the membrane forces, spin softening) are tested by their effect alone."""
+    stage = {"shroud.thickness": 0.0}
+    shift = {m: _blade_frequencies(m, 10000.0, stage)["flap1"] ** 2 - _blade_frequencies(m, 0.0, stage)["flap1"] ** 2
+             for m in ("shell", "fe")}
+    assert shift["shell"] == pytest.approx(shift["fe"], rel=0.01)
+
+
+def test_drilling_stiffness_moves_frequencies_less_than_0_1_percent_over_100x():
+    from meshes.shell import ShellSpec
+    from reference_fe.modal import _stiffness_factor, _undamped
+    from reference_fe.shell import model_of, operators_at
+    from shroud.params import Parameters
+
+    params = Parameters().updated({"shroud.thickness": 0.0})
+    spec = ShellSpec.from_params(params)
+    freqs = []
+    for drilling in (0.1, 10.0):
+        ops = operators_at(model_of(spec, params.material, drilling), 0.0)
+        ksp, factor = _stiffness_factor(ops)
+        freqs.append(_undamped(ops, 6, ksp)[0])
+        ksp.destroy()
+        factor.destroy()
+    change = np.abs(freqs[1] / freqs[0] - 1.0)
+    assert change.max() < 1e-3
+    assert change.max() > 0.0        # the parameter is live: it does move something
+
+
+def test_mid_surface_is_the_helicoid_not_a_loft():
+    """Every node lies on P(x, s) = (R_d + x) e_X + s e_w(x); midway up the span the chord edge stands
+    where the helicoid puts it, away from the hyperbolic paraboloid through root and tip lines."""
+    from meshes.shell import ShellSpec, on_helicoid
+    from reference_fe.shell import model_of
+    from shroud.params import Parameters
+
+    params = Parameters().updated({"shroud.thickness": 0.0, "blade.twist_deg": 40.0})
+    spec = ShellSpec.from_params(params)
+    x = model_of(spec, params.material).mesh.geometry.x
+    np.testing.assert_allclose(on_helicoid(x, spec), x, atol=1e-12)
+    # radius of every node from the axis: at most b/2, reached on both chord edges at mid-span
+    r = np.linalg.norm(x[:, 1:], axis=1)
+    assert r.max() == pytest.approx(0.5 * spec.width, rel=1e-12)
+    mid = np.abs(x[:, 0] - (spec.disk_radius + 0.5 * spec.length)) < 1e-9
+    assert r[mid].max() == pytest.approx(0.5 * spec.width, rel=1e-12)
+    # the loft's mid-span edge point is the mean of root and tip edge points: radius b/2 cos(twist/2)
+    assert 0.5 * spec.width * math.cos(0.5 * spec.twist) < 0.99 * r[mid].max()
+
+
+def test_shroud_contact_points_are_area_weighted_nodes_of_each_face():
+    from reference_fe.shell import contact_faces, shell_model
+    from reference_fe.contact_faces import tip_frame
+    from shroud.params import Parameters
+
+    params = Parameters().updated({"shell.contact_points": 7})
+    faces = contact_faces(shell_model(params), params)
+    frame = tip_frame(params)
+    assert [f.side for f in faces] == [1, 2]
+    for face, v_s in zip(faces, (-0.01, 0.01)):
+        assert face.dofs.shape == (7, 3)
+        assert face.weight.sum() == pytest.approx(1.0)
+        np.testing.assert_allclose(face.coords @ frame.e_vs, v_s, atol=1e-12)
+        # trapezoidal shares (the nodal areas of linear elements along the face): the face's first
+        # moment about its centre is zero, its second l_s^2/12 plus the rule's error l_s^2 D^2/6 (D = 1/6)
+        w_s = face.coords @ frame.e_ws
+        assert face.weight @ w_s == pytest.approx(0.0, abs=1e-15)
+        assert face.weight @ w_s**2 == pytest.approx(0.04**2 / 12 + 0.04**2 / 36 / 6, rel=1e-12)
+
+
+def test_tip_force_on_a_model_without_static_solve_is_one_line_exit_2():
+    r = shroud("static", "--model", "fe-reduced", "--tip-force", "0", "1", "0", "--json")
+    assert r.returncode == 2 and r.stdout == ""
+    assert len(r.stderr.strip().splitlines()) == 1 and "no static solve" in r.stderr
+
+
+@pytest.mark.parametrize("setting, key", [("blade.thickness=0.05 shroud.thickness=0", "blade.thickness"),
+                                          ("blade.thickness=0", "blade.thickness"),
+                                          ("shell.mesh_size=1e-6", "shell.mesh_size")])
+def test_bad_shell_input_is_one_line_exit_2(setting, key):
+    r = shroud("modal", "--model", "shell", *[a for kv in setting.split() for a in ("--set", kv)], "--json")
+    assert r.returncode == 2 and r.stdout == ""
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"error: {key}:") and "allowed" in lines[0]
