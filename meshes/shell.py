@@ -26,8 +26,9 @@ embedded in it (a T-joint: a facet there has three cells). What it leaves
 out against the solid's box: the box's centre sits t_s/2 further out, and
 the box is stiffer in bending than a plate of its thickness; both are
 measured in docs/shell.md. Its two edges at v_s = -b_s/2 and +b_s/2 are the
-contact faces (side 1, side 2), each cut into ``contact_points - 1`` equal
-segments so that its nodes are the contact points.
+contact faces (side 1, side 2), each cut into ``contact_points`` equal
+segments whose midpoints are the contact points (there the P2 displacement
+and the Crouzeix-Raviart rotation both have a node).
 
 Physical groups: cells BLADE, SHROUD; facets (lines) ROOT, CONTACT_SIDE1,
 CONTACT_SIDE2 and TIP (the blade's tip line). The tip centre (R_d + L, 0, 0)
@@ -70,7 +71,7 @@ class ShellSpec:
     shroud_thickness: float   # t_s: the plate's thickness; 0 = no shroud
     alpha: float              # shroud inclination, rad
     size: float               # target element size, m
-    contact_points: int = 11  # nodes per contact edge
+    contact_points: int = 11  # segments (their midpoints the contact points) per contact edge
 
     @classmethod
     def from_params(cls, params: Parameters) -> "ShellSpec":
@@ -220,7 +221,7 @@ def _build_model(gmsh, spec: ShellSpec) -> None:
     if missing:
         raise RuntimeError(f"gmsh mid-surface lacks facet groups {missing}: {groups}")
     for tag in groups[CONTACT_SIDE1] + groups[CONTACT_SIDE2]:
-        model.mesh.setTransfiniteCurve(tag, spec.contact_points)
+        model.mesh.setTransfiniteCurve(tag, spec.contact_points + 1)
     _structured(model, spec, blade, tol)
     for tag, name in ((ROOT, "root"), (TIP, "tip"), (CONTACT_SIDE1, "contact_side1"),
                       (CONTACT_SIDE2, "contact_side2")):

@@ -139,16 +139,16 @@ def _shell_model(spec: ShellSpec, material: Material, drilling: float, alone: bo
     tips = np.array([centre, centre - 0.25 * spec.width * e_w, centre + 0.25 * spec.width * e_w])
     return ShellModel(spec=spec, material=material, mesh=msh, V=V, cell_tags=data.cell_tags,
                       facet_tags=data.facet_tags, bcs=tuple(bcs), clamped_dofs=np.unique(np.concatenate(clamped)),
-                      tip_dofs=displacement_dofs(V, tips, spec.size), thickness=thickness, offset=offset,
+                      tip_dofs=nodal_dofs(V, 0, tips, spec.size), thickness=thickness, offset=offset,
                       drilling=drilling)
 
 
-def displacement_dofs(V, points: np.ndarray, size: float) -> np.ndarray:
-    """(k, 3) indices in V of the displacement (x, y, z) at the nodes at ``points`` owned here, -1 elsewhere."""
-    Vu, to_parent = V.sub(0).collapse()
+def nodal_dofs(V, sub: int, points: np.ndarray, size: float) -> np.ndarray:
+    """(k, 3) indices in V of sub-space ``sub`` (0: u, 1: theta) at its nodes at ``points`` owned here, -1 elsewhere."""
+    Vs, to_parent = V.sub(sub).collapse()
     to_parent = np.asarray(to_parent).reshape(-1, 3)
     owned = V.dofmap.index_map.size_local
-    nodes = Vu.tabulate_dof_coordinates()
+    nodes = Vs.tabulate_dof_coordinates()
     out = np.full((len(points), 3), -1, dtype=np.int64)
     for i, p in enumerate(points):
         dist = np.linalg.norm(nodes - p, axis=1)
@@ -284,28 +284,35 @@ def contact_faces(model: ShellModel, params: Parameters):
     """The two contact faces (reference_fe.contact_faces.ContactFace), side 1 then side 2.
 
     A face of the solid's shroud box (l_s along e_ws, t_s along X) is here
-    the plate's edge at v_s = -/+ b_s/2: its ``shell.contact_points`` nodes,
-    evenly spaced over l_s, each carrying the share of the face's area that
-    is nearest to it (trapezoidal weights: half a share at each end). The
-    points lie on the plate's mid-plane, X = R_d + L, where the solid's face
-    centre is t_s/2 further out (docs/shell.md).
+    the plate's edge at v_s = -/+ b_s/2, cut into ``shell.contact_points``
+    equal segments: a contact point at each segment's midpoint carries the
+    segment's share of the face (1/n each), and sits on the face's centre
+    line, t_s/2 out along X from the plate: it moves by u + theta x (t_s/2) e_X
+    with u and theta the P2 and CR nodal values at the segment's midpoint.
     """
     from reference_fe.contact_faces import ContactFace, tip_frame
-    from reference_fe.distributed import global_offset
 
     spec, frame = model.spec, tip_frame(params)
     n = spec.contact_points
-    w_s = np.linspace(-0.5, 0.5, n) * spec.shroud_length
-    weight = np.full(n, 1.0 / (n - 1))
-    weight[[0, -1]] *= 0.5
+    w_s = (np.arange(n) + 0.5) / n * spec.shroud_length - 0.5 * spec.shroud_length
     faces = []
     for side, v_s in ((1, -0.5 * spec.shroud_width), (2, 0.5 * spec.shroud_width)):
         points = np.array([spec.tip_x, 0.0, 0.0]) + v_s * frame.e_vs + w_s[:, None] * frame.e_ws[None, :]
-        local = displacement_dofs(model.V, points, spec.size)
-        found = np.where(local >= 0, local + global_offset(model.V), -1)
-        dofs = model.comm.allreduce(found, op=MPI.MAX)
-        if np.any(dofs < 0):
-            raise RuntimeError(f"shell contact face {side}: {int(np.sum(dofs[:, 0] < 0))} points are not mesh nodes")
-        faces.append(ContactFace(side=side, dofs=dofs, weight=weight.copy(),
-                                 area=spec.shroud_length * spec.shroud_thickness, coords=points))
+        faces.append(ContactFace(side=side, dofs=_global_nodes(model, 0, points, side),
+                                 weight=np.full(n, 1.0 / n), area=spec.shroud_length * spec.shroud_thickness,
+                                 coords=points + 0.5 * spec.shroud_thickness * np.array([1.0, 0.0, 0.0]),
+                                 rotation_dofs=_global_nodes(model, 1, points, side),
+                                 arm=np.array([0.5 * spec.shroud_thickness, 0.0, 0.0])))
     return tuple(faces)
+
+
+def _global_nodes(model: ShellModel, sub: int, points: np.ndarray, side: int) -> np.ndarray:
+    """(k, 3) global indices of sub-space ``sub`` (0: u, 1: theta) at the nodes at ``points``, on every rank."""
+    from reference_fe.distributed import global_offset
+
+    local = nodal_dofs(model.V, sub, points, model.spec.size)
+    found = model.comm.allreduce(np.where(local >= 0, local + global_offset(model.V), -1), op=MPI.MAX)
+    if np.any(found < 0):
+        raise RuntimeError(f"shell contact face {side}: {int(np.sum(found[:, 0] < 0))} points are not nodes "
+                           f"of sub-space {sub}")
+    return found

@@ -141,9 +141,9 @@ def test_mid_surface_is_the_helicoid_not_a_loft():
     assert 0.5 * spec.width * math.cos(0.5 * spec.twist) < 0.99 * r[mid].max()
 
 
-def test_shroud_contact_points_are_area_weighted_nodes_of_each_face():
-    from reference_fe.shell import contact_faces, shell_model
+def test_shroud_contact_points_share_each_face_evenly_on_its_centre_line():
     from reference_fe.contact_faces import tip_frame
+    from reference_fe.shell import contact_faces, shell_model
     from shroud.params import Parameters
 
     params = Parameters().updated({"shell.contact_points": 7})
@@ -151,14 +151,38 @@ def test_shroud_contact_points_are_area_weighted_nodes_of_each_face():
     frame = tip_frame(params)
     assert [f.side for f in faces] == [1, 2]
     for face, v_s in zip(faces, (-0.01, 0.01)):
-        assert face.dofs.shape == (7, 3)
+        assert face.dofs.shape == face.rotation_dofs.shape == (7, 3)
         assert face.weight.sum() == pytest.approx(1.0)
         np.testing.assert_allclose(face.coords @ frame.e_vs, v_s, atol=1e-12)
-        # trapezoidal shares (the nodal areas of linear elements along the face): the face's first
-        # moment about its centre is zero, its second l_s^2/12 plus the rule's error l_s^2 D^2/6 (D = 1/6)
+        np.testing.assert_allclose(face.coords[:, 0], 0.3 + 0.0035, atol=1e-12)   # the face's mid-height
+        # midpoint shares: the face's first moment about its centre is zero, its second l_s^2/12
+        # less the midpoint rule's error l_s^2 / (12 n^2)
         w_s = face.coords @ frame.e_ws
         assert face.weight @ w_s == pytest.approx(0.0, abs=1e-15)
-        assert face.weight @ w_s**2 == pytest.approx(0.04**2 / 12 + 0.04**2 / 36 / 6, rel=1e-12)
+        assert face.weight @ w_s**2 == pytest.approx(0.04**2 / 12 * (1 - 1 / 49), rel=1e-12)
+
+
+def test_shell_contact_point_follows_a_rigid_rotation_of_the_plate():
+    """A rigid rotation theta about e_ws moves the face centre line (t_s/2 above the plate) by
+    theta x (t_s/2 e_X): the contact rows carry the arm, not only the plate's mid-plane motion."""
+    from reference_fe.contact_faces import contact_elements, tip_frame
+    from reference_fe.shell import contact_faces, shell_model
+    from shroud.params import Parameters
+
+    params = Parameters().updated({"shell.contact_points": 5})
+    model = shell_model(params)
+    faces = contact_faces(model, params)
+    frame = tip_frame(params)
+    n_all = model.global_dofs
+    contact = contact_elements(faces, frame, np.arange(n_all), n_all)
+    theta = 1e-3 * frame.e_ws            # rotation about the friction direction (the shroud's own axis)
+    q = np.zeros(n_all)
+    for f in faces:
+        q[f.rotation_dofs] = theta       # rotation nodes only: the plate's mid-plane stays put
+    y = contact.W @ q
+    expected = np.cross(theta, [0.0035, 0.0, 0.0]) @ frame.e_vs
+    np.testing.assert_allclose(y[contact.normal_row], expected, rtol=1e-12)
+    assert abs(expected) > 1e-7
 
 
 def test_tip_force_on_a_model_without_static_solve_is_one_line_exit_2():
