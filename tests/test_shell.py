@@ -199,3 +199,26 @@ def test_bad_shell_input_is_one_line_exit_2(setting, key):
     assert r.returncode == 2 and r.stdout == ""
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"error: {key}:") and "allowed" in lines[0]
+
+
+def _transient(model: str, tmp_path, *extra) -> dict:
+    return run_json("transient", "--model", model, "--out", str(tmp_path / model), *extra)
+
+
+def test_fig8_transient_shell_reduced_against_the_reduced_solid(tmp_path):
+    """The Fig. 8 case (10000 r/min, contact): the shell and the solid, two FE formulations of one blade,
+    on the tip amplitude and the face-1 normal force peak within 3 %."""
+    shell, solid = _transient("shell-reduced", tmp_path), _transient("fe-reduced", tmp_path)
+    assert shell["amplitude"]["v_L"] == pytest.approx(solid["amplitude"]["v_L"], rel=0.03)
+    assert shell["peak"]["N1"] == pytest.approx(solid["peak"]["N1"], rel=0.03)
+
+
+def test_shell_reduction_keeps_the_full_shell_transient(tmp_path):
+    """shell-reduced against shell from rest over 12 excitation periods (the last 10 measured): the
+    reduction (24 modes + residual attachment modes of every contact direction) within 0.5 %."""
+    short = sets({"time.periods": 12})
+    full, reduced = _transient("shell", tmp_path, *short), _transient("shell-reduced", tmp_path, *short)
+    for key in ("v_L", "w_L"):
+        assert reduced["amplitude"][key] == pytest.approx(full["amplitude"][key], rel=0.005)
+    for key in ("N1", "N2", "Ff1", "Ff2"):
+        assert reduced["peak"][key] == pytest.approx(full["peak"][key], rel=0.005)
