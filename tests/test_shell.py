@@ -101,19 +101,22 @@ def test_rotation_stiffens_the_shell_as_the_solid():
     assert shift["shell"] == pytest.approx(shift["fe"], rel=0.01)
 
 
-def test_drilling_stiffness_moves_frequencies_less_than_0_1_percent_over_100x():
+@pytest.mark.parametrize("shroud_thickness", [0.0, 0.007])
+def test_drilling_stiffness_moves_frequencies_less_than_0_1_percent_over_100x(shroud_thickness):
+    """The first five modes, bare and shrouded (where the blade's drilling rotation is the plate's
+    bending rotation at the T-joint)."""
     from meshes.shell import ShellSpec
     from reference_fe.modal import _stiffness_factor, _undamped
     from reference_fe.shell import model_of, operators_at
     from shroud.params import Parameters
 
-    params = Parameters().updated({"shroud.thickness": 0.0})
+    params = Parameters().updated({"shroud.thickness": shroud_thickness})
     spec = ShellSpec.from_params(params)
     freqs = []
     for drilling in (0.1, 10.0):
         ops = operators_at(model_of(spec, params.material, drilling), 0.0)
         ksp, factor = _stiffness_factor(ops)
-        freqs.append(_undamped(ops, 6, ksp)[0])
+        freqs.append(_undamped(ops, 5, ksp)[0])
         ksp.destroy()
         factor.destroy()
     change = np.abs(freqs[1] / freqs[0] - 1.0)
