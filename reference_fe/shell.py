@@ -52,7 +52,6 @@ so the modal solver, the reduction and the system serve both models.
 from __future__ import annotations
 
 import functools
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -61,7 +60,6 @@ import basix.ufl
 import numpy as np
 import ufl
 from dolfinx import fem
-from mpi4py import MPI
 
 from meshes.shell import TIP, ShellSpec, check_geometry, mesh_file
 from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, section_frame
@@ -230,8 +228,8 @@ def _forms(model: ShellModel):
            + drill * k.drilling(du, dth) * k.drilling(v, eta)) * dx
     # The material of a cell sits ``offset`` out along +X from it (the shroud plate's, at the box's
     # centre plane): it moves with U = u + theta x (d e_X) and is spun at X + d.
-    d, e_X = model.offset, ufl.as_vector((1.0, 0.0, 0.0))
-    dU, V = du + d * ufl.cross(dth, e_X), v + d * ufl.cross(eta, e_X)
+    d = model.offset
+    dU, V = carried(model, du, dth), carried(model, v, eta)
     m = (rho * h * ufl.dot(dU, V)
          + rho * h**3 / 12 * ufl.dot(ufl.cross(k.e3, dth), ufl.cross(k.e3, eta))) * dx
     return k, dict(
@@ -266,9 +264,16 @@ def operators_at(model: ShellModel, rpm: float) -> RotatingOperators:
     return RotatingOperators.at(model, _unit_operators(model), rpm)
 
 
+def carried(model: ShellModel, u, theta):
+    """The displacement of the material a cell carries: u + theta x (d e_X), d = ``model.offset``
+    (t_s/2 on the shroud plate, whose material sits at the box's centre plane; 0 on the blade)."""
+    return u + model.offset * ufl.cross(theta, ufl.as_vector((1.0, 0.0, 0.0)))
+
+
 def tip_load(model: ShellModel, force: np.ndarray):
-    """The load vector of ``force`` (N, global X, Y, Z) spread evenly over the shroud plate, or the tip line."""
-    (_, _), (v, _) = ufl.TrialFunctions(model.V), ufl.TestFunctions(model.V)
+    """The load vector of ``force`` (N, global X, Y, Z) spread evenly over the shroud plate's material
+    (at the box's centre plane, as the solid's over its box), or over the tip line."""
+    v = carried(model, *ufl.TestFunctions(model.V))
     msh = model.mesh
     if model.spec.has_shroud:
         measure = _dx(model)(SHROUD)
@@ -311,7 +316,7 @@ def _global_nodes(model: ShellModel, sub: int, points: np.ndarray, side: int) ->
     from reference_fe.distributed import global_offset
 
     local = nodal_dofs(model.V, sub, points, model.spec.size)
-    found = model.comm.allreduce(np.where(local >= 0, local + global_offset(model.V), -1), op=MPI.MAX)
+    found = np.max(model.comm.allgather(np.where(local >= 0, local + global_offset(model.V), -1)), axis=0)
     if np.any(found < 0):
         raise RuntimeError(f"shell contact face {side}: {int(np.sum(found[:, 0] < 0))} points are not nodes "
                            f"of sub-space {sub}")
