@@ -47,4 +47,4 @@ def twice_the_shell_modes(params):
 
 register(ModelEntry("shell-reduced", build_system=lazy("reference_fe.system", "build_system", reduced=True,
                                                        kind="shell"),
-                    refined=twice_the_shell_modes, description="shell reduced by free-interface CMS"))
+                    at_speed=lazy("reference_fe.frequency", "at_speed", kind="shell"), refined=twice_the_shell_modes, description="shell reduced by free-interface CMS"))
