@@ -36,6 +36,7 @@ register(ModelEntry("fe-reduced", build_system=lazy("reference_fe.system", "buil
 
 register(ModelEntry("shell", build_system=lazy("reference_fe.system", "build_system", reduced=False, kind="shell"),
                     modal=lazy("reference_fe.modal", "modal_analysis", kind="shell"), sweepable=False,
+                    linear_harmonics=lazy("reference_fe.harmonic", "condensed_at", kind="shell"),
                     static=lazy("reference_fe.static", "static_response", kind="shell"),
                     reduced_by="shell-reduced", description="Reissner-Mindlin shell of the mid-surface, P2/CR"))
 

@@ -236,3 +236,13 @@ def test_static_tip_response_of_the_shell_matches_the_solid(rpm, stage):
            for m in ("shell", "fe")}
     for key in ("v_L", "w_L"):
         assert out["shell"]["tip"][key] == pytest.approx(out["fe"]["tip"][key], rel=0.02), key
+
+
+def test_full_shell_by_harmonic_balance_condensed_on_its_contact_points():
+    """``sweep --method hb --checkpoints``: the full shell condensed exactly on its contact coordinates per
+    harmonic (reference_fe.harmonic, as the solid) against shell-reduced, an independent reduction."""
+    hb = ("sweep", "--method", "hb", "--checkpoints", "10000", "--harmonics", "5")
+    full, reduced = (run_json(*hb, "--model", m) for m in ("shell", "shell-reduced"))
+    assert full["converged"] == [True] and reduced["converged"] == [True]
+    assert full["amplitude_v_L"][0] == pytest.approx(reduced["amplitude_v_L"][0], rel=1e-4)
+    assert full["amplitude_w_L"][0] == pytest.approx(reduced["amplitude_w_L"][0], rel=1e-4)
