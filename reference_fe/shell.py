@@ -94,9 +94,7 @@ class ShellModel(FEModel):
 
 def shell_model(params: Parameters, drilling: float = DRILLING) -> ShellModel:
     """The (cached) shell of ``params``' blade, shroud, shell mesh and material."""
-    spec = ShellSpec.from_params(params)
-    check_geometry(spec)
-    return model_of(spec, params.material, drilling)
+    return model_of(ShellSpec.from_params(params), params.material, drilling)
 
 
 def model_of(spec: ShellSpec, material: Material, drilling: float = DRILLING) -> ShellModel:
