@@ -137,10 +137,18 @@ class FE:
     interface_modes: int = 8   # kept contact-face patterns of fe-reduced (0 = all); see bench_fe_transient
 
 
+@dataclass(frozen=True)
+class Shell:
+    mesh_size: float = 0.004   # m; element size of the mid-surface mesh (reference_fe.shell, docs/shell.md)
+    order: int = 2             # polynomial degree of the displacement (rotations: Crouzeix-Raviart)
+    cms_modes: int = 24        # kept modes of the reduced shell model (the paper's 24)
+    contact_points: int = 11   # contact points per shroud face (the paper's 11)
+
+
 SECTIONS: dict[str, type] = {
     "blade": Blade, "material": Material, "shroud": Shroud, "contact": Contact,
     "damping": Damping, "load": Load, "speed": Speed, "time": Time,
-    "reduced": Reduced, "fe": FE,
+    "reduced": Reduced, "fe": FE, "shell": Shell,
 }
 
 
@@ -161,7 +169,7 @@ _RULES: dict[str, tuple[Any, str]] = {
     "blade.width": (_positive, "a length > 0 m"),
     "blade.thickness": (_positive, "a length > 0 m"),
     "blade.stagger_deg": (lambda v: -180 <= v <= 180, "an angle in [-180, 180] deg"),
-    "blade.twist_deg": (lambda v: -90 < v < 90, "an angle in (-90, 90) deg"),
+    "blade.twist_deg": (lambda v: -90 <= v <= 90, "an angle in [-90, 90] deg"),
     "material.E": (_positive, "a modulus > 0 Pa"),
     "material.rho": (_positive, "a density > 0 kg/m^3"),
     "material.nu": (lambda v: -1.0 < v < 0.5, "a Poisson ratio in (-1, 0.5)"),
@@ -192,6 +200,10 @@ _RULES: dict[str, tuple[Any, str]] = {
     "fe.hex_span_ratio": (lambda v: 0.25 <= v <= 8, "a ratio in [0.25, 8]"),
     "fe.cms_modes": (lambda v: v >= 1, "an integer >= 1"),
     "fe.interface_modes": (lambda v: v >= 0, "an integer >= 0 (0 keeps every contact attachment mode)"),
+    "shell.mesh_size": (_positive, "an element size > 0 m"),
+    "shell.order": (lambda v: v == 2, "2 (P2 displacements with Crouzeix-Raviart rotations)"),
+    "shell.cms_modes": (lambda v: v >= 1, "an integer >= 1"),
+    "shell.contact_points": (lambda v: v >= 2, "an integer >= 2 points per shroud face"),
 }
 
 
@@ -278,6 +290,7 @@ class Parameters:
     time: Time = field(default_factory=Time)
     reduced: Reduced = field(default_factory=Reduced)
     fe: FE = field(default_factory=FE)
+    shell: Shell = field(default_factory=Shell)
 
     # --- construction -----------------------------------------------------
     @classmethod

@@ -50,6 +50,14 @@ def build_parser() -> argparse.ArgumentParser:
                    help="with the Coriolis (gyroscopic) coupling: frequencies of the damped rotating "
                         "system (default), or without it")
 
+    p = sub.add_parser("static", help="tip displacement under a force at the blade tip")
+    _common(p)
+    p.add_argument("--model", choices=registry.names(), default="reduced",
+                   help=f"models with a static solve: {', '.join(registry.names('static'))}")
+    p.add_argument("--tip-force", type=float, nargs=3, required=True, metavar=("FX", "FY", "FZ"),
+                   help="force at the blade tip, N, global X, Y, Z")
+    p.add_argument("--rpm", type=float)
+
     p = sub.add_parser("transient", help="time response with impact and friction")
     _common(p)
     p.add_argument("--model", choices=registry.names("transient"), default="reduced",
@@ -147,6 +155,16 @@ def cmd_modal(args) -> None:
     _emit(args, result.to_json(),
           f"{result.model} model, {result.rpm:g} r/min, {result.dofs} DOF, "
           f"Coriolis {'on' if result.coriolis else 'off'}, {result.elapsed_s:.3f} s\n{rows}")
+
+
+def cmd_static(args) -> None:
+    from shroud.analysis.api import static
+    params = _params(args)
+    result = static(params, args.model, args.tip_force, rpm=params.speed.rpm)
+    tip = result.tip
+    _emit(args, result.to_json(),
+          f"{result.model} model, {result.rpm:g} r/min, {result.dofs} DOF, {result.elapsed_s:.3f} s\n"
+          + "\n".join(f"  {k:4s} {'-' if v is None else f'{v:.6e}'} m" for k, v in tip.items()))
 
 
 def cmd_transient(args) -> None:
@@ -306,9 +324,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.command != "compare":
             from shroud.base.cache import check_cache
             check_cache()                # a cache that cannot be written stops the run before any work
-        return {"modal": cmd_modal, "transient": cmd_transient, "sweep": cmd_sweep,
-                "run": cmd_run, "compare": cmd_compare,
-                "record": cmd_record}[args.command](args) or 0
+        return {"modal": cmd_modal, "static": cmd_static, "transient": cmd_transient, "sweep": cmd_sweep,
+                "run": cmd_run, "compare": cmd_compare, "record": cmd_record}[args.command](args) or 0
     except InputError as exc:
         print(exc.line(), file=sys.stderr)
         return EXIT_BAD_INPUT

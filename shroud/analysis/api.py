@@ -11,7 +11,8 @@ import time
 from pathlib import Path
 
 from shroud.core import registry
-from shroud.core.results import ModalResult
+from shroud.base.errors import InputError
+from shroud.core.results import ModalResult, StaticResult
 from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
 
@@ -23,6 +24,16 @@ def modal(params: Parameters, model: str, rpm: float | None = None, n_modes: int
     if entry.modal is None:
         raise KeyError(f"model {model!r} has no modal analysis; those that have: {', '.join(registry.names('modal'))}")
     return entry.modal(params, rpm, n_modes, coriolis)
+
+
+def static(params: Parameters, model: str, force, rpm: float | None = None) -> StaticResult:
+    """Tip displacement under ``force`` (N, global X, Y, Z) at the blade tip, on top of the centrifugal
+    state at ``rpm`` (default ``params.speed.rpm``): how stiff the model is, checked first."""
+    rpm = params.speed.rpm if rpm is None else rpm
+    entry = registry.model(model)
+    if entry.static is None:
+        raise InputError("--model", f"{model!r} has no static solve; allowed: {', '.join(registry.names('static'))}")
+    return entry.static(params, rpm, tuple(float(f) for f in force))
 
 
 def build_system(params: Parameters, model: str) -> StructuralSystem:
