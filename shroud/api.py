@@ -7,6 +7,7 @@ studies are built on these calls; a script needs nothing else::
 
     p = api.parameters({"speed.rpm": 8500.0})                  # validated once
     modes = api.modal(p, "reduced", n_modes=4)                 # ModalResult
+    tip = api.static(p, "reduced", force=(0.0, 100.0, 0.0))    # StaticResult: tip displacement, m
     run = api.transient(p.updated({"speed.rpm": 10000.0}), "reduced")   # TransientResult
     point = api.harmonic_balance(p, "reduced", rpm=10000.0)    # Checkpoint: one speed
     branch = api.continuation(p, "reduced", 5000.0, 20000.0)   # HBResult: a branch with stability
@@ -36,12 +37,12 @@ from shroud.analysis import api as _analysis
 from shroud.analysis import hb as _hb
 from shroud.core import registry as _registry
 from shroud.core.registry import ModelEntry
-from shroud.core.results import HBResult, ModalResult, SweepResult
+from shroud.core.results import HBResult, ModalResult, StaticResult, SweepResult
 from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
 
 __all__ = ["ContactElements", "ModelEntry", "Parameters", "StructuralSystem", "build_system", "continuation", "harmonic_balance", "modal", "models",
-           "parameters", "register_model", "sweep", "transient"]
+           "parameters", "register_model", "static", "sweep", "transient"]
 
 
 def parameters(values: Mapping[str, Any] | None = None, base: Parameters | None = None) -> Parameters:
@@ -73,6 +74,12 @@ def modal(params: Parameters, model: str, rpm: float | None = None, n_modes: int
           coriolis: bool = True) -> ModalResult:
     """Natural frequencies (Hz) at ``rpm`` (default ``params.speed.rpm``), labelled by tip kinematics."""
     return _analysis.modal(params, model, rpm, n_modes, coriolis)
+
+
+def static(params: Parameters, model: str, force: Sequence[float], rpm: float | None = None) -> StaticResult:
+    """Tip displacement (m) under ``force`` (N, global X, Y, Z) at the blade tip, on top of the centrifugal
+    state at ``rpm`` (default ``params.speed.rpm``)."""
+    return _analysis.static(params, model, force, rpm)
 
 
 def transient(params: Parameters, model: str, csv_path: Path | None = None):
