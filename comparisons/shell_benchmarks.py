@@ -111,9 +111,11 @@ def run(scene, out: Path) -> dict:
     write_records(out / "macneal_harder.csv", [{k: v for k, v in r.items() if k != "verdict"} for r in mh])
     write_records(out / "fv16.csv", [{k: v for k, v in m.items() if k != "verdict"} for m in plate["modes"]])
     png = _figure(mh, plate, out)
+    conclusions = {"macneal_harder": {r["case"]: r["verdict"] for r in mh},
+                   "fv16": {f"mode {m['mode']}": m["verdict"] for m in plate["modes"]}}
     results = {"macneal_harder": mh, "fv16": plate, "figures": [png.name],
                "all_within": all(r["verdict"]["answer"] == "within" for r in mh + plate["modes"]),
-               "elapsed_s": time.perf_counter() - t0}
+               "conclusions": conclusions, "elapsed_s": time.perf_counter() - t0}
     _report(results, scene, out)
     return results
 
