@@ -1,0 +1,159 @@
+"""A ring of N blades coupled through their shrouds (docs/geometry.md, "Moving neighbours"; docs/ring.md).
+
+The disk is rigid and carries N blades, blade j at 2 pi j / N, each in its
+own sector frame and with its own basis (a mistuned blade has its own
+modes). Interface j joins blade j's side 2 (face at v_s = +b_s/2) and blade
+j+1's side 1 (indices mod N). The contact law is shroud.core.contact's, the
+same Jenkins element as the paper's fixed neighbours, acting on relative
+coordinates of the two blades (contact element e of the interface pairs
+blade j's e-th side-2 point with blade j+1's e-th side-1 point):
+
+    g_j = v_s,j - v_s,j+1,    r_j = w_s,j - w_s,j+1,
+
+as the law's side 2 (s = +1): N_j = max(0, N0 + kn g_j), one slider per
+element, friction F_j = kt (z_j - r_j) in stick. The forces go back through
+the transpose of the relative projection: (-N_j, F_j) on blade j and
+(+N_j, -F_j) on blade j+1, equal and opposite. With blade j+1 held still
+this is the paper's side 2 of blade j; with blade j held still, g = -v_s,j+1
+and N = max(0, N0 - kn v_s,j+1): the paper's side 1 of blade j+1 (its
+slider mirrored, z -> -z, which the odd law maps onto itself).
+
+Load: blade j carries F0 sin(ke Omega t + j phi) along e_v, phi = 2 pi ke / N
+(an engine-order travelling wave, nodal diameter ke mod N), i.e.
+f_aero (cos(j phi) sin(ke Omega t) + sin(j phi) cos(ke Omega t)).
+
+Units: SI.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+import scipy.linalg
+
+from shroud.core.linear_solvers import dense
+from shroud.core.system import ContactElements, StructuralSystem
+
+
+@dataclass(frozen=True)
+class BladeRing:
+    """N blades (dense systems of one size nb) and the pairing of their shroud faces.
+
+    ``side1[j]``, ``side2[j]``: (c, nb) rows of blade j's side-1 and side-2
+    contact points, [normal (v_s), tangent (w_s)] per point, c = 2 e for e
+    points per face; ``weight``: (e,) each point's share of an interface's
+    kn, kt and N0.
+    """
+
+    blades: tuple[StructuralSystem, ...]
+    ke: int                     # engine order of the load
+    side1: np.ndarray           # (N, c, nb)
+    side2: np.ndarray           # (N, c, nb)
+    weight: np.ndarray          # (e,)
+
+    @property
+    def count(self) -> int:
+        return len(self.blades)
+
+    @property
+    def blade_dofs(self) -> int:
+        return self.side1.shape[2]
+
+    @property
+    def dofs(self) -> int:
+        return self.count * self.blade_dofs
+
+    @property
+    def rows_per_interface(self) -> int:
+        return self.side1.shape[1]
+
+    @property
+    def phase(self) -> float:
+        """The load's inter-blade phase angle phi = 2 pi ke / N, rad."""
+        return 2.0 * math.pi * self.ke / self.count
+
+    @property
+    def omega_e(self) -> float:
+        return self.blades[0].omega_e
+
+    def projection(self) -> np.ndarray:
+        """W (m, n): the relative coordinates [g, r] of every interface's points from the ring's DOFs
+        (blade-major: blade j's DOFs are j nb .. (j+1) nb - 1)."""
+        N, c, nb = self.count, self.rows_per_interface, self.blade_dofs
+        W = np.zeros((N * c, N * nb))
+        for j in range(N):
+            k = (j + 1) % N
+            W[j * c:(j + 1) * c, j * nb:(j + 1) * nb] += self.side2[j]
+            W[j * c:(j + 1) * c, k * nb:(k + 1) * nb] -= self.side1[k]
+        return W
+
+    def contact(self) -> ContactElements:
+        """The interfaces' points as contact elements of the law's side 2 on the relative coordinates."""
+        e = self.weight.size * self.count
+        return ContactElements(W=self.projection(), normal_row=2 * np.arange(e), tangent_row=2 * np.arange(e) + 1,
+                               side=np.full(e, 2), weight=np.tile(self.weight, self.count))
+
+    def loads(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(f_const, f_sin, f_cos), each (N, nb): blade j's load is f_const + f_sin sin(ke Omega t)
+        + f_cos cos(ke Omega t), the travelling wave F0 sin(ke Omega t + j phi) along e_v."""
+        phi = self.phase
+        f_const = np.array([b.f_const for b in self.blades])
+        f_sin = np.array([b.f_aero * math.cos(j * phi) for j, b in enumerate(self.blades)])
+        f_cos = np.array([b.f_aero * math.sin(j * phi) for j, b in enumerate(self.blades)])
+        return f_const, f_sin, f_cos
+
+    def assembled(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """M, C, K of the whole ring without contact (block diagonal, blade-major)."""
+        return tuple(scipy.linalg.block_diag(*[dense(getattr(b, name)) for b in self.blades])
+                     for name in ("M", "C", "K"))
+
+    def tip(self) -> np.ndarray:
+        """(N, 2, nb): v_L, w_L rows of each blade."""
+        return np.array([dense(b.tip) for b in self.blades])
+
+
+def faces(contact: ContactElements) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(side-1 rows, side-2 rows, weights) of one blade's contact points, paired in order.
+
+    Each face's rows are (c, nb), [normal, tangent] per point; the e-th point
+    of side 2 faces the neighbour's e-th point of side 1 (same place along
+    e_ws: the builders list both faces' points in the same order).
+    """
+    W = dense(contact.W)
+    rows = []
+    for s in (1, 2):
+        idx = np.flatnonzero(contact.side == s)
+        rows.append((idx, np.vstack([W[[contact.normal_row[i], contact.tangent_row[i]]] for i in idx])))
+    (i1, r1), (i2, r2) = rows
+    if i1.size != i2.size or not np.allclose(contact.weight[i1], contact.weight[i2]):
+        raise ValueError("a ring pairs each side-2 contact point with one side-1 point of equal weight; "
+                         f"this blade has {i1.size} and {i2.size} points")
+    return r1, r2, np.asarray(contact.weight[i2], dtype=float)
+
+
+def with_rayleigh(system: StructuralSystem, rayleigh: tuple[float, float]) -> StructuralSystem:
+    """``system`` with its damping alpha M + beta K replaced by the given (alpha, beta) (geometry.md:
+    every blade of a mistuned ring takes the tuned blade's coefficients)."""
+    if system.rayleigh is None:
+        raise ValueError(f"the {system.model} model does not say which Rayleigh coefficients its C holds")
+    (a0, b0), (a, b) = system.rayleigh, rayleigh
+    C = system.C + (a - a0) * system.M + (b - b0) * system.K
+    return dataclasses.replace(system, C=C, rayleigh=(a, b))
+
+
+def ring_of(blades: Sequence[StructuralSystem], ke: int) -> BladeRing:
+    """The ring of ``blades`` (blade j in its own sector frame, dense, equal sizes) under engine order ke."""
+    if len(blades) < 2:
+        raise ValueError("a ring has at least two blades")
+    if any(b.contact is None for b in blades):
+        raise ValueError("a ring couples its blades through their shroud contact; a blade has none")
+    sizes = {b.dofs for b in blades}
+    if len(sizes) != 1:
+        raise ValueError(f"the blades of a ring have one size here; got {sorted(sizes)}")
+    pairs = [faces(b.contact) for b in blades]
+    return BladeRing(blades=tuple(blades), ke=int(ke), side1=np.array([p[0] for p in pairs]),
+                     side2=np.array([p[1] for p in pairs]), weight=pairs[0][2])
