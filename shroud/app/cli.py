@@ -45,6 +45,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rpm", type=float)
     p.add_argument("--modes", type=int, default=6)
     p.add_argument("--coriolis", action=argparse.BooleanOptionalAction, default=True)
+    p.add_argument("--interface", choices=("free", "stuck"),
+                   help="the contact's linear limit: no springs, or every contact as springs kn, kt "
+                        "(with ring.blades = N: per nodal diameter)")
 
     p = sub.add_parser("transient", help="time response with impact and friction")
     _common(p)
@@ -123,6 +126,14 @@ def cmd_modal(args) -> None:
     if args.modes < 1:
         raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
     params = _params(args)
+    if args.interface is not None:
+        from shroud.analysis.limits import interface_modal
+        limit = interface_modal(params, args.model, params.speed.rpm, args.modes, args.coriolis, args.interface)
+        diameters = "".join(f"\n  nd {d['nd']:3d}: " + " ".join(f"{m['f_hz']:.2f}" for m in d["modes"])
+                            for d in limit.nodal_diameters or [])
+        rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in limit.blade.modes)
+        return _emit(args, limit.to_json(), f"{args.model} model, {params.speed.rpm:g} r/min, interface "
+                                            f"{args.interface}\n{rows}{diameters}")
     result = modal(params, args.model, rpm=params.speed.rpm, n_modes=args.modes, coriolis=args.coriolis)
     rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in result.modes)
     _emit(args, result.to_json(),

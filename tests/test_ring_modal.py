@@ -1,0 +1,81 @@
+"""Linear limits of the ring (modal --interface): its nodal diameters by one sector against the N-blade
+ring assembled as one model without cyclic reduction, and the free ring against the single blade."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from reduced_model.modal import modal_analysis
+from shroud.analysis.api import build_system
+from shroud.analysis.limits import gyroscopic, interface_modal
+from shroud.app.cli import main
+from shroud.core.cyclic import modes, sector_stiffness
+from shroud.params import Parameters
+
+
+def _whole_ring(p: Parameters, coriolis: bool):
+    """The N-blade ring as one model: N copies of the blade and springs kn, kt on g_j = v_s,j - v_s,j+1 and
+    r_j = w_s,j - w_s,j+1 (built here from the blade's shroud rows, not by the ring's code)."""
+    blade = build_system(p, "reduced")
+    N = p.ring.blades
+    P = blade.contact.W[[0, 1]]                               # point shroud: (v_s, w_s) of the tip
+    W = np.kron(np.eye(N) - np.roll(np.eye(N), 1, axis=1), P)
+    D = np.kron(np.eye(N), np.diag([p.contact.kn, p.contact.kt]))
+    M, K = np.kron(np.eye(N), blade.M), np.kron(np.eye(N), blade.K) + W.T @ D @ W
+    if not coriolis:
+        return blade, np.sqrt(scipy.linalg.eigh(K, M, eigvals_only=True)) / (2 * math.pi)
+    G = np.kron(np.eye(N), gyroscopic(blade))
+    n = M.shape[0]
+    lam = scipy.linalg.eigvals(np.block([[np.zeros((n, n)), np.eye(n)],
+                                         [-np.linalg.solve(M, K), -np.linalg.solve(M, G)]]))
+    return blade, np.sort(lam.imag[lam.imag > 0]) / (2 * math.pi)
+
+
+@pytest.mark.parametrize("N", [5, 6])
+def test_stuck_ring_nodal_diameters_are_the_whole_rings_frequencies(N):
+    p = Parameters().with_overrides([f"ring.blades={N}", "speed.rpm=9000"])
+    blade, whole = _whole_ring(p, coriolis=False)
+    nb = blade.dofs
+    limit = interface_modal(p, "reduced", 9000.0, nb, False, "stuck")
+    assert [d["nd"] for d in limit.nodal_diameters] == list(range(N // 2 + 1))
+    sector = []
+    for d in limit.nodal_diameters:                           # n and N - n share their frequencies
+        twice = 1 if d["nd"] in (0, N / 2) else 2
+        sector += [m["f_hz"] for m in d["modes"]] * twice
+    assert len(sector) == N * nb
+    assert np.allclose(np.sort(sector), whole, rtol=1e-8, atol=0)
+    assert limit.nodal_diameters[0]["modes"][0]["f_hz"] < 0.5 * limit.nodal_diameters[1]["modes"][0]["f_hz"]
+
+
+def test_stuck_ring_with_coriolis_by_sectors_is_the_whole_ring():
+    """With Coriolis nodal diameters n and N - n split; together the N sectors give the whole ring."""
+    p = Parameters().with_overrides(["ring.blades=5", "speed.rpm=12000"])
+    blade, whole = _whole_ring(p, coriolis=True)
+    P = blade.contact.W[[0, 1]]
+    springs = np.array([p.contact.kn, p.contact.kt])
+    G = gyroscopic(blade)
+    sector = np.concatenate([modes(blade.M, sector_stiffness(blade.K, springs, P, P, 5, n), blade.dofs, G).f_hz
+                             for n in range(5)])
+    assert np.allclose(np.sort(sector), whole, rtol=1e-8, atol=0)
+
+
+def test_free_ring_is_the_single_blade_at_every_nodal_diameter():
+    p = Parameters().with_overrides(["ring.blades=7", "speed.rpm=11000"])
+    beam = modal_analysis(p, 11000.0, 6, coriolis=False).frequencies()      # the full beam's own eigen-solve
+    limit = interface_modal(p, "reduced", 11000.0, 6, False, "free")
+    for d in limit.nodal_diameters:
+        assert np.allclose([m["f_hz"] for m in d["modes"]], beam, rtol=1e-8, atol=0)
+
+
+def test_modal_interface_json_and_refusals(capsys):
+    assert main(["modal", "--json", "--interface", "stuck", "--set", "ring.blades=4", "--modes", "3"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["interface"] == "stuck" and [d["nd"] for d in out["nodal_diameters"]] == [0, 1, 2]
+    assert all(len(d["modes"]) == 3 and {"f_hz", "label"} <= set(d["modes"][0]) for d in out["nodal_diameters"])
+    assert main(["modal", "--json", "--interface", "stuck", "--set", "ring.blades=3",
+                 "--set", "ring.mistuning=0.1,0,0"]) == 2
+    assert "ring.mistuning" in capsys.readouterr().err
+    assert main(["modal", "--interface", "glued"]) == 2
