@@ -201,7 +201,13 @@ def _sweep_hb(args) -> None:
     if params.speed.rpm_per_s != 0:
         raise InputError("speed.rpm_per_s", "harmonic balance seeks periodic states at constant speed; "
                                             "allowed: 0 with --method hb")
-    if args.tail is not None:
+    if params.ring.blades:
+        if args.tail is not None:
+            raise InputError("--tail", "a ring's branch is solved at one H; allowed: --harmonics with ring.blades")
+        from shroud.analysis.ring_hb import run_sector_hb
+        result = run_sector_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
+                               min_points=args.rpm_count)
+    elif args.tail is not None:
         result = run_hb_to_tail(params, args.model, args.rpm_from, args.rpm_to, args.tail,
                                 min_points=args.rpm_count)
     else:

@@ -31,6 +31,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
+from shroud.core import harmonic_balance as hb
+from shroud.core.contact import ContactLaw
+
 
 def bloch_rows(side1: np.ndarray, side2: np.ndarray, theta: float) -> np.ndarray:
     """B(theta) = side2 - exp(i theta) side1 (c, nb): the interface's relative coordinates per sector amplitude."""
@@ -78,3 +81,76 @@ def sector_stiffness(K: np.ndarray, springs: np.ndarray, side1: np.ndarray, side
     B = bloch_rows(side1, side2, 2.0 * math.pi * nd / N)
     K_n = K + B.conj().T @ (springs[:, None] * B)
     return 0.5 * (K_n + K_n.conj().T)
+
+
+# --- the tuned ring's travelling wave by one sector (harmonic balance) ------------------------------
+
+def time_shift(H: int, angle: float) -> np.ndarray:
+    """(nh, nh): the real coefficients [a_0, a_1, b_1, ...] of x(tau + angle) from those of x(tau).
+
+    Harmonic h turns by h angle: a cos h(tau + angle) + b sin h(tau + angle) has
+    a' = a cos(h angle) + b sin(h angle), b' = b cos(h angle) - a sin(h angle),
+    i.e. (a' - i b') = (a - i b) exp(i h angle).
+    """
+    T = np.zeros((2 * H + 1, 2 * H + 1))
+    T[0, 0] = 1.0
+    for h in range(1, H + 1):
+        c, s = math.cos(h * angle), math.sin(h * angle)
+        a, b = 2 * h - 1, 2 * h
+        T[a, a], T[a, b], T[b, a], T[b, b] = c, s, -s, c
+    return T
+
+
+def sector_projection(S1: np.ndarray, S2: np.ndarray, H: int, phi: float) -> np.ndarray:
+    """P (nh c, nh m): the harmonics of interface 0's relative coordinates from those of the sector's
+    contact coordinates y (m of them; S1, S2 (c, m) pick its faces' points).
+
+    A travelling wave has q_1(tau) = q_0(tau + phi) (U_1,h = exp(i h phi) U_0,h), so
+    y_rel = S2 y_0(tau) - S1 y_0(tau + phi): P = I (x) S2 - T(phi) (x) S1, harmonic-major as the
+    harmonic balance stacks its coefficients. Its transpose carries the interfaces' forces back:
+    interface 0's on side 2, and on side 1 interface N-1's, which is interface 0's delayed by phi
+    (T(phi)^T = T(-phi)).
+    """
+    nh = 2 * H + 1
+    return np.kron(np.eye(nh), S2) - np.kron(time_shift(H, phi), S1)
+
+
+def ring_shifts(samples: int, N: int, ke: int) -> np.ndarray:
+    """Sample offsets of interfaces 0..N-1: interface j at sample i is interface 0 at i + j samples ke / N
+    (a whole number of samples: ``samples`` a multiple of N / gcd(N, ke))."""
+    step = samples * ke / N
+    if step != int(step):
+        raise ValueError(f"{samples} samples do not shift by whole samples between {N} blades at engine order {ke}")
+    return (np.arange(N) * int(step)) % samples
+
+
+@dataclass(frozen=True)
+class SectorBalance:
+    """Residual of the sector's harmonic balance and its pieces."""
+
+    R: np.ndarray                  # (nh nx,) N
+    J: np.ndarray | None           # dR/dX
+    contact: hb.ContactHarmonics   # the law along interface 0 (its relative coordinates)
+    Lam_y: np.ndarray              # (nh, m) forces on the sector's contact coordinates, N
+
+
+def sector_balance(X: np.ndarray, lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier, P: np.ndarray,
+                   L: np.ndarray | None = None, Fr: np.ndarray | None = None,
+                   jacobian: bool = True) -> SectorBalance:
+    """R(X) = L X - F - Pa^T Lam(Pa X), Pa = P (I (x) Wx), and its analytic Jacobian L - Pa^T dLam/dY Pa.
+
+    ``lin``: the blade's linear part (shroud.core.harmonic_balance), on its
+    contact coordinates (condensed) or all DOFs; ``law``: interface 0's
+    points on its relative coordinates (shroud.core.ring.interface_elements
+    on the identity); ``P``: :func:`sector_projection`. The AFT is the one
+    of shroud.core.harmonic_balance, on interface 0's relative coordinates.
+    """
+    nh, nx, c = basis.nh, lin.nx, law.m
+    L = lin.L if L is None else L
+    Fr = lin.Fr if Fr is None else Fr
+    Pa = P if lin.condensed else P @ np.kron(np.eye(nh), lin.Wx)
+    Y = (Pa @ X).reshape(nh, c)
+    ch = hb.contact_harmonics(Y, np.eye(c), law, basis, jacobian, condensed=True)
+    Lam_y = (P.T @ ch.Lam.ravel()).reshape(nh, -1)
+    R = L @ X - Fr.ravel() - (Lam_y if lin.condensed else Lam_y @ lin.Wx).ravel()
+    return SectorBalance(R=R, J=L - Pa.T @ ch.dLam_x @ Pa if jacobian else None, contact=ch, Lam_y=Lam_y)

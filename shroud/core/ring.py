@@ -93,9 +93,7 @@ class BladeRing:
 
     def contact(self) -> ContactElements:
         """The interfaces' points as contact elements of the law's side 2 on the relative coordinates."""
-        e = self.weight.size * self.count
-        return ContactElements(W=self.projection(), normal_row=2 * np.arange(e), tangent_row=2 * np.arange(e) + 1,
-                               side=np.full(e, 2), weight=np.tile(self.weight, self.count))
+        return interface_elements(self.weight, self.projection())
 
     def loads(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(f_const, f_sin, f_cos), each (N, nb): blade j's load is f_const + f_sin sin(ke Omega t)
@@ -116,23 +114,43 @@ class BladeRing:
         return np.array([dense(b.tip) for b in self.blades])
 
 
-def faces(contact: ContactElements) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(side-1 rows, side-2 rows, weights) of one blade's contact points, paired in order.
+def face_selectors(contact: ContactElements) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(S1, S2, weights): 0/1 matrices (c, m) picking each face's [normal, tangent] coordinates from a
+    blade's projected coordinates y = W q, paired in order, and each pair's weight (e,).
 
-    Each face's rows are (c, nb), [normal, tangent] per point; the e-th point
-    of side 2 faces the neighbour's e-th point of side 1 (same place along
-    e_ws: the builders list both faces' points in the same order).
+    The e-th point of side 2 faces the neighbour's e-th point of side 1 (the
+    same place along e_ws: the builders list both faces' points in the same
+    order).
     """
-    W = dense(contact.W)
-    rows = []
+    m = contact.W.shape[0]
+    picks = []
     for s in (1, 2):
         idx = np.flatnonzero(contact.side == s)
-        rows.append((idx, np.vstack([W[[contact.normal_row[i], contact.tangent_row[i]]] for i in idx])))
-    (i1, r1), (i2, r2) = rows
+        S = np.zeros((2 * idx.size, m))
+        S[2 * np.arange(idx.size), contact.normal_row[idx]] = 1.0
+        S[2 * np.arange(idx.size) + 1, contact.tangent_row[idx]] = 1.0
+        picks.append((idx, S))
+    (i1, S1), (i2, S2) = picks
     if i1.size != i2.size or not np.allclose(contact.weight[i1], contact.weight[i2]):
         raise ValueError("a ring pairs each side-2 contact point with one side-1 point of equal weight; "
                          f"this blade has {i1.size} and {i2.size} points")
-    return r1, r2, np.asarray(contact.weight[i2], dtype=float)
+    return S1, S2, np.asarray(contact.weight[i2], dtype=float)
+
+
+def faces(contact: ContactElements) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(side-1 rows, side-2 rows, weights) of one blade's contact points, paired in order: each face's
+    rows of W (c, nb), [normal, tangent] per point (:func:`face_selectors`)."""
+    S1, S2, weight = face_selectors(contact)
+    W = dense(contact.W)
+    return S1 @ W, S2 @ W, weight
+
+
+def interface_elements(weight: np.ndarray, W: np.ndarray) -> ContactElements:
+    """Interfaces of e points each (``weight``), on relative coordinates y = W x ([g, r] per point,
+    interface after interface), as contact elements of the law's side 2."""
+    k = W.shape[0] // 2
+    return ContactElements(W=W, normal_row=2 * np.arange(k), tangent_row=2 * np.arange(k) + 1,
+                           side=np.full(k, 2), weight=np.tile(weight, k // weight.size))
 
 
 def with_rayleigh(system: StructuralSystem, rayleigh: tuple[float, float]) -> StructuralSystem:

@@ -1,0 +1,256 @@
+"""The tuned ring's travelling wave over speed by one sector (harmonic balance; docs/ring.md).
+
+The travelling wave of a tuned ring has U_{j+1,h} = exp(i h phi) U_{j,h}
+(phi = 2 pi ke / N), so blade 0 carries the ring: its linear part is the
+single blade's (shroud.analysis.hb.SpeedModel: condensed on its contact
+coordinates, at any speed), and its contact is interface 0 seen through
+the sector projection (shroud.core.cyclic.sector_projection): the relative
+coordinates S2 y_0(tau) - S1 y_0(tau + phi), forces back through the
+transpose. The branch is continued in speed as the single blade's
+(shroud.core.continuation).
+
+Stability: against perturbations of every nodal diameter, not only the
+travelling wave's: the whole ring linearized about the wave
+(shroud.core.floquet on the N blades, interface j's states and friction
+being interface 0's shifted by j phi / (ke Omega) in time), its monodromy
+over one period. (A sector-size Bloch decomposition of that monodromy is
+not exact here: with the wave's coefficients shifted in time from blade to
+blade, the perturbation of one Bloch wave is a delay equation on the
+sector.)
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+from typing import Any, Callable
+
+import numpy as np
+
+from shroud.analysis.hb import DEFAULT_HARMONICS, MIN_POINTS, SpeedModel, check_inputs, model_at_speed
+from shroud.analysis.ring import RING_MODELS
+from shroud.base.errors import InputError
+from shroud.core import floquet
+from shroud.core import harmonic_balance as hb
+from shroud.core.contact import ContactLaw, contact_law
+from shroud.core.continuation import continue_branch
+from shroud.core.cyclic import ring_shifts, sector_balance, sector_projection
+from shroud.core.results import HBResult
+from shroud.core.ring import face_selectors, interface_elements, ring_of
+from shroud.core.system import StructuralSystem
+from shroud.params import Parameters
+
+
+@dataclass(frozen=True)
+class Sector:
+    """What the sector's balance needs besides the blade's linear part."""
+
+    N: int
+    ke: int
+    P: np.ndarray              # sector projection (nh c, nh m)
+    law: ContactLaw            # interface 0's points on its relative coordinates
+    S1: np.ndarray
+    S2: np.ndarray
+
+    @property
+    def phi(self) -> float:
+        return 2.0 * math.pi * self.ke / self.N
+
+
+def sector_of(system: StructuralSystem, params: Parameters, H: int) -> Sector:
+    """The sector of ``system``'s blade in a ring of ``params.ring.blades`` at engine order ``load.ke``."""
+    S1, S2, weight = face_selectors(system.contact)
+    c = params.contact
+    law = contact_law(interface_elements(weight, np.eye(S1.shape[0])), kn=c.kn, kt=c.kt, mu=c.mu, N0=c.N0)
+    N, ke = params.ring.blades, params.load.ke
+    return Sector(N=N, ke=ke, P=sector_projection(S1, S2, H, 2.0 * math.pi * ke / N), law=law, S1=S1, S2=S2)
+
+
+def _residual(speeds: SpeedModel, sector: Sector, basis: hb.Fourier):
+    """R(X, rpm), dR/dX and, on demand, dR/drpm (the law does not depend on the speed)."""
+    def residual(X, rpm):
+        lin, L, F = speeds.linear(rpm)
+        b = sector_balance(X, lin, sector.law, basis, sector.P, L, F.reshape(basis.nh, lin.nx))
+        residual.last = (X, rpm, b)
+
+        def d_rpm():
+            dL, dF = speeds.derivative(rpm)
+            return dL @ X - dF
+        return b.R, b.J, d_rpm
+    residual.last = None
+    return residual
+
+
+def half_stuck(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier) -> np.ndarray:
+    """A start for Newton: the sector with every interface as springs of half the law's kn and kt (the
+    mean of open and closed). The contact-free blade is the worse start: near its resonance it moves by
+    tens of um where the ring's interfaces hold it to a few (a 6-blade ring at 10000 r/min: Newton
+    stalls at |R| = |F| / 3 from there and converges in 10 steps from here)."""
+    nh = basis.nh
+    Pa = sector.P if lin.condensed else sector.P @ np.kron(np.eye(nh), lin.Wx)
+    D = np.zeros(sector.law.m)
+    D[sector.law.rows[:, 0]] += 0.5 * sector.law.props[:, 1]
+    D[sector.law.rows[:, 1]] += 0.5 * sector.law.props[:, 2]
+    return np.linalg.solve(lin.L + Pa.T @ (np.tile(D, nh)[:, None] * Pa), lin.Fr.ravel())
+
+
+def sector_newton(X: np.ndarray, lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, tol: float = 1e-10,
+                  max_iterations: int = 60) -> tuple[np.ndarray, bool]:
+    """Newton on the sector's balance at one speed, halving a step that does not lower |R| (as
+    shroud.core.harmonic_balance.newton does on the blade's)."""
+    scale = np.linalg.norm(lin.Fr) + 1e-300
+    b = sector_balance(X, lin, sector.law, basis, sector.P)
+    r = np.linalg.norm(b.R)
+    for _ in range(max_iterations):
+        if r <= tol * scale:
+            return X, True
+        dX = np.linalg.solve(b.J, -b.R)
+        t = 1.0
+        while True:
+            rt = np.linalg.norm(sector_balance(X + t * dX, lin, sector.law, basis, sector.P, jacobian=False).R)
+            if rt < r or t < 1e-4:
+                break
+            t *= 0.5
+        X = X + t * dX
+        b = sector_balance(X, lin, sector.law, basis, sector.P)
+        r = np.linalg.norm(b.R)
+    return X, r <= 1e-6 * scale
+
+
+def sector_solve(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier) -> np.ndarray:
+    """The travelling wave at one speed by Newton from :func:`half_stuck`."""
+    X, ok = sector_newton(half_stuck(lin, sector, basis), lin, sector, basis)
+    if not ok:
+        raise RuntimeError("Newton did not reach the travelling wave from the half-stuck sector")
+    return X
+
+
+def ring_multipliers(system: StructuralSystem, sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray,
+                     basis: hb.Fourier) -> np.ndarray:
+    """Floquet multipliers of the whole ring about the travelling wave X (the sector's unknowns), every
+    nodal diameter's perturbations included: interface j's states are interface 0's shifted by j ke / N of
+    the period, sampled at a multiple of N / gcd(N, ke) instants (at least the AFT's)."""
+    N, ke = sector.N, sector.ke
+    unit = N // math.gcd(N, ke)
+    samples = unit * math.ceil(basis.samples / unit)
+    fine = hb.fourier(basis.H, samples)
+    nh = basis.nh
+    Pa = sector.P if lin.condensed else sector.P @ np.kron(np.eye(nh), lin.Wx)
+    Y = (Pa @ X).reshape(nh, -1)
+    ch = hb.contact_harmonics(Y, np.eye(Y.shape[1]), sector.law, fine, jacobian=False)
+    rate = fine.rates(Y, lin.omega)                          # (samples, c)
+    shifts = ring_shifts(samples, N, ke)
+    state = np.vstack([np.roll(ch.state, -s, axis=1) for s in shifts])
+    F = np.vstack([np.roll(ch.F, -s, axis=1) for s in shifts])
+    y_rate = np.hstack([np.roll(rate, -s, axis=0) for s in shifts])
+    ring = ring_of([system] * N, ke)
+    M, C, K = ring.assembled()
+    elements = ring.contact()
+    law = replace(sector.law, rows=np.column_stack([elements.normal_row, elements.tangent_row]),
+                  props=np.tile(sector.law.props, (N, 1)), side=elements.side, weight=elements.weight,
+                  m=elements.W.shape[0])
+    return floquet.orbit_multipliers(M, C, K, elements.W, law, state, F, lin.omega, y_rate)
+
+
+def _details(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarray, rpm: float,
+             stability: bool) -> dict:
+    lin, L, F = speeds.linear(rpm)
+    b = sector_balance(X, lin, sector.law, basis, sector.P, L, F.reshape(basis.nh, lin.nx), jacobian=False)
+    tip = lin.tip(X.reshape(basis.nh, lin.nx), b.Lam_y)
+    amp = hb.amplitude_over_period(tip)
+    mult = ring_multipliers(speeds.system(rpm), sector, lin, X, basis) if stability else np.zeros(0)
+    return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
+            "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
+            "multipliers": mult, "stable": floquet.is_stable(mult)}
+
+
+@dataclass(frozen=True)
+class RingHBResult:
+    """The tuned ring's travelling wave over speed: the branch of blade 0 (every blade alike), N blades."""
+
+    branch: HBResult
+    blades: int
+
+    @property
+    def complete(self) -> bool:
+        return self.branch.complete
+
+    @property
+    def stopped(self) -> str | None:
+        return self.branch.stopped
+
+    def to_json(self) -> dict[str, Any]:
+        return {**self.branch.to_json(), "blades": self.blades,
+                "blades_amplitude_v_L": [[float(a)] * self.blades for a in self.branch.amplitude_v_L]}
+
+
+def check_ring_hb(params: Parameters, model: str) -> None:
+    if model not in RING_MODELS:
+        raise InputError("ring.blades", f"a ring of {model} blades is not solved by harmonic balance yet; "
+                                        f"allowed: --model {', '.join(RING_MODELS)}")
+    if not params.ring.tuned:
+        raise InputError("ring.mistuning", "the mistuned ring by harmonic balance is not done yet; allowed: a "
+                                           "tuned ring (all d_j = 0) with --method hb, or the ring in time")
+
+
+def run_sector_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
+                  harmonics: int = DEFAULT_HARMONICS, samples: int | None = None, min_points: int | None = None,
+                  stability: bool = True) -> RingHBResult:
+    """The tuned ring's travelling-wave branch from ``rpm_from`` to ``rpm_to`` (r/min), by one sector."""
+    t0 = time.perf_counter()
+    check_ring_hb(params, model)
+    n = check_inputs(harmonics, samples, rpm_from, rpm_to)
+    basis = hb.fourier(harmonics, n)
+    speeds = SpeedModel(model_at_speed(params, model), harmonics)
+    system, lin, _, _ = speeds.at(rpm_from)
+    sector = sector_of(system, params, harmonics)
+    X0 = sector_solve(lin, sector, basis)
+    gap = abs(params.contact.N0) / params.contact.kn
+    x_scale = max(float(np.abs(hb.linear_solution(lin)).max()), gap, 1e-7)
+    count = max(min_points or MIN_POINTS, 2)
+    details: list[dict] = []
+    branch = continue_branch(_residual(speeds, sector, basis), X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
+                             dp_max=(rpm_to - rpm_from) / (count - 1),
+                             on_point=lambda X, rpm: details.append(_details(speeds, sector, basis, X, rpm,
+                                                                             stability)))
+    result = HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
+                                  iterations=branch.iterations, complete=branch.complete, stopped=branch.stopped,
+                                  dofs=system.dofs, condensed=lin.condensed, elapsed_s=time.perf_counter() - t0,
+                                  X=branch.x)
+    return RingHBResult(branch=result, blades=params.ring.blades)
+
+
+def sector_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
+              samples: int | None = None, stability: bool = True) -> dict:
+    """The travelling wave at one speed: its details (amplitudes, multipliers, stability) and X."""
+    check_ring_hb(params, model)
+    n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
+    basis = hb.fourier(harmonics, n)
+    speeds = SpeedModel(model_at_speed(params, model), harmonics)
+    system, lin, _, _ = speeds.at(rpm)
+    sector = sector_of(system, params, harmonics)
+    X = sector_solve(lin, sector, basis)
+    return {**_details(speeds, sector, basis, X, rpm, stability), "X": X}
+
+
+def ring_state(system: StructuralSystem, lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier,
+               X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(q, q') of every blade at t = 0 on the travelling wave X (N, nb each): blade j at tau = j phi of
+    blade 0, whose DOFs' harmonics are Q_h = Z_h^-1 (F_h + W^T Lam_h) (for starting the ring in time on it)."""
+    nh, H = basis.nh, basis.H
+    if lin.condensed:
+        b = sector_balance(X, lin, sector.law, basis, sector.P, jacobian=False)
+        W = np.asarray(system.contact.W)
+        rhs = hb.load_harmonics(system, H) + hb._complex_coefficients(b.Lam_y) @ W
+        Q = hb._real_coefficients(np.linalg.solve(hb.dynamic_stiffness(system, H), rhs[:, :, None])[:, :, 0])
+    else:
+        Q = X.reshape(nh, lin.nx)
+    h = np.arange(1, H + 1)
+    q, v = [], []
+    for j in range(sector.N):
+        tau = j * sector.phi
+        c, s = np.cos(h * tau), np.sin(h * tau)
+        q.append(Q[0] + c @ Q[1::2] + s @ Q[2::2])
+        v.append(lin.omega * ((h * c) @ Q[2::2] - (h * s) @ Q[1::2]))
+    return np.array(q), np.array(v)
