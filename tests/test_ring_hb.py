@@ -85,3 +85,27 @@ def test_ring_sweep_hb_json_and_refusals(capsys):
     assert main(["sweep", "--method", "hb", "--set", "ring.blades=6", "--set", "ring.mistuning_std=0.01",
                  "--rpm-from", "5000", "--rpm-to", "5600"]) == 2
     assert "ring.mistuning" in capsys.readouterr().err
+
+
+def test_every_nodal_diameter_counts_a_symmetric_start_hides_the_fig8_rings_instability():
+    """24 blades at 10000 r/min: started on the wave the ring stays on it (nothing breaks the symmetry),
+    yet the whole ring's monodromy has |mu| > 1 in another nodal diameter's perturbation; a kick of every
+    blade (random, 1e-4 of the motion) grows at that rate until the ring lands off the wave."""
+    p = Parameters().with_overrides(["ring.blades=24", "speed.rpm=10000", "time.periods=110",
+                                     "time.steps_per_period=1024"])
+    H = 40
+    basis = hb.fourier(H, 2048)
+    speeds = SpeedModel(model_at_speed(p, "reduced"), H)
+    system, lin, _, _ = speeds.at(10000.0)
+    sector = sector_of(system, p, H)
+    X = sector_solve(lin, sector, basis)
+    d = _details(speeds, sector, basis, X, 10000.0, True)
+    mu = np.abs(d["multipliers"]).max()
+    assert 1.01 < mu < 1.1
+    q0, v0 = ring_state(system, lin, sector, basis, X)
+    kick = 1e-4 * np.abs(q0).max() * np.random.default_rng(1).normal(size=q0.shape)
+    tr = run_ring(build_ring(p, "reduced"), p, q0=q0 + kick, v0=v0)
+    spp = p.time.steps_per_period
+    x = tr.tip[:, :, 0]
+    e = np.array([np.abs(x[k * spp:(k + 1) * spp] - x[(k - 1) * spp:k * spp]).max() for k in range(1, 110)])
+    assert (e[100] / e[30]) ** (1 / 70) == pytest.approx(mu, rel=0.01)

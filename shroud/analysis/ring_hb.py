@@ -33,7 +33,7 @@ from shroud.analysis.ring import RING_MODELS
 from shroud.base.errors import InputError
 from shroud.core import floquet
 from shroud.core import harmonic_balance as hb
-from shroud.core.contact import ContactLaw, contact_law
+from shroud.core.contact import KN, KT, N0, ContactLaw, contact_law
 from shroud.core.continuation import continue_branch
 from shroud.core.cyclic import ring_shifts, sector_balance, sector_projection
 from shroud.core.results import HBResult
@@ -82,17 +82,18 @@ def _residual(speeds: SpeedModel, sector: Sector, basis: hb.Fourier):
     return residual
 
 
-def half_stuck(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier) -> np.ndarray:
-    """A start for Newton: the sector with every interface as springs of half the law's kn and kt (the
-    mean of open and closed). The contact-free blade is the worse start: near its resonance it moves by
-    tens of um where the ring's interfaces hold it to a few (a 6-blade ring at 10000 r/min: Newton
-    stalls at |R| = |F| / 3 from there and converges in 10 steps from here)."""
+def with_springs(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, share: float) -> np.ndarray:
+    """A start for Newton: the linear sector with every interface as springs of ``share`` times the law's kn
+    and kt (0: contact-free; 1: stuck; 0.5: the mean of open and closed)."""
     nh = basis.nh
     Pa = sector.P if lin.condensed else sector.P @ np.kron(np.eye(nh), lin.Wx)
     D = np.zeros(sector.law.m)
-    D[sector.law.rows[:, 0]] += 0.5 * sector.law.props[:, 1]
-    D[sector.law.rows[:, 1]] += 0.5 * sector.law.props[:, 2]
+    D[sector.law.rows[:, 0]] += share * sector.law.props[:, 1]
+    D[sector.law.rows[:, 1]] += share * sector.law.props[:, 2]
     return np.linalg.solve(lin.L + Pa.T @ (np.tile(D, nh)[:, None] * Pa), lin.Fr.ravel())
+
+
+STARTS = (0.5, 1.0, 0.1, 0.0)   # shares of the springs of the linear starts tried, in order
 
 
 def sector_newton(X: np.ndarray, lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, tol: float = 1e-10,
@@ -118,12 +119,44 @@ def sector_newton(X: np.ndarray, lin: hb.LinearHarmonics, sector: Sector, basis:
     return X, r <= 1e-6 * scale
 
 
-def sector_solve(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier) -> np.ndarray:
-    """The travelling wave at one speed by Newton from :func:`half_stuck`."""
-    X, ok = sector_newton(half_stuck(lin, sector, basis), lin, sector, basis)
-    if not ok:
-        raise RuntimeError("Newton did not reach the travelling wave from the half-stuck sector")
-    return X
+def stiffened(law: ContactLaw, share: float) -> ContactLaw:
+    """``law`` with kn, kt and N0 times ``share`` (the same gap or interference N0 / kn, softer springs)."""
+    props = law.props.copy()
+    props[:, [KN, KT, N0]] *= share
+    return replace(law, props=props)
+
+
+def sector_solve(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, soft: float = 1e-3) -> np.ndarray:
+    """The travelling wave at one speed by Newton from linear sectors with springs (:func:`with_springs`,
+    STARTS in order), else by continuation in the contact's stiffness from ``soft`` times it (where the
+    contact-free solution is Newton's start) up to all of it.
+
+    The contact-free blade alone is a poor start: near its resonance it moves by tens of um where the
+    ring's interfaces hold it to a few (6 blades at 10000 r/min: Newton stalls at |R| = |F| / 3 from it and
+    converges in 10 steps from half springs). A continuation in the load cannot help where N0 = 0: the
+    problem is then homogeneous in the load. 24 blades at 6000 r/min stall at |R| = |F| / 2 from every
+    linear start, and the stiffness continuation reaches the wave in 96 points (0.24 s).
+    """
+    for share in STARTS:
+        X, ok = sector_newton(with_springs(lin, sector, basis, share), lin, sector, basis)
+        if ok:
+            return X
+
+    def residual(X, share):
+        b = sector_balance(X, lin, stiffened(sector.law, share), basis, sector.P)
+
+        def d_share():
+            h = 1e-6 * share
+            return (sector_balance(X, lin, stiffened(sector.law, share + h), basis, sector.P,
+                                   jacobian=False).R - b.R) / h
+        return b.R, b.J, d_share
+    X0 = hb.linear_solution(lin)
+    path = continue_branch(residual, X0, soft, 1.0, float(np.abs(X0).max()) + 1e-300, ds=0.05, ds_max=0.5,
+                           p_scale=1.0)
+    if not (path.complete and path.p and path.p[-1] == 1.0):
+        raise RuntimeError(f"the travelling wave was reached neither by Newton from linear sectors with springs "
+                           f"nor by continuation in the contact's stiffness: {path.stopped}")
+    return path.x[-1]
 
 
 def ring_multipliers(system: StructuralSystem, sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray,
@@ -159,7 +192,7 @@ def _details(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarra
     b = sector_balance(X, lin, sector.law, basis, sector.P, L, F.reshape(basis.nh, lin.nx), jacobian=False)
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.Lam_y)
     amp = hb.amplitude_over_period(tip)
-    mult = ring_multipliers(speeds.system(rpm), sector, lin, X, basis) if stability else np.zeros(0)
+    mult = ring_multipliers(speeds.system(rpm), sector, lin, X, basis) if stability else np.array([np.nan])
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
             "multipliers": mult, "stable": floquet.is_stable(mult)}
@@ -171,6 +204,7 @@ class RingHBResult:
 
     branch: HBResult
     blades: int
+    stability: bool = True     # False: no multipliers computed (the JSON's stable and max_multiplier are null)
 
     @property
     def complete(self) -> bool:
@@ -181,7 +215,11 @@ class RingHBResult:
         return self.branch.stopped
 
     def to_json(self) -> dict[str, Any]:
-        return {**self.branch.to_json(), "blades": self.blades,
+        out = self.branch.to_json()
+        if not self.stability:
+            out["stable"] = out["max_multiplier"] = [None] * len(out["rpm"])
+            out["bifurcations"] = []
+        return {**out, "blades": self.blades,
                 "blades_amplitude_v_L": [[float(a)] * self.blades for a in self.branch.amplitude_v_L]}
 
 
@@ -218,7 +256,7 @@ def run_sector_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float
                                   iterations=branch.iterations, complete=branch.complete, stopped=branch.stopped,
                                   dofs=system.dofs, condensed=lin.condensed, elapsed_s=time.perf_counter() - t0,
                                   X=branch.x)
-    return RingHBResult(branch=result, blades=params.ring.blades)
+    return RingHBResult(branch=result, blades=params.ring.blades, stability=stability)
 
 
 def sector_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
