@@ -1,4 +1,4 @@
-"""The tuned ring's travelling wave over speed by one sector (harmonic balance; docs/ring.md).
+"""The ring over speed by harmonic balance: tuned by one sector, mistuned as a whole (docs/ring.md).
 
 The travelling wave of a tuned ring has U_{j+1,h} = exp(i h phi) U_{j,h}
 (phi = 2 pi ke / N), so blade 0 carries the ring: its linear part is the
@@ -17,6 +17,12 @@ over one period. (A sector-size Bloch decomposition of that monodromy is
 not exact here: with the wave's coefficients shifted in time from blade to
 blade, the perturbation of one Bloch wave is a delay equation on the
 sector.)
+
+A mistuned ring (or any ring, :func:`whole_ring_at`) is solved as a whole:
+every blade condensed on its own contact coordinates
+(shroud.core.ring.ring_harmonics), the interfaces on their relative
+coordinates, continued by shroud.analysis.hb.run_hb itself (RingOverSpeed
+is its ``build``), stability from the same ring's monodromy.
 """
 
 from __future__ import annotations
@@ -28,16 +34,19 @@ from typing import Any, Callable
 
 import numpy as np
 
-from shroud.analysis.hb import DEFAULT_HARMONICS, MIN_POINTS, SpeedModel, check_inputs, model_at_speed
-from shroud.analysis.ring import RING_MODELS
-from shroud.base.errors import InputError
+from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, SpeedModel, check_inputs, model_at_speed,
+                                point_details, run_hb)
+from shroud.analysis.ring import RING_MODELS, blade_parameters
+from shroud.analysis.transient import contact_law_for
+from shroud.base.errors import InputError, RunDiverged
 from shroud.core import floquet
 from shroud.core import harmonic_balance as hb
 from shroud.core.contact import KN, KT, N0, ContactLaw, contact_law
 from shroud.core.continuation import continue_branch
 from shroud.core.cyclic import ring_shifts, sector_balance, sector_projection
 from shroud.core.results import HBResult
-from shroud.core.ring import face_selectors, interface_elements, ring_of
+from shroud.core.ring import (assembled_system, face_selectors, interface_elements, ring_harmonics, ring_of,
+                              with_rayleigh)
 from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
 
@@ -48,10 +57,8 @@ class Sector:
 
     N: int
     ke: int
-    P: np.ndarray              # sector projection (nh c, nh m)
-    law: ContactLaw            # interface 0's points on its relative coordinates
-    S1: np.ndarray
-    S2: np.ndarray
+    P: np.ndarray | None       # sector projection (nh c, nh m); None: the unknowns are the law's coordinates
+    law: ContactLaw            # interface 0's points on its relative coordinates (or every interface's)
 
     @property
     def phi(self) -> float:
@@ -64,7 +71,7 @@ def sector_of(system: StructuralSystem, params: Parameters, H: int) -> Sector:
     c = params.contact
     law = contact_law(interface_elements(weight, np.eye(S1.shape[0])), kn=c.kn, kt=c.kt, mu=c.mu, N0=c.N0)
     N, ke = params.ring.blades, params.load.ke
-    return Sector(N=N, ke=ke, P=sector_projection(S1, S2, H, 2.0 * math.pi * ke / N), law=law, S1=S1, S2=S2)
+    return Sector(N=N, ke=ke, P=sector_projection(S1, S2, H, 2.0 * math.pi * ke / N), law=law)
 
 
 def _residual(speeds: SpeedModel, sector: Sector, basis: hb.Fourier):
@@ -86,14 +93,18 @@ def with_springs(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, sha
     """A start for Newton: the linear sector with every interface as springs of ``share`` times the law's kn
     and kt (0: contact-free; 1: stuck; 0.5: the mean of open and closed)."""
     nh = basis.nh
-    Pa = sector.P if lin.condensed else sector.P @ np.kron(np.eye(nh), lin.Wx)
     D = np.zeros(sector.law.m)
     D[sector.law.rows[:, 0]] += share * sector.law.props[:, 1]
     D[sector.law.rows[:, 1]] += share * sector.law.props[:, 2]
+    if sector.P is None:                  # a whole ring: the law's coordinates are Wx x
+        Pa = np.kron(np.eye(nh), lin.Wx)
+    else:
+        Pa = sector.P if lin.condensed else sector.P @ np.kron(np.eye(nh), lin.Wx)
     return np.linalg.solve(lin.L + Pa.T @ (np.tile(D, nh)[:, None] * Pa), lin.Fr.ravel())
 
 
 STARTS = (0.5, 1.0, 0.1, 0.0)   # shares of the springs of the linear starts tried, in order
+MOST_POINTS = 300               # of the continuation in the contact's stiffness (96 reach 24 tuned blades)
 
 
 def sector_newton(X: np.ndarray, lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, tol: float = 1e-10,
@@ -152,10 +163,10 @@ def sector_solve(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, sof
         return b.R, b.J, d_share
     X0 = hb.linear_solution(lin)
     path = continue_branch(residual, X0, soft, 1.0, float(np.abs(X0).max()) + 1e-300, ds=0.05, ds_max=0.5,
-                           p_scale=1.0)
+                           p_scale=1.0, max_points=MOST_POINTS)
     if not (path.complete and path.p and path.p[-1] == 1.0):
-        raise RuntimeError(f"the travelling wave was reached neither by Newton from linear sectors with springs "
-                           f"nor by continuation in the contact's stiffness: {path.stopped}")
+        raise RunDiverged(f"no periodic state reached, neither by Newton from linear sectors with springs "
+                          f"nor by continuation in the contact's stiffness: {path.stopped}")
     return path.x[-1]
 
 
@@ -205,6 +216,7 @@ class RingHBResult:
     branch: HBResult
     blades: int
     stability: bool = True     # False: no multipliers computed (the JSON's stable and max_multiplier are null)
+    amplitudes: list[list[float]] | None = None   # per point, every blade's v_L amplitude (None: tuned, alike)
 
     @property
     def complete(self) -> bool:
@@ -219,17 +231,14 @@ class RingHBResult:
         if not self.stability:
             out["stable"] = out["max_multiplier"] = [None] * len(out["rpm"])
             out["bifurcations"] = []
-        return {**out, "blades": self.blades,
-                "blades_amplitude_v_L": [[float(a)] * self.blades for a in self.branch.amplitude_v_L]}
+        every = self.amplitudes or [[float(a)] * self.blades for a in self.branch.amplitude_v_L]
+        return {**out, "blades": self.blades, "blades_amplitude_v_L": every}
 
 
 def check_ring_hb(params: Parameters, model: str) -> None:
     if model not in RING_MODELS:
         raise InputError("ring.blades", f"a ring of {model} blades is not solved by harmonic balance yet; "
                                         f"allowed: --model {', '.join(RING_MODELS)}")
-    if not params.ring.tuned:
-        raise InputError("ring.mistuning", "the mistuned ring by harmonic balance is not done yet; allowed: a "
-                                           "tuned ring (all d_j = 0) with --method hb, or the ring in time")
 
 
 def run_sector_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
@@ -238,6 +247,8 @@ def run_sector_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float
     """The tuned ring's travelling-wave branch from ``rpm_from`` to ``rpm_to`` (r/min), by one sector."""
     t0 = time.perf_counter()
     check_ring_hb(params, model)
+    if not params.ring.tuned:
+        return run_whole_ring_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(model_at_speed(params, model), harmonics)
@@ -292,3 +303,71 @@ def ring_state(system: StructuralSystem, lin: hb.LinearHarmonics, sector: Sector
         q.append(Q[0] + c @ Q[1::2] + s @ Q[2::2])
         v.append(lin.omega * ((h * c) @ Q[2::2] - (h * s) @ Q[1::2]))
     return np.array(q), np.array(v)
+
+
+# --- a mistuned ring: the whole ring condensed on its interfaces ------------------------------------
+
+class RingOverSpeed:
+    """The (mistuned) ring at any speed, for continuation (shroud.analysis.hb.SpeedModel's ``build``):
+    called with a speed, the ring as one system (shroud.core.ring.assembled_system: its M, C, K and
+    contact for the stability); :meth:`harmonics` its linear part condensed on the interfaces
+    (shroud.core.ring.ring_harmonics, with the travelling wave's load). Each blade is its model at that
+    speed (its own basis), with the tuned blade's Rayleigh coefficients."""
+
+    def __init__(self, params: Parameters, model: str):
+        self.model, self.ke = model, params.load.ke
+        self.tuned = model_at_speed(params, model)
+        self.blades = [None if d == 0.0 else model_at_speed(blade_parameters(params, j), model)
+                       for j, d in enumerate(params.ring.deviations)]
+        self._last: tuple[float, Any] | None = None
+
+    def ring(self, rpm: float):
+        if self._last is None or self._last[0] != rpm:
+            tuned = self.tuned(rpm)
+            blades = [tuned if b is None else with_rayleigh(b(rpm), tuned.rayleigh) for b in self.blades]
+            self._last = (rpm, ring_of(blades, self.ke))
+        return self._last[1]
+
+    def __call__(self, rpm: float) -> StructuralSystem:
+        return assembled_system(self.ring(rpm), self.model)
+
+    def harmonics(self, rpm: float, H: int) -> hb.LinearHarmonics:
+        return ring_harmonics(self.ring(rpm), H)
+
+
+def whole_ring_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
+                  samples: int | None = None, stability: bool = True) -> dict:
+    """The (mistuned) ring at one speed by harmonic balance on all its interfaces: every blade's
+    amplitudes, the multipliers of the ring's monodromy, X."""
+    check_ring_hb(params, model)
+    n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
+    basis = hb.fourier(harmonics, n)
+    speeds = SpeedModel(RingOverSpeed(params, model), harmonics)
+    system, lin, _, _ = speeds.at(rpm)
+    whole = Sector(N=params.ring.blades, ke=params.load.ke, P=None, law=contact_law_for(system, params.contact))
+    X = sector_solve(lin, whole, basis)
+    return {**(point_details(speeds, whole.law, basis, X, rpm) if stability else {}),
+            "blades_amplitude_v_L": blade_amplitudes(lin, whole.law, basis, X), "X": X}
+
+
+def blade_amplitudes(lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier, X: np.ndarray) -> list[float]:
+    """(max - min)/2 of each blade's v_L over the period (the ring's tip rows 2j)."""
+    b = hb.balance(X, lin, law, basis, jacobian=False)
+    return [float(a) for a in hb.amplitude_over_period(lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam))[0::2]]
+
+
+def run_whole_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmonics: int,
+                      samples: int | None, min_points: int | None) -> RingHBResult:
+    """The mistuned ring's branch by shroud.analysis.hb.run_hb on the whole ring condensed on its
+    interfaces (RingOverSpeed), started on the state :func:`sector_solve` reaches at ``rpm_from``."""
+    n = check_inputs(harmonics, samples, rpm_from, rpm_to)
+    build = RingOverSpeed(params, model)
+    speeds = SpeedModel(build, harmonics)
+    system, lin, _, _ = speeds.at(rpm_from)
+    law = contact_law_for(system, params.contact)
+    basis = hb.fourier(harmonics, n)
+    X0 = sector_solve(lin, Sector(N=params.ring.blades, ke=params.load.ke, P=None, law=law), basis)
+    branch = run_hb(params, model, rpm_from, rpm_to, harmonics=harmonics, samples=n, min_points=min_points,
+                    build=build, start=X0)
+    blades = [blade_amplitudes(speeds.linear(r)[0], law, basis, X) for r, X in zip(branch.rpm, branch.X)]
+    return RingHBResult(branch=branch, blades=params.ring.blades, amplitudes=blades)

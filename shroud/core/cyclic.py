@@ -134,7 +134,7 @@ class SectorBalance:
     Lam_y: np.ndarray              # (nh, m) forces on the sector's contact coordinates, N
 
 
-def sector_balance(X: np.ndarray, lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier, P: np.ndarray,
+def sector_balance(X: np.ndarray, lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier, P: np.ndarray | None,
                    L: np.ndarray | None = None, Fr: np.ndarray | None = None,
                    jacobian: bool = True) -> SectorBalance:
     """R(X) = L X - F - Pa^T Lam(Pa X), Pa = P (I (x) Wx), and its analytic Jacobian L - Pa^T dLam/dY Pa.
@@ -142,12 +142,18 @@ def sector_balance(X: np.ndarray, lin: hb.LinearHarmonics, law: ContactLaw, basi
     ``lin``: the blade's linear part (shroud.core.harmonic_balance), on its
     contact coordinates (condensed) or all DOFs; ``law``: interface 0's
     points on its relative coordinates (shroud.core.ring.interface_elements
-    on the identity); ``P``: :func:`sector_projection`. The AFT is the one
-    of shroud.core.harmonic_balance, on interface 0's relative coordinates.
+    on the identity); ``P``: :func:`sector_projection`, or None where the
+    unknowns are the law's coordinates themselves (a whole ring condensed
+    on its interfaces: then this is shroud.core.harmonic_balance.balance).
+    The AFT is the one of shroud.core.harmonic_balance, on interface 0's
+    relative coordinates.
     """
     nh, nx, c = basis.nh, lin.nx, law.m
     L = lin.L if L is None else L
     Fr = lin.Fr if Fr is None else Fr
+    if P is None:
+        b = hb.balance(X, lin, law, basis, L, Fr, jacobian)
+        return SectorBalance(R=b.R, J=b.J, contact=b.contact, Lam_y=b.contact.Lam)
     Pa = P if lin.condensed else P @ np.kron(np.eye(nh), lin.Wx)
     Y = (Pa @ X).reshape(nh, c)
     ch = hb.contact_harmonics(Y, np.eye(c), law, basis, jacobian, condensed=True)

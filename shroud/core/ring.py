@@ -175,3 +175,58 @@ def ring_of(blades: Sequence[StructuralSystem], ke: int) -> BladeRing:
     pairs = [faces(b.contact) for b in blades]
     return BladeRing(blades=tuple(blades), ke=int(ke), side1=np.array([p[0] for p in pairs]),
                      side2=np.array([p[1] for p in pairs]), weight=pairs[0][2])
+
+
+def ring_harmonics(ring: BladeRing, H: int):
+    """The whole ring's linear part per harmonic 0..H (shroud.core.harmonic_balance.LinearHarmonics),
+    condensed exactly on every blade's own contact coordinates x_j = W_j q_j (Petrov & Ewins 2003), its
+    contact on the interfaces' relative coordinates y = Wr x.
+
+    Blade by blade (the linear ring is block diagonal): with Z_j,h = K_j - (h w)^2 M_j + i h w C_j the
+    receptance W_j Z_j,h^-1 W_j^T and the load's W_j Z_j,h^-1 F_j,h, F_j,1 = f_cos,j - i f_sin,j (the
+    travelling wave; a_h - i b_h convention). Not on y itself: around a ring of point shrouds the g_j sum
+    to zero, so the receptance on y is singular. Wr takes S2_j x_j - S1_j+1 x_j+1 for interface j (the
+    faces' selectors of :func:`face_selectors`). The tip rows are every blade's (v_L, w_L): 2 N outputs,
+    blade j's in rows 2j, 2j+1, through the forces Wr^T Lam on x.
+    """
+    import dataclasses
+    from shroud.core import harmonic_balance as hb     # the ring's time loop needs none of it
+    N, nb, w = ring.count, ring.blade_dofs, ring.omega_e
+    own = [dense(b.contact.W) for b in ring.blades]
+    mb = own[0].shape[0]
+    f_const, f_sin, f_cos = ring.loads()
+    tip = ring.tip()
+    WS = np.zeros((H + 1, N * mb, N * mb + 1), complex)
+    tipS = np.zeros((H + 1, 2 * N, N * mb + 1), complex)
+    for j, b in enumerate(ring.blades):
+        rows = slice(j * mb, (j + 1) * mb)
+        M, C, K = dense(b.M), dense(b.C), dense(b.K)
+        for h in range(H + 1):
+            F = f_const[j] if h == 0 else f_cos[j] - 1j * f_sin[j] if h == 1 else np.zeros(nb)
+            S = np.linalg.solve(K - (h * w) ** 2 * M + 1j * h * w * C, np.column_stack([own[j].T, F]))
+            WS[h, rows, rows] = own[j] @ S[:, :mb]
+            WS[h, rows, -1] = own[j] @ S[:, mb]
+            tipS[h, 2 * j:2 * j + 2, rows] = tip[j] @ S[:, :mb]
+            tipS[h, 2 * j:2 * j + 2, -1] = tip[j] @ S[:, mb]
+    lin = hb.condensed(w, WS, tipS)
+    S1, S2, _ = face_selectors(ring.blades[0].contact)
+    c = S1.shape[0]
+    Wr = np.zeros((N * c, N * mb))
+    for j in range(N):
+        k = (j + 1) % N
+        Wr[j * c:(j + 1) * c, j * mb:(j + 1) * mb] += S2
+        Wr[j * c:(j + 1) * c, k * mb:(k + 1) * mb] -= S1
+    return dataclasses.replace(lin, Wx=Wr, tip_lam=lin.tip_lam @ Wr.T.astype(complex),
+                               tip_x=np.zeros((H + 1, 2 * N, N * mb), complex), condensed=False)
+
+
+def assembled_system(ring: BladeRing, model: str) -> StructuralSystem:
+    """The ring as one StructuralSystem (block-diagonal M, C, K; the interfaces' contact on W; blade 0's
+    tip rows; the load's sine part only: the harmonic balance takes the wave's load from ring_harmonics,
+    the stability needs none)."""
+    M, C, K = ring.assembled()
+    f_const, f_sin, _ = ring.loads()
+    tip = np.zeros((2, ring.dofs))
+    tip[:, :ring.blade_dofs] = dense(ring.blades[0].tip)
+    return StructuralSystem(model=model, M=M, C=C, K=K, f_const=f_const.ravel(), f_aero=f_sin.ravel(),
+                            omega_e=ring.omega_e, tip=tip, contact=ring.contact())
