@@ -144,3 +144,14 @@ def test_the_rings_energy_balance_closes_with_friction_and_mistuning():
     assert np.all(tr.state > 0) and np.any(tr.state == 2)
     assert e.friction > 0.05 * e.input_work
     assert e.relative_error < 1e-9
+
+
+def test_a_ring_too_long_to_record_is_refused_before_it_starts(capsys):
+    """48 blades record 48 x 41 bytes a step, 13 times a single blade's 154: a run the single blade could
+    record but the ring cannot is refused (one line, exit 2)."""
+    from shroud.analysis.checks import MEMORY_SHARE
+    from shroud.base.resources import physical_memory
+    periods = int(MEMORY_SHARE * physical_memory() / (256 * 600))      # 154 < 600 < 48 x 41 bytes a step
+    assert main(["transient", "--json", "--set", "ring.blades=48", "--set", f"time.periods={periods}"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "time.periods" in err[0]

@@ -16,7 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from shroud.analysis.checks import check_run
+from shroud.analysis.checks import MEMORY_SHARE, check_run
+from shroud.base.resources import in_words, physical_memory
 from shroud.base.errors import InputError, RunDiverged
 from shroud.base.log import info
 from shroud.core import registry, signals
@@ -58,9 +59,24 @@ def ring_law(ring: BladeRing, params: Parameters) -> ContactLaw:
     return contact_law(ring.contact(), kn=c.kn, kt=c.kt, mu=c.mu, N0=c.N0)
 
 
+RING_BYTES_PER_BLADE_STEP = 5 * 8 + 1     # tip (2), N, F, r (float64) and the state (int8) of each blade a step
+
+
+def check_ring_records(params: Parameters, blades: int) -> None:
+    """Refuse a ring run whose records (every blade's, every step) this machine cannot hold."""
+    steps = params.time.periods * params.time.steps_per_period
+    need, limit = (steps + 1) * blades * RING_BYTES_PER_BLADE_STEP, MEMORY_SHARE * physical_memory()
+    if need > limit:
+        most = int(limit // (blades * RING_BYTES_PER_BLADE_STEP * params.time.steps_per_period))
+        raise InputError("time.periods", f"{params.time.periods} periods of a {blades}-blade ring would record "
+                                         f"{in_words(need)}, more than {MEMORY_SHARE:.0%} of this machine's "
+                                         f"{in_words(physical_memory())}; allowed: at most {most} periods here")
+
+
 def run_ring(ring: BladeRing, params: Parameters, held: tuple[int, ...] = (), **initial) -> RingTrajectory:
     """Integrate the ring as ``params.time`` and ``params.contact`` say (no output files)."""
     check_run(ring.blades[0], params)          # each blade's records and contact stiffness
+    check_ring_records(params, ring.count)
     spp, periods = params.time.steps_per_period, params.time.periods
     return integrate_ring(ring, ring_law(ring, params), NewmarkScheme(dt=params.time_step), spp * periods,
                           implicit=params.time.contact == "implicit",
