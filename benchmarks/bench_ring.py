@@ -23,7 +23,7 @@ import numpy as np
 import reduced_model  # noqa: F401  (registers the beams)
 from shroud.analysis.hb import SpeedModel, model_at_speed, run_hb
 from shroud.analysis.ring import build_ring, run_ring
-from shroud.analysis.ring_hb import ring_multipliers, run_sector_hb, sector_of
+from shroud.analysis.ring_hb import ring_multipliers, run_ring_hb, sector_of
 from shroud.core import harmonic_balance as hb
 from shroud.core import signals
 from shroud.params import Parameters
@@ -59,7 +59,7 @@ def main() -> None:
     if args.hb:
         a, b = args.rpm_from, args.rpm_to
         curves = {"single blade": lambda: run_hb(p, "reduced", a, b),
-                  "sector, no stability": lambda: run_sector_hb(p, "reduced", a, b, stability=False).branch}
+                  "sector, no stability": lambda: run_ring_hb(p, "reduced", a, b, stability=False).branch}
         for name, curve in curves.items():
             curve()                                               # compile
             cpu, wall = [], []

@@ -6,7 +6,6 @@ linear; average-acceleration Newmark's steady state is the exact response
 at the warped frequency (2/dt) tan(omega dt / 2)), and energy conservation.
 """
 
-import json
 import math
 
 import numpy as np

@@ -12,7 +12,7 @@ chord).
 
 from __future__ import annotations
 
-import math
+import time
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -68,7 +68,6 @@ class InterfaceModal:
 def interface_modal(params: Parameters, model: str, rpm: float, n_modes: int, coriolis: bool,
                     interface: str) -> InterfaceModal:
     """Modes of ``model`` at ``rpm`` with the contact ``interface`` ("free" or "stuck")."""
-    import time
     t0 = time.perf_counter()
     if interface not in INTERFACES:
         raise InputError("--interface", f"{interface!r} is unknown; allowed: {', '.join(INTERFACES)}")

@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, replace
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -211,7 +211,7 @@ def _details(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarra
 
 @dataclass(frozen=True)
 class RingHBResult:
-    """The tuned ring's travelling wave over speed: the branch of blade 0 (every blade alike), N blades."""
+    """A ring's branch over speed: blade 0's (tuned: every blade alike) and every blade's amplitudes."""
 
     branch: HBResult
     blades: int
@@ -241,10 +241,11 @@ def check_ring_hb(params: Parameters, model: str) -> None:
                                         f"allowed: --model {', '.join(RING_MODELS)}")
 
 
-def run_sector_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
-                  harmonics: int = DEFAULT_HARMONICS, samples: int | None = None, min_points: int | None = None,
-                  stability: bool = True) -> RingHBResult:
-    """The tuned ring's travelling-wave branch from ``rpm_from`` to ``rpm_to`` (r/min), by one sector."""
+def run_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
+                harmonics: int = DEFAULT_HARMONICS, samples: int | None = None, min_points: int | None = None,
+                stability: bool = True) -> RingHBResult:
+    """The ring's branch from ``rpm_from`` to ``rpm_to`` (r/min): tuned, the travelling wave by one sector
+    (``stability=False``: without the ring's multipliers); mistuned, the whole ring (run_whole_ring_hb)."""
     t0 = time.perf_counter()
     check_ring_hb(params, model)
     if not params.ring.tuned:

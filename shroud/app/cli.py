@@ -204,9 +204,9 @@ def _sweep_hb(args) -> None:
     if params.ring.blades:
         if args.tail is not None:
             raise InputError("--tail", "a ring's branch is solved at one H; allowed: --harmonics with ring.blades")
-        from shroud.analysis.ring_hb import run_sector_hb
-        result = run_sector_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
-                               min_points=args.rpm_count)
+        from shroud.analysis.ring_hb import run_ring_hb
+        result = run_ring_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
+                             min_points=args.rpm_count)
     elif args.tail is not None:
         result = run_hb_to_tail(params, args.model, args.rpm_from, args.rpm_to, args.tail,
                                 min_points=args.rpm_count)
