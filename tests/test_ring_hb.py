@@ -125,3 +125,14 @@ def test_mistuned_ring_by_hb_is_the_ring_in_time_blade_by_blade():
                                    stability=False)["blades_amplitude_v_L"])
     sector = sector_at(tuned, "reduced", 6000.0, harmonics=20, samples=1024, stability=False)["amplitude_v_L"]
     assert np.abs(whole / sector - 1).max() < 1e-3
+
+
+@pytest.mark.parametrize("blades, rpm, answer", [(6, 6000.0, True), (6, 7200.0, False), (24, 10000.0, False)])
+def test_the_rings_stability_verdict_matches_the_ring_in_time(blades, rpm, answer):
+    """The verdicts the time runs above show: stable at 6 blades / 6000 r/min (the ring settles on the
+    wave), unstable at 7200 r/min (left at 1.677 a period) and on the Fig. 8 ring (a kick grows at 1.036):
+    decided outside the margin that the change from H = 20 to H = 40 gives."""
+    from shroud.analysis.ring_hb import stability_verdict
+    p = Parameters().with_overrides([f"ring.blades={blades}", f"speed.rpm={rpm}"])
+    verdict = stability_verdict(p, "reduced", rpm, harmonics=20)
+    assert verdict.decided and verdict.answer is answer
