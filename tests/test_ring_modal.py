@@ -3,6 +3,7 @@ ring assembled as one model without cyclic reduction, and the free ring against 
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -110,3 +111,18 @@ def test_a_linear_mistuned_ring_stays_under_whiteheads_bound():
               for s in range(8)]
     assert max(ratios) < (1 + math.sqrt(N)) / 2
     assert max(ratios) > 1.1
+
+
+def test_interference_study_quick(tmp_path):
+    """The quick interference scene: engine order k excites nodal diameter k mod N folded into 0..N/2, and
+    at k_e = 2 of 24 blades (factor 2 sin(pi/12) = 0.518 < 1) the stuck ring is softer than the blade
+    stuck to fixed neighbours."""
+    from comparisons.interference import folded
+    from shroud.app.runner import run_scene
+    assert [folded(k, 24) for k in (0, 2, 12, 13, 24, 26)] == [0, 2, 12, 11, 0, 2]
+    run_scene(Path(__file__).resolve().parents[1] / "scenes" / "interference.toml", tmp_path / "i", quick=True)
+    record = json.loads((tmp_path / "i" / "results.json").read_text())
+    results = record["results"]
+    assert results["conclusions"]["ring_against_fixed_neighbours"] == "ring softer"
+    assert results["nd_engine_order"] == 2
+    assert results["relative_motion_factor"] == pytest.approx(2 * math.sin(math.pi / 12))
