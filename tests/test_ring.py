@@ -56,7 +56,9 @@ def test_a_scatter_that_makes_some_E_negative_is_refused():
     assert err.value.key == "ring.mistuning_std" and "E <= 0" in err.value.line()
 
 
-@pytest.mark.parametrize("extra", [["--set", "ring.blades=1"], ["--set", "ring.blades=3", "--set", "ring.mistuning=0.1"]])
+@pytest.mark.parametrize("extra", [["--set", "ring.blades=1"], ["--set", "ring.blades=3", "--set", "ring.mistuning=0.1"],
+                                   ["--set", "ring.blades=3", "--model", "fe-reduced"],
+                                   ["--set", "ring.blades=3", "--set", "contact.enabled=false"]])
 def test_bad_ring_input_exits_2_with_one_line(capsys, extra):
     assert main(["transient", "--json", *extra]) == 2
     err = capsys.readouterr().err.strip().splitlines()
@@ -75,11 +77,13 @@ def test_no_ring_is_the_papers_model_bit_for_bit(tmp_path):
 
 # --- the ring in time ----------------------------------------------------------------------------
 
-@pytest.mark.parametrize("model", ["reduced", "extended"])
-def test_a_ring_blade_with_its_neighbours_held_still_is_the_papers_blade(model):
+@pytest.mark.parametrize("model, contact", [("reduced", "implicit"), ("extended", "implicit"),
+                                            ("full", "explicit")])
+def test_a_ring_blade_with_its_neighbours_held_still_is_the_papers_blade(model, contact):
     """Interface 0 with blade 1 still is the paper's side 2; interface 2 with blade 2 still its side 1
-    (the extended beam: two paired points per face)."""
-    p = Parameters().with_overrides(["ring.blades=3", "time.periods=12", "speed.rpm=9000"])
+    (the extended beam: two paired points per face; the full beam with the paper's explicit contact)."""
+    p = Parameters().with_overrides(["ring.blades=3", "time.periods=12", "speed.rpm=9000",
+                                     f"time.contact={contact}"])
     ring = run_ring(build_ring(p, model), p, held=(1, 2))
     paper = run(build_system(p, model), p)
     scale_tip, scale_N = np.abs(paper.tip).max(), np.abs(paper.normal).max()
