@@ -69,7 +69,8 @@ def main() -> None:
                 wall.append(time.perf_counter() - w0)
                 cpu.append(time.process_time() - c0)
             print(f"HB {name}: {len(r.rpm)} points, complete {r.complete}, CPU {statistics.median(cpu):.3f} s "
-                  f"({1e3 * statistics.median(cpu) / len(r.rpm):.2f} ms a point), wall {statistics.median(wall):.3f} s; "
+                  f"({1e3 * statistics.median(cpu) / len(r.rpm):.2f} ms a point), "
+                  f"wall {statistics.median(wall):.3f} s; "
                   f"resonance {r.resonance['rpm']:.0f} r/min {1e6 * r.resonance['amplitude']:.3f} um")
         # the whole ring's multipliers at a few points of the sector's branch (compiled by the first)
         H = r.harmonics
