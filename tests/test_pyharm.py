@@ -39,9 +39,11 @@ def _pyharm_python() -> str:
 
 
 @pytest.fixture(scope="module")
-def pyharm():
+def pyharm(tmp_path_factory):
+    # run in a scratch folder: pyHarm writes its .pyHarm/ context where it runs
     run = subprocess.run([_pyharm_python(), str(ROOT / "tests" / "pyharm_curves.py")], capture_output=True,
-                         text=True, timeout=1200, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+                         text=True, timeout=1200, env={**os.environ, "PYTHONWARNINGS": "ignore"},
+                         cwd=tmp_path_factory.mktemp("pyharm"))
     assert run.returncode == 0, run.stderr[-2000:]
     return json.loads(run.stdout)
 
