@@ -13,7 +13,7 @@ import json
 import math
 import os
 import subprocess
-import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +33,7 @@ def _pyharm_python() -> str:
     python = os.environ.get("SHROUD_PYHARM_PYTHON") or str(ROOT / ".venv-pyharm" / "bin" / "python")
     if not Path(python).exists():
         pytest.skip(f"pyHarm's environment {python} is missing (scripts/install_pyharm.sh installs pyharm-os)")
-    if subprocess.run([python, "-c", "import pyHarm"], capture_output=True).returncode != 0:
+    if subprocess.run([python, "-c", "import pyHarm"], capture_output=True, cwd=tempfile.gettempdir()).returncode:
         pytest.skip(f"{python} cannot import pyHarm (scripts/install_pyharm.sh installs pyharm-os)")
     return python
 
