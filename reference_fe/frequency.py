@@ -90,7 +90,8 @@ def at_speed(params: Parameters, kind: str = "fe") -> Callable[[float], Structur
         a, b = rayleigh(*(np.sqrt(w2) / (2 * math.pi)), params.damping.xi1, params.damping.xi2)
         return StructuralSystem(model=f"{kind}-reduced", M=eye, C=a * eye + b * K + omega * d["G1"], K=K,
                                 f_const=np.zeros(r), f_aero=params.load.F0 * d["f_aero"],
-                                omega_e=params.load.ke * omega, tip=d["tip"], contact=contact)
+                                omega_e=params.load.ke * omega, tip=d["tip"], contact=contact,
+                                rayleigh=(float(a), float(b)))
     return system
 
 

@@ -121,7 +121,7 @@ def full_system(params: Parameters, kind: str = "fe") -> StructuralSystem:
         model=kind, M=solid.M, C=a * solid.M + b * solid.K + solid.G, K=solid.K,
         f_const=np.zeros(n), f_aero=params.load.F0 * solid.f_aero,
         omega_e=params.load.ke * params.speed.omega, tip=solid.tip, contact=solid.contact,
-        factorize=mumps_lu, layout=getattr(solid.M, "layout", None))
+        factorize=mumps_lu, layout=getattr(solid.M, "layout", None), rayleigh=(float(a), float(b)))
 
 
 def _kept(params: Parameters, kind: str) -> tuple[int, int]:
@@ -245,4 +245,4 @@ def reduced_system(params: Parameters, kind: str = "fe") -> StructuralSystem:
     return StructuralSystem(
         model=f"{kind}-reduced", M=np.eye(r), C=np.diag(a + b * omega2) + d["G"], K=np.diag(omega2),
         f_const=np.zeros(r), f_aero=params.load.F0 * d["f_aero"],
-        omega_e=params.load.ke * params.speed.omega, tip=d["tip"], contact=contact)
+        omega_e=params.load.ke * params.speed.omega, tip=d["tip"], contact=contact, rayleigh=(float(a), float(b)))

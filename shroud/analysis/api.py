@@ -42,10 +42,14 @@ def build_system(params: Parameters, model: str) -> StructuralSystem:
 
 
 def transient(params: Parameters, model: str, csv_path: Path | None = None):
-    """One transient run (paper Sect. 2.1): returns a shroud.analysis.transient.TransientResult."""
+    """One transient run (paper Sect. 2.1): returns a shroud.analysis.transient.TransientResult, or with
+    ``ring.blades`` > 0 the whole ring's shroud.analysis.ring.RingTransientResult."""
     from shroud.analysis.checks import check_records
     from shroud.analysis.transient import simulate      # a modal scene loads no integrator
     check_records(params)                               # before a model that may take minutes to build
+    if params.ring.blades:
+        from shroud.analysis.ring import simulate_ring
+        return simulate_ring(params, model, csv_path=csv_path)
     return simulate(build_system(params, model), params, csv_path=csv_path)
 
 
