@@ -14,7 +14,7 @@ import pytest
 from shroud.analysis.api import build_system, transient
 from shroud.analysis.ring import build_ring, run_ring
 from shroud.analysis.transient import run
-from shroud.app.cli import main
+from workbench.cli import main
 from shroud.base.errors import InputError
 from shroud.params import Parameters
 

@@ -15,7 +15,7 @@ import pytest
 from shroud.analysis.hb import SpeedModel, model_at_speed
 from shroud.analysis.ring import build_ring, run_ring
 from shroud.analysis.ring_hb import _details, ring_state, sector_at, sector_of, sector_solve, whole_ring_at
-from shroud.app.cli import main
+from workbench.cli import main
 from shroud.core import harmonic_balance as hb
 from shroud.core import signals
 from shroud.core.cyclic import sector_projection

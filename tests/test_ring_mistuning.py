@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from comparisons.ring_mistuning import percentile_with_ci
-from shroud.app.runner import run_scene
+from workbench.runner import run_scene
 
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "ring_mistuning.toml"
 SMALL = ["ring.blades=4", "time.periods=20", "options.samples=3", "options.rpms=[10000.0]"]

@@ -12,7 +12,7 @@ import scipy.linalg
 from reduced_model.modal import modal_analysis
 from shroud.analysis.api import build_system
 from shroud.analysis.limits import gyroscopic, interface_modal
-from shroud.app.cli import main
+from workbench.cli import main
 from shroud.core.cyclic import modes, sector_stiffness
 from shroud.params import Parameters
 
@@ -118,7 +118,7 @@ def test_interference_study_quick(tmp_path):
     at k_e = 2 of 24 blades (factor 2 sin(pi/12) = 0.518 < 1) the stuck ring is softer than the blade
     stuck to fixed neighbours."""
     from comparisons.interference import folded
-    from shroud.app.runner import run_scene
+    from workbench.runner import run_scene
     assert [folded(k, 24) for k in (0, 2, 12, 13, 24, 26)] == [0, 2, 12, 11, 0, 2]
     run_scene(Path(__file__).resolve().parents[1] / "scenes" / "interference.toml", tmp_path / "i", quick=True)
     record = json.loads((tmp_path / "i" / "results.json").read_text())
