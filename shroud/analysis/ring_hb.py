@@ -204,9 +204,15 @@ def _details(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarra
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.Lam_y)
     amp = hb.amplitude_over_period(tip)
     mult = ring_multipliers(speeds.system(rpm), sector, lin, X, basis) if stability else np.array([np.nan])
+    # A branch point's multipliers carry the least error floquet knows of (Hill against the monodromy);
+    # the sampling and truncation checks (2 H) cost the ring's monodromy again per point, so they are
+    # left to the one-speed verdict (stability_verdict), which says when they matter.
+    error = floquet.MULTIPLIER_FLOOR if stability else math.nan
+    largest = float(np.abs(mult).max(initial=0.0))
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
-            "multipliers": mult, "stable": floquet.is_stable(mult)}
+            "multipliers": mult, "multiplier_error": error,
+            "stable": floquet.verdict(largest, error) if stability else None}
 
 
 @dataclass(frozen=True)
