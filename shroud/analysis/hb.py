@@ -144,17 +144,20 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier):
 
 
 def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float,
-                  evaluated: tuple | None = None, truncation: bool = True) -> dict:
+                  evaluated: tuple | None = None, previous: dict | None = None) -> dict:
     """Amplitudes, spectral tail and Floquet multipliers (with their error) of a converged point.
 
     ``evaluated``: (X, rpm, Balance) of the latest evaluation of the residual; used where it is of this
     very point (continuation returns the points its correctors evaluated last, not a step beyond).
+    ``previous``: the details of the branch's previous point (its 2 H state starts this point's where
+    Newton fails from this point's own harmonics, :func:`refined_point`).
     ``stable`` is True, False or None (within the multipliers' error: floquet.Stability). The error of
-    the largest |multiplier| is the largest of its sampling error (floquet.sampling_error) and, with
-    ``truncation``, its change when the point is solved again with twice the harmonics
-    (:func:`refined_point`): the truncation can decide a point's stability (1 um gap, alpha 30 deg,
-    mu 0.3, 6000 r/min: |multiplier| 2.47 at H 10, 0.62 at H 20, 0.68 at H 30, where a run from rest
-    settles on the state). ``amplitude_error``: the v_L amplitude's change there (m; nan without).
+    the largest |multiplier| is the largest of its sampling error (floquet.sampling_error) and its change
+    when the point is solved again with twice the harmonics (:func:`refined_point`): the truncation can
+    decide a point's stability (1 um gap, alpha 30 deg, mu 0.3, 6000 r/min: |multiplier| 2.47 at H 10,
+    0.62 at H 20, 0.68 at H 30, where a run from rest settles on the state). ``amplitude_error``: the
+    v_L amplitude's change there (m). ``X``, ``refined_X``: the point's harmonics and its 2 H ones (None
+    where Newton found no 2 H state: the error is then infinite, the point undecided).
     """
     system, lin, L, F = speeds.at(rpm)
     if evaluated is not None and evaluated[1] == rpm and np.array_equal(evaluated[0], X):
@@ -164,32 +167,47 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = hb.amplitude_over_period(tip)
     st = orbit_stability(system, law, X.reshape(basis.nh, lin.nx) @ lin.Wx.T, basis, b.contact)
-    error, amplitude_error = st.error, float("nan")
-    if truncation:
-        refined = refined_point(speeds, law, basis, X, rpm)
-        if refined is None:
-            error = float("inf")                  # no state at twice the harmonics: undecided
-        else:
-            error = max(error, abs(refined[1] - st.largest))
-            amplitude_error = abs(refined[0] - float(amp[0]))
+    near = None if previous is None or previous["refined_X"] is None else (previous["X"], previous["refined_X"])
+    refined = refined_point(speeds, law, basis, X, rpm, near)
+    if refined is None:
+        error, amplitude_error, refined_X = float("inf"), float("nan"), None   # no state at 2 H: undecided
+    else:
+        error, amplitude_error = max(st.error, abs(refined[1] - st.largest)), abs(refined[0] - float(amp[0]))
+        refined_X = refined[2]
     st = dataclasses.replace(st, error=error)
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
             "multipliers": st.multipliers, "multiplier_error": st.error, "grazing": st.grazing,
-            "stable": st.stable, "amplitude_error": amplitude_error}
+            "stable": st.stable, "amplitude_error": amplitude_error, "X": X, "refined_X": refined_X}
 
 
-def refined_point(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float) -> tuple[float, float] | None:
-    """The point ``X`` at ``rpm`` solved again with 2 H harmonics (Newton from its own, the higher ones
-    zero; the same samples where they resolve 2 H): (v_L amplitude m, largest |multiplier|), or None
-    where Newton does not converge."""
+REFINED_ITERATIONS = 15    # Newton at 2 H from the point's own harmonics: at most this many iterations
+
+
+def refined_point(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float,
+                  near: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[float, float, np.ndarray] | None:
+    """The point ``X`` at ``rpm`` solved again with 2 H harmonics (the same samples where they resolve 2 H):
+    (v_L amplitude m, largest |multiplier|, its 2 H harmonics), or None where Newton does not converge.
+
+    Newton starts from the point's own harmonics (the higher ones zero), for at most REFINED_ITERATIONS
+    (1 um gap, alpha 30 deg, kt 5e6 N/m, mu 0.3, 5000-25000 r/min, 115 points: 114 that converge do so
+    within 13, one in 31; the 11 that do not stall at |R|/|F| 9e-3 to 0.15 after 50). Where it fails
+    and ``near`` = (X, X at 2 H) of the branch's previous point is given, from that point's 2 H state
+    moved by the step at H (the 2 H branch followed alongside): on that branch every point then has
+    its 2 H state, at 0.6 of the CPU (docs/hb-stability.md).
+    """
     fine = speeds.refined()
     n = max(basis.samples, 4 * fine.H + 1)
     fine_basis = hb.fourier(fine.H, n)
     system, lin, _, _ = fine.at(rpm)
+    own = X.reshape(basis.nh, lin.nx)
     X0 = np.zeros((fine_basis.nh, lin.nx))
-    X0[:basis.nh] = X.reshape(basis.nh, lin.nx)
-    sol = hb.newton(X0.ravel(), lin, law, fine_basis)
+    X0[:basis.nh] = own
+    sol = hb.newton(X0.ravel(), lin, law, fine_basis, max_iterations=REFINED_ITERATIONS)
+    if not sol.converged and near is not None:
+        X0 = near[1].reshape(fine_basis.nh, lin.nx).copy()
+        X0[:basis.nh] += own - near[0].reshape(basis.nh, lin.nx)
+        sol = hb.newton(X0.ravel(), lin, law, fine_basis)
     if not sol.converged:
         return None
     Xf = sol.X.reshape(fine_basis.nh, lin.nx)
@@ -198,7 +216,7 @@ def refined_point(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     c = sol.balance.contact
     mult = floquet.orbit_multipliers(system.M, system.C, system.K, W, law, c.state, c.F, system.omega_e,
                                      fine_basis.rates(Xf @ lin.Wx.T, system.omega_e))
-    return float(amp[0]), float(np.abs(mult).max(initial=0.0))
+    return float(amp[0]), float(np.abs(mult).max(initial=0.0)), sol.X
 
 
 def orbit_stability(system: StructuralSystem, law, Y: np.ndarray, basis: hb.Fourier,
@@ -252,8 +270,8 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     details: list[dict] = []
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
                              dp_max=(rpm_to - rpm_from) / (count - 1),
-                             on_point=lambda X, rpm: details.append(point_details(speeds, law, basis, X, rpm,
-                                                                                  residual.last)))
+                             on_point=lambda X, rpm: details.append(point_details(
+                                 speeds, law, basis, X, rpm, residual.last, details[-1] if details else None)))
     return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
                                 iterations=branch.iterations, complete=branch.complete,
                                 stopped=branch.stopped, dofs=system.dofs, condensed=lin.condensed,
@@ -292,7 +310,8 @@ def run_hb_through(params: Parameters, model: str, X: np.ndarray, rpm: float, rp
             return R, J, lambda: sign * d_rpm()
         branch = continue_branch(signed, X, sign * rpm, sign * end, x_scale, ds=0.05, ds_max=0.5, dp_max=dp_max,
                                  on_point=lambda Xc, p, sign=sign, details=details: details.append(
-                                     point_details(speeds, law, basis, Xc, sign * p, residual.last)))
+                                     point_details(speeds, law, basis, Xc, sign * p, residual.last,
+                                                   details[-1] if details else None)))
         halves.append((sign, branch, details))
     rpms, xs, details, its, kinks, stops = [], [], [], [], [], []
     for sign, branch, det in halves:
