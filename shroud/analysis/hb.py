@@ -407,7 +407,7 @@ class HBFamily:
 
 def run_hb_family(params: Parameters, model: str, rpm_from: float, rpm_to: float, seed_rpms,
                   harmonics: int = DEFAULT_HARMONICS, samples: int | None = None, min_points: int | None = None,
-                  periods: int = 300, match: float = 0.01) -> HBFamily:
+                  periods: int = 300, match: float = 0.01, continued: HBResult | None = None) -> HBFamily:
     """The branch from ``rpm_from`` (:func:`run_hb`) and every branch through a time-domain state it misses.
 
     At each speed of ``seed_rpms`` a run from rest (:func:`time_domain_state`) gives a state; Newton from
@@ -416,11 +416,12 @@ def run_hb_family(params: Parameters, model: str, rpm_from: float, rpm_to: float
     follows one connected branch: states on isolated branches, or beyond a corner it stepped over, are
     found only so (1 um gap, alpha 30 deg, kt 5e6 N/m, mu 0.3: P1 states at 8000 and 11250 r/min on
     stable branches 0.7 % and 0.5 % from the continued one's unstable stretches, docs/hb-stability.md).
-    Needs a model condensed on its contact coordinates (the beams: unknowns y).
+    Needs a model condensed on its contact coordinates (the beams: unknowns y). ``continued``: the branch
+    from ``rpm_from`` where the caller has it already (the same options), so it is not computed again.
     """
     t0 = time.perf_counter()
     check_inputs(harmonics, samples, rpm_from, rpm_to)
-    branches = [run_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)]
+    branches = [continued or run_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)]
     if not branches[0].condensed:
         raise InputError("--model", f"{model}: time-domain seeds need a model condensed on its contact "
                                     "coordinates (its unknowns are y = W q)")
@@ -431,19 +432,19 @@ def run_hb_family(params: Parameters, model: str, rpm_from: float, rpm_to: float
         if period != 1:
             seeds.append(Seed(rpm, period, None, None, "no P1 run"))
             continue
-        sol, info = solve_at(params, model, rpm, harmonics, samples, X0=Y.ravel())
+        sol = checkpoint(params, model, rpm, harmonics, samples, start=Y.ravel(), retry=False)
         if not sol.converged:
             seeds.append(Seed(rpm, period, None, None, "Newton did not converge from it"))
             continue
-        a = float(sol.amplitude_v_L)
-        if info["stable"] is False:       # the run stayed where HB says it cannot: not a branch to follow
+        a = sol.amplitude_v_L
+        if sol.stable is False:       # the run stayed where HB says it cannot: not a branch to follow
             seeds.append(Seed(rpm, period, a, False, "Newton reached an unstable state from it (not continued)"))
             continue
         if on_branches(branches, rpm, a, match):
-            seeds.append(Seed(rpm, period, a, info["stable"], "on a branch"))
+            seeds.append(Seed(rpm, period, a, sol.stable, "on a branch"))
             continue
         branches.append(run_hb_through(params, model, sol.X, rpm, rpm_from, rpm_to, harmonics, samples, min_points))
-        seeds.append(Seed(rpm, period, a, info["stable"], "new branch"))
+        seeds.append(Seed(rpm, period, a, sol.stable, "new branch"))
     return HBFamily(branches=branches, seeds=seeds, elapsed_s=time.perf_counter() - t0)
 
 
@@ -464,21 +465,6 @@ def run_hb_to_tail(params: Parameters, model: str, rpm_from: float, rpm_to: floa
         if result.spectral_tail <= tail or 2 * H > most:
             return dataclasses.replace(result, harmonics_tried=tuple(tried), tail_target=float(tail))
         H *= 2
-
-
-def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-             samples: int | None = None, X0: np.ndarray | None = None,
-             multipliers: bool = True) -> tuple[hb.HarmonicSolution, dict]:
-    """One speed: the harmonic-balance solution reached from ``X0`` (default: the linear one, then a load
-    homotopy if Newton fails from it) and its details (amplitudes, multipliers, stability; with
-    ``multipliers=False`` no stability, an empty dict)."""
-    n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
-    basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(model_at_speed(params, model), harmonics)
-    system, lin, _, _ = speeds.at(rpm)
-    law = contact_law_for(system, params.contact)
-    sol = hb.solve(system, law, harmonics, n, X0=X0, condense=lin.condensed)
-    return sol, point_details(speeds, law, basis, sol.X, rpm) if multipliers else {}
 
 
 NO_FLOQUET = ("not computed: the Floquet multipliers need the monodromy of the full M, C, K (2 n states), "
@@ -528,7 +514,9 @@ class Checkpoint:
     building the system and its linear part per harmonic (0 when an earlier
     point at the speed built them), ``start_s`` the reduced model's state,
     ``newton_s`` the model's own Newton, ``stability_s`` its multipliers
-    (with the bases they are projected on, where not cached).
+    (with the bases they are projected on, where not cached). ``X``: the
+    state's harmonics (its unknowns, as HBResult.X holds a branch's; not in
+    the JSON), e.g. to start a continuation through it (:func:`run_hb_through`).
     """
 
     model: str
@@ -554,13 +542,20 @@ class Checkpoint:
     start_s: float
     newton_s: float
     stability_s: float
+    X: np.ndarray = dataclasses.field(repr=False, compare=False)
 
     @property
     def elapsed_s(self) -> float:
         return self.linear_s + self.start_s + self.newton_s + self.stability_s
 
+    @property
+    def basis(self) -> hb.Fourier:
+        """The harmonics and time samples the state was solved on."""
+        return hb.fourier(self.harmonics, self.samples)
+
     def to_json(self) -> dict:
-        return {**dataclasses.asdict(self), "elapsed_s": round(self.elapsed_s, 6)}
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "X"}
+        return {**out, "elapsed_s": round(self.elapsed_s, 6)}
 
 
 def _start_on_contact(params: Parameters, model: str, rpm: float, harmonics: int, samples: int,
@@ -573,9 +568,15 @@ def _start_on_contact(params: Parameters, model: str, rpm: float, harmonics: int
     return dataclasses.replace(sol, X=sol.X.reshape(2 * harmonics + 1, lin.nx) @ lin.Wx.T)
 
 
+NOT_ASKED = "not computed (not asked)"
+
+
 def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-               samples: int | None = None, start: np.ndarray | None = None) -> Checkpoint:
-    """The harmonic-balance state of ``model`` at ``rpm`` (r/min), one speed, no continuation.
+               samples: int | None = None, start: np.ndarray | None = None, retry: bool = True,
+               multipliers: bool = True) -> Checkpoint:
+    """The harmonic-balance state of ``model`` at ``rpm`` (r/min), one speed, no continuation: the one
+    way to harmonic balance at a speed (shroud.api.harmonic_balance, ``shroud sweep --checkpoints``, the
+    studies and the seeds of :func:`run_hb_family` all come here).
 
     A model with its own ``linear_harmonics`` (the full solid, condensed exactly
     on its contact coordinates by its own sparse solver) starts Newton from
@@ -586,6 +587,11 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     Its Floquet multipliers are those of its own orbit, the perturbations
     projected on that model (:func:`projected_multipliers`). Other models
     start from ``start`` or their linear solution and get their own.
+    ``retry``: where Newton fails from ``start``, start again from the
+    linear solution (False: report the failure, ``converged`` False; a state
+    sought near a given one, not any state at the speed).
+    ``multipliers=False``: no stability (``stable`` None), e.g. where the
+    caller takes it from the branch points around the state.
     """
     n = check_inputs(harmonics, samples, 0.5 * rpm, rpm)
     entry = registry.model(model)
@@ -606,11 +612,13 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     t2 = time.perf_counter()
     law = contact_law_for(system, params.contact)
     sol = hb.solve(system, law, harmonics, n, X0=X0, lin=lin)
-    if not sol.converged and X0 is not None:
+    if not sol.converged and X0 is not None and retry:
         sol, how = hb.solve(system, law, harmonics, n, lin=lin), f"linear solution, load homotopy ({how} failed)"
     t3 = time.perf_counter()
     stable, stability, largest, error = None, NO_FLOQUET, {}, None
-    if speeds is not None:
+    if not multipliers:
+        stability = NOT_ASKED
+    elif speeds is not None:
         details = point_details(speeds, law, sol.basis, sol.X, rpm)
         stable, stability, error = details["stable"], "Floquet multipliers", details["multiplier_error"]
         largest = {system.dofs: float(np.abs(details["multipliers"]).max(initial=0.0))}
@@ -629,7 +637,8 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
                       stable=stable, stability=stability, largest_multiplier=largest, multiplier_error=error,
                       dofs=system.dofs,
                       condensed_on=lin.nx if lin.condensed else 0,
-                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=t3 - t2, stability_s=time.perf_counter() - t3)
+                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=t3 - t2, stability_s=time.perf_counter() - t3,
+                      X=sol.X)
 
 
 def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAULT_HARMONICS,
