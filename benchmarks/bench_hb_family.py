@@ -16,7 +16,6 @@ import time
 
 import numpy as np
 
-import reduced_model  # noqa: F401  (registers the beam models)
 from comparisons._hb import starts_at
 from shroud.analysis.hb import checkpoint, run_hb, run_hb_family, time_domain_state
 from shroud.params import Parameters

@@ -27,6 +27,7 @@ import numpy as np
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "rpm": 10000.0,
@@ -122,4 +123,4 @@ def _write_report(path: Path, scene, rows, summary) -> None:
               "through which Coriolis softens flap1 (DOLFINx: about -0.07 %; CalculiX: none): compare "
               "the Coriolis columns with that in mind.", "",
               "Decks, logs and CalculiX's .dat: ccx_<cell>/ beside this report."]
-    path.write_text("\n".join(lines) + "\n")
+    write_text(path, "\n".join(lines) + "\n")

@@ -23,6 +23,7 @@ from reduced_model.campbell import campbell
 from shroud.base.errors import InputError
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {
     "rpm_from": 0.0,
@@ -105,7 +106,7 @@ def run(scene, out: Path) -> dict:
     fits = {lab: southwell([p["rpm"] for p in fe if lab in p["f_hz"]], [p["f_hz"][lab] for p in fe if lab in p["f_hz"]])
             for lab in tracks if sum(lab in p["f_hz"] for p in fe) >= 2}
 
-    with open(out / "campbell.csv", "w", newline="") as fh:
+    with open_replacing(out / "campbell.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["rpm"] + [f"{lab}_hz" for lab in plain.labels]
                    + [f"{lab}_coriolis_hz" for lab in gyro.labels]
@@ -120,7 +121,7 @@ def run(scene, out: Path) -> dict:
     found = {"ke": ke, "beam_crossings_rpm": beam_ke, "solid_crossings_rpm": fe_crossings,
              "beam_crossings_every_order_rpm": {f"{k}x {c['label']}": c["rpm"] for k in orders
                                                 for c in crossings[str(k)]}}
-    (out / "report.md").write_text(_report(scene, plain, gyro, fe, tracks, crossings, fe_crossings, shift, ke))
+    write_text(out / "report.md", _report(scene, plain, gyro, fe, tracks, crossings, fe_crossings, shift, ke))
     return {"rpm": rpms, "labels": list(plain.labels), "f_hz": plain.f_hz.T, "f_coriolis_hz": gyro.f_hz.T,
             "coriolis_shift_pct_at_max_rpm": dict(zip(gyro.labels, shift[-1])),
             "crossings": crossings, "fe": fe, "fe_southwell": {lab: {"f0_hz": float(np.sqrt(max(a, 0.0))), "S": b}

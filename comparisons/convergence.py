@@ -34,6 +34,7 @@ from shroud.params import FE
 from shroud.base.markdown import markdown_table
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.core.verdict import Verdict
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {
     "tet_sizes": [0.0035, 0.0028, 0.0022],          # fe.mesh_size of the tetrahedral meshes, m
@@ -158,7 +159,7 @@ def run(scene, out: Path) -> dict:
                                            [r["factor_bytes"] for r in rows if r["kind"] == kind])}
               for kind in KINDS if sum(r["kind"] == kind for r in rows) >= 2}
 
-    with open(out / "convergence.csv", "w", newline="") as fh:
+    with open_replacing(out / "convergence.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["cell", "mesh_size_m", "dofs", "solve_s", "factor_MB", "rpm"]
                    + [f"{lab}_hz" for lab in labels] + [f"{lab}_err_pct" for lab in labels])
@@ -353,4 +354,4 @@ def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chos
     lines += ["", "Figure convergence.png: error against DOF, against time, and the cost growth."
               + (" Chosen mesh: mesh.png; its mode shapes: modes.png and modes/modes.pvd (ParaView)."
                  if opts["pictures"] and chosen is not None else "")]
-    path.write_text("\n".join(lines) + "\n")
+    write_text(path, "\n".join(lines) + "\n")

@@ -36,6 +36,7 @@ from shroud.base.errors import InputError
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.core.verdict import NOT_DECIDED, BandVerdict
 from shroud.base.markdown import demote, markdown_table, relink, seconds
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {
     "modal_rpm": 8500.0,                      # r/min, the speed of the paper's Table 1
@@ -85,7 +86,7 @@ def run(scene, out: Path) -> dict:
     results["conclusions"] = conclusions(results)
     if "modal" in results:
         sections.insert(2, _frequency_verdicts(results["conclusions"]["frequency_vs_solid"]))
-    (out / "report.md").write_text("".join(sections))
+    write_text(out / "report.md", "".join(sections))
     return results
 
 
@@ -148,7 +149,7 @@ def _frequencies(modal: dict, rpm: float, out: Path) -> dict:
             i = PAPER_TABLE1_LABELS.index(lab)
             row.update({k: v[i] for k, v in PAPER_TABLE1.items()})
         rows.append(row)
-    with open(out / "frequencies.csv", "w", newline="") as fh:
+    with open_replacing(out / "frequencies.csv") as fh:
         writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}, key=_column_order))
         writer.writeheader()
         writer.writerows(rows)

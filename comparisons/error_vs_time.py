@@ -47,6 +47,7 @@ from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.transient import simulate
 from shroud.core.signals import amplitude
 from shroud.core.verdict import RatioVerdict
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {
     "reduced_nr": [2, 4, 6, 10],          # beam model, kept modes (at reduced.N)
@@ -204,7 +205,7 @@ def run(scene, out: Path) -> dict:
     front = pareto(times, errors)
     for r, f in zip(rows, front):
         r["pareto"] = bool(f)
-    with open(out / "error_vs_time.csv", "w", newline="") as fh:
+    with open_replacing(out / "error_vs_time.csv") as fh:
         w = csv.DictWriter(fh, fieldnames=[k for k in rows[0] if k != "names"], extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
@@ -217,8 +218,8 @@ def run(scene, out: Path) -> dict:
     fig_name = _figure(rows, front, ref_point, out)
     amp_name = _amplitude_figure(rows, hb_rows, ref_point, out)
     found = conclusions(rows, scene) | hb_conclusions(rows, hb_rows, scene)
-    (out / "report.md").write_text(_report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found)
-                                   + _hb_report(scene, rows, hb_rows, ref_amp, amp_name))
+    write_text(out / "report.md", _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found)
+                                  + _hb_report(scene, rows, hb_rows, ref_amp, amp_name))
     return {"reference": {"setting": ref_point.setting, "dofs": ref_dofs, "time_s": ref_s,
                           "amplitudes": ref_amp},
             "points": rows, "pareto": [f"{r['model']} {r['setting']}" for r in rows if r["pareto"]],

@@ -20,6 +20,7 @@ from comparisons._families import grid_limits, same_speed
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 53, **_coexistence.OPTIONS}
@@ -63,7 +64,7 @@ def run(scene, out: Path) -> dict:
     unsettled = {m: sum(not x for s in sweeps[m] for x in s.settled) for m in MODELS}
     t_red = sum(s.cpu_s for s in sweeps["reduced"])
     t_full = sum(s.cpu_s for s in sweeps["full"])
-    with open(out / "fig4.csv", "w", newline="") as fh:
+    with open_replacing(out / "fig4.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["case", "rpm", "reduced_m", "full_m"])
         for i, (label, _) in enumerate(cases):
@@ -89,6 +90,8 @@ def run(scene, out: Path) -> dict:
              *[f"- {label}: {v['same_resonant_speed'].sentence()}" for label, v in found.items()], "",
              "![fig4_reduced_vs_full.png](fig4_reduced_vs_full.png)",
              *_coexistence.section(coexist, opts, MODELS, MODELS)]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    write_text(out / "report.md", "
+".join(lines) + "
+")
     return {"cases": out_json, "reduced_to_full_time_ratio": t_red / t_full, "conclusions": found,
             "cpu_s": {"reduced": t_red, "full": t_full}, "coexisting_states": coexist}

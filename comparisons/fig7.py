@@ -34,6 +34,7 @@ from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
 from shroud.base.tables import write_records
 from shroud.core.verdict import Verdict
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "gaps_um": [600.0, 100.0, 50.0],
@@ -137,8 +138,8 @@ def run(scene, out: Path) -> dict:
     dofs = {m: sweeps[m][0].dofs for m in (LINE, POINTS)}
     step = float(rpms[1] - rpms[0])
     found = conclusions(rows, coexist, step, o["coexist_threshold"], settling.tolerance)
-    (out / "report.md").write_text(_report(scene, rows, dofs, build_s, figure_name, len(rpms), coexist,
-                                           settling, step, found))
+    write_text(out / "report.md", _report(scene, rows, dofs, build_s, figure_name, len(rpms), coexist,
+                                          settling, step, found))
     return {"rpm": rpms, "dofs": dofs, "reduction_build_s": build_s, "resonances": rows,
             "coexisting_states": coexist, "conclusions": found,
             "curves": {c.label: {m: sweeps[m][k].to_json() for m in (LINE, POINTS)} for k, c in enumerate(cases)}}

@@ -15,6 +15,7 @@ from comparisons import _families as fam
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import Settling, coexisting_states
 from shroud.core.verdict import BandVerdict, Verdict
+from shroud.base.outputs import write_text
 
 OPTIONS = {**fam.FAMILY_OPTIONS, "values": [0.1, 0.3, 0.5], "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0]}
 # Curves apart by more than this share of the peak: a jump, not "no effect". The paper's "no effect" is
@@ -191,7 +192,7 @@ def report_variants(result: FamilyComparison, scene, describe: str, files: list[
                              "periods seen", "cpu"],
                             [(r["variant"], r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
-             *[f"![{f}]({f})" for f in files]]
+             *[f"![{f}]({f})" for f in files], "", fam.WIDEST_FIRST]
     return "\n".join(lines) + "\n"
 
 
@@ -213,5 +214,5 @@ def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
     """compute -> plot (the families' figures and CSV) -> report, for one varied contact parameter."""
     result = compute_variants(scene, variants)
     files = fam.write_outputs(out, result.family, result.rows, scene.title)
-    (out / "report.md").write_text(report_variants(result, scene, describe, files))
+    write_text(out / "report.md", report_variants(result, scene, describe, files))
     return result.to_json(scene.options["small_gap_um"])

@@ -20,6 +20,7 @@ from shroud.analysis.transient import contact_law_for
 from shroud.core.newmark import stuck_stiffness
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.verdict import Verdict
+from shroud.base.outputs import write_text
 
 OPTIONS = dict(fam.FAMILY_OPTIONS)
 
@@ -85,8 +86,8 @@ def run(scene, out: Path) -> dict:
                             [(r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
              fam.settling_text(rows, opts),
-             *[f"![{f}]({f})" for f in files]]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+             *[f"![{f}]({f})" for f in files], "", fam.WIDEST_FIRST]
+    write_text(out / "report.md", "\n".join(lines) + "\n")
     every_preload_beyond = all(r["beyond_range"] for r in rows if r["kind"] == "preload" and r["value"] > 0)
     return {"resonances": rows, "curves": fam.curves_json(family),
             "conclusions": {"resonances": {r["case"]: {"rpm": r["resonance_rpm"], "beyond_range": r["beyond_range"]}

@@ -37,6 +37,7 @@ from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "small_gap_um": 1.0, "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 6000.0, "rpm_to": 14000.0, "td_rpm_count": 17, "harmonics": 7, "samples": 256,
@@ -170,7 +171,7 @@ def run(scene, out: Path) -> dict:
                  f"{label}: {c['same_resonance']['answer']}" for label, c in concl.items()) + ". "
              + notes_line([(f"{m} {c.label}", branches[m][k]) for m in (LINE, POINTS) for k, c in enumerate(cases)]),
              "", "![hb_fig7.png](hb_fig7.png)", "", *checkpoint_report(checks, cost)]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    write_text(out / "report.md", "\n".join(lines) + "\n")
     return {"conclusions": concl, "cases": rows, "branches": curves, "time_domain_points": points,
             "basis_error": errors, "cost_s": cost,
             "full_solid_checkpoints": checks}

@@ -36,6 +36,7 @@ from shroud.base.tables import write_records
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult
 from shroud.core.verdict import NOT_DECIDED, Verdict
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "values": [0.1, 0.3, 0.5],
@@ -377,8 +378,8 @@ def run_variants(scene, out: Path, variants: dict, describe: str, explain=None) 
     write_records(out / "resonances_over_gap.csv", [r for v in done for r in v.gap_rows()])
     write_records(out / "resonances_over_preload.csv", [r for v in done for r in v.preload_rows()])
     lines, explained = explain(done, concl) if explain is not None else ([], None)
-    (out / "report.md").write_text(report(scene, done, concl, points, files, describe)
-                                   + "".join(line + "\n" for line in lines))
+    write_text(out / "report.md", report(scene, done, concl, points, files, describe)
+                                  + "".join(line + "\n" for line in lines))
     return {"conclusions": concl, **({"explanation": explained} if explained is not None else {}),
             "variants": {v.name: {"gaps": v.gap_rows(), "preloads": v.preload_rows(),
                                   "peak_curve": v.preload.curve.to_json(),

@@ -30,6 +30,7 @@ from shroud.base.tables import write_records
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult
 from shroud.core.verdict import NOT_DECIDED, Verdict
+from shroud.base.outputs import write_text
 
 OPTIONS = {"preloads_N": [0.0, 10.0, 20.0, 50.0, 100.0, 200.0, 300.0],   # brute-force speed branches (markers)
            "n0_from": 0.0, "n0_to": 300.0,          # the tracked curve, N
@@ -204,7 +205,7 @@ def run(scene, out: Path) -> dict:
              "",
              "" if curve.complete else f"The tracked curve is incomplete: {curve.stopped}.\n",
              "![hb_optimal_preload.png](hb_optimal_preload.png)"]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    write_text(out / "report.md", "\n".join(lines) + "\n")
     return {"conclusions": concl, "peak_curve": curve.to_json(), "resonances": rows,
             "branches": {f"N0 {n0:g} N": br.to_json() for n0, br in result.branches.items()},
             "cost_s": {"peak_tracking": curve.elapsed_s, "speed_branches": branch_s}}

@@ -43,6 +43,7 @@ from shroud.core import floquet, signals
 from shroud.core import harmonic_balance as hb
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult, TransientResult
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0, 50.0],
            "plot_periods": 20,
@@ -747,17 +748,17 @@ def report(result: PeriodicityResult, scene) -> str:
 
 
 def write_csv(result: PeriodicityResult, out: Path) -> None:
-    with open(out / "periods.csv", "w", newline="") as fh:
+    with open_replacing(out / "periods.csv") as fh:
         csv.writer(fh).writerows([("mu", "case", "period", "amplitude_v_L_mm", "peak_N1", "peak_Ff1", "time"),
                                   *_case_rows(result.runs)])
-    with open(out / "period_map.csv", "w", newline="") as fh:
+    with open_replacing(out / "period_map.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["case", "rpm", "period", "amplitude_v_L_m"])
         for label, sw in result.period_map:
             for k, r in enumerate(result.map_rpm):
                 w.writerow([label, r, sw.period[k] or "", sw.amplitude_v_L[k]])
     if result.hb_cases:
-        with open(out / "hb_readings.csv", "w", newline="") as fh:
+        with open_replacing(out / "hb_readings.csv") as fh:
             w = csv.writer(fh)
             w.writerow(["case", "rpm", "td_period", "td_amplitude_v_L_m", "verdict", "hb_stable_p1_at_speed",
                         "nearest_hb_state", "hb_states"])
@@ -772,5 +773,5 @@ def run(scene, out: Path) -> dict:
     plot(result, scene, out)
     if result.hb_cases:
         plot_hb(result, scene, out)
-    (out / "report.md").write_text(report(result, scene))
+    write_text(out / "report.md", report(result, scene))
     return result.to_json()

@@ -31,6 +31,7 @@ from shroud.core import signals
 from shroud.core.newmark import LAG_CHECK_MAX_DOFS, NewmarkScheme, explicit_lag_stability, stuck_stiffness
 from shroud.core.plotting import figure, save
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {"kn_values": [1e6, 1e7, 1e8, 1e9, 1e10], "steps_per_period": [256, 64, 32, 16],
            "treatments": ["implicit", "explicit"], "refine": 8, "huge_preload_N": 1e5,
@@ -313,7 +314,7 @@ def run(scene, out: Path) -> dict:
     result = compute(scene)
     write_records(out / "stability.csv", result.rows)
     plot(result, scene.options, out)
-    (out / "report.md").write_text(report(result, scene))
+    write_text(out / "report.md", report(result, scene))
     return result.to_json()
 
 

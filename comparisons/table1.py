@@ -30,6 +30,7 @@ from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.base.tables import write_records
 from shroud.core.verdict import Verdict
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "N_values": [4, 5, 6, 7],
@@ -122,8 +123,7 @@ def run(scene, out: Path) -> dict:
     write_records(out / "table1.csv", table)
     _figure(rows, ref, fe, out / "table1_convergence.png")
     found = conclusions(rows, ref, ref_before)
-    (out / "report.md").write_text(_report(scene, rows, ref, fe, terms, table, extended)
-                                   + _verdict_lines(found))
+    write_text(out / "report.md", _report(scene, rows, ref, fe, terms, table, extended) + _verdict_lines(found))
     return {
         "rpm": rpm, "labels": list(PAPER_LABELS), "N": [r["N"] for r in rows],
         "f_hz": {str(r["N"]): r["f"] for r in rows},

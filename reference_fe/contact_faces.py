@@ -73,9 +73,11 @@ class ContactFace:
 def face_nodes(V: fem.FunctionSpace, facet_tags, tag: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Consistent nodal areas of the facets tagged ``tag``: (dofs (k, 3), areas (k,), coords (k, 3)).
 
-    The nodes with a positive area, gathered from every rank (each rank
-    contributes the nodes it owns, in rank order); ``dofs`` are global
-    unrolled indices (DOLFINx/PETSc numbering; the local ones serially).
+    The nodes with a positive area, gathered from every rank and put in
+    one order whatever the ranks (by position: x, then y, then z, to the
+    nanometre), so that the contact elements, their states and every sum
+    over them are the same serially and under mpirun -n 2 or 3; ``dofs`` are
+    global unrolled indices (DOLFINx/PETSc numbering; the local ones serially).
     """
     V0, to_parent = V.sub(0).collapse()
     ds = ufl.Measure("ds", domain=V.mesh, subdomain_data=facet_tags)
@@ -90,7 +92,9 @@ def face_nodes(V: fem.FunctionSpace, facet_tags, tag: int) -> tuple[np.ndarray, 
     first = global_offset(V) + np.asarray(to_parent).ravel()[keep]
     dofs = first[:, None] + np.arange(3)[None, :]
     parts = comm.allgather((dofs, areas[keep], V0.tabulate_dof_coordinates()[keep]))
-    return tuple(np.concatenate([p[i] for p in parts]) for i in range(3))
+    dofs, areas, coords = (np.concatenate([p[i] for p in parts]) for i in range(3))
+    order = np.lexsort(np.round(coords, 9).T[::-1])        # x first: lexsort's last key is the primary one
+    return dofs[order], areas[order], coords[order]
 
 
 def contact_faces(V: fem.FunctionSpace, facet_tags, tags: tuple[int, int],

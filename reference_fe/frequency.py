@@ -35,7 +35,7 @@ from shroud.params import Parameters
 def _build(params: Parameters, path: Path) -> None:
     from reference_fe.cms import free_interface_basis, project
     from reference_fe.factor import MumpsFactor
-    from reference_fe.system import _solid
+    from reference_fe.system import _solid, check_reduction_sizes
     from shroud.base.log import info
 
     t0 = time.perf_counter()
@@ -44,6 +44,7 @@ def _build(params: Parameters, path: Path) -> None:
     solid, at_rest = _solid(params, rpm), _solid(params, 0.0)
     contact = solid.contact
     W = contact.W if contact is not None else np.zeros((0, solid.M.shape[0]))
+    check_reduction_sizes(params, solid.M.shape[0], W.shape[0])
     basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, solid.f_aero[:, None],
                                  lu=MumpsFactor(solid.K), W=W, interface_modes=params.fe.interface_modes)
     K0 = project(basis, at_rest.K)                     # T^T K_e T

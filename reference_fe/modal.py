@@ -249,7 +249,9 @@ def solve_modes(params: Parameters, rpm: float | None = None, n_modes: int = 6,
     progress.update(3)
     elapsed = time.perf_counter() - t0
     progress.done()
-    info(f"FE modes at {rpm:g} r/min: " + ", ".join(f"{l} {f:.1f} Hz" for l, f in zip(labels, f0)))
+    shown = f_cor if f_cor is not None else f0           # the variant a Coriolis-on result reports
+    variant = "with Coriolis" if f_cor is not None else "without Coriolis"
+    info(f"FE modes at {rpm:g} r/min, {variant}: " + ", ".join(f"{l} {f:.2f} Hz" for l, f in zip(labels, shown)))
     return SolidModes(rpm=rpm, dofs=model.global_dofs, f_undamped=f0, f_coriolis=f_cor,
                       damping_coriolis=zeta_cor, mac_coriolis=mac_cor, labels=tuple(labels), participation=tuple(parts),
                       tip=tip, vectors=tuple(vectors), operators=ops, solve_s=elapsed)

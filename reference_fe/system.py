@@ -47,6 +47,8 @@ import scipy.sparse as sp
 
 from shroud.base.blas import single_threaded_blas
 from shroud.base.cache import cached
+from shroud.base.errors import InputError
+from shroud.base.resources import in_words, physical_memory
 from shroud.core.damping import rayleigh
 from shroud.params import Parameters
 from shroud.base.parallel import on_rank_zero
@@ -154,6 +156,28 @@ def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
         _write_reduction(params, rpm, path)
 
 
+def check_reduction_sizes(params: Parameters, dofs: int, patterns: int) -> None:
+    """Refuse (InputError) kept counts this solid does not have, once it is assembled, before any mode is solved.
+
+    ``dofs``: the solid's free DOF; ``patterns``: its contact-face coordinates (the face-force
+    patterns fe.interface_modes chooses among). The basis is dense, dofs x (modes + patterns), and
+    the eigensolver works on about twice the kept modes: 8 dofs (3 modes + 2 patterns) bytes.
+    """
+    fe = params.fe
+    if fe.cms_modes >= dofs:
+        raise InputError("fe.cms_modes", f"{fe.cms_modes} modes asked of a solid with {dofs} DOF (fe.mesh_size "
+                         f"{fe.mesh_size:g} m); allowed: 1 .. {dofs - 1}")
+    if fe.interface_modes > patterns:
+        raise InputError("fe.interface_modes", f"{fe.interface_modes} is more than the {patterns} contact-face "
+                         f"patterns of this mesh; allowed: 0 (all of them) .. {patterns}")
+    kept = fe.interface_modes or patterns
+    need, memory = 8.0 * dofs * (3 * fe.cms_modes + 2 * kept), physical_memory()
+    if need > memory:
+        most = int((memory / (8.0 * dofs) - 2 * kept) / 3)
+        raise InputError("fe.cms_modes", f"{fe.cms_modes} modes of a solid with {dofs} DOF need about "
+                         f"{in_words(need)}; this machine has {in_words(memory)}; allowed: at most {max(most, 1)} here")
+
+
 def _write_reduction(params: Parameters, rpm: float, path: Path) -> None:
     from reference_fe.cms import free_interface_basis, project
     from reference_fe.factor import MumpsFactor
@@ -161,6 +185,7 @@ def _write_reduction(params: Parameters, rpm: float, path: Path) -> None:
 
     solid = _solid(params, rpm)
     W = solid.contact.W if solid.contact is not None else sp.csr_matrix((0, solid.M.shape[0]))
+    check_reduction_sizes(params, solid.M.shape[0], W.shape[0])
     t0 = time.perf_counter()
     with MumpsFactor(solid.K) as lu:
         basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, solid.f_aero[:, None],

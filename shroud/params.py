@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
+import tomllib
 from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
@@ -143,6 +144,12 @@ SECTIONS: dict[str, type] = {
 }
 
 
+# The beam and the solid are linear, small-strain models of the centrifugally prestressed blade
+# (paper Sect. 2; reference_fe: linear prestress). Past this centrifugal strain at the blade root
+# they describe nothing (steel yields near 0.2 %); the paper's studies reach 8 % (70000 r/min).
+MAX_ROOT_STRAIN = 0.10
+
+
 def _positive(v): return v > 0
 def _nonneg(v): return v >= 0
 
@@ -239,6 +246,18 @@ def _allowed(key: str, typ: type) -> str:
     return rule[1] if rule else typ.__name__
 
 
+def parse_value(text: str) -> Any:
+    """A ``--set`` value: a TOML value (``8500``, ``1e-4``, ``"explicit"``, ``[4, 6]``, ``true``), else the bare word.
+
+    >>> parse_value('"explicit"'), parse_value("explicit"), parse_value("1e-4"), parse_value("[4, 6]")
+    ('explicit', 'explicit', 0.0001, [4, 6])
+    """
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text          # bare words are strings
+
+
 def unknown_key(key: str, known: list[str]) -> InputError:
     near = difflib.get_close_matches(key, known, n=1)
     hint = f" (did you mean {near[0]}?)" if near else ""
@@ -275,13 +294,17 @@ class Parameters:
         return (base or cls()).updated(flat)
 
     def with_overrides(self, assignments: list[str]) -> "Parameters":
-        """Apply ``--set key=value`` strings."""
+        """Apply ``--set key=value`` strings (values read as TOML, bare words as strings).
+
+        >>> Parameters().with_overrides(['time.contact="explicit"', "reduced.shroud=rigid"]).time.contact
+        'explicit'
+        """
         flat = {}
         for text in assignments:
             key, sep, value = text.partition("=")
             if not sep:
                 raise InputError(text, "--set needs key=value, e.g. --set speed.rpm=8500")
-            flat[key.strip()] = value
+            flat[key.strip()] = parse_value(value.strip())
         return self.updated(flat)
 
     def updated(self, flat: Mapping[str, Any]) -> "Parameters":
@@ -310,6 +333,7 @@ class Parameters:
             contact["N0"] = -contact["kn"] * contact["gap"]
         new = Parameters(**{s: SECTIONS[s](**sections[s]) for s in SECTIONS})
         new._check_geometry()
+        new._check_speed()
         return new
 
     def _check_geometry(self) -> None:
@@ -320,6 +344,30 @@ class Parameters:
                              "allowed: a shroud at least as wide as the blade is thick")
         if s.thickness > 0 and s.length <= 0:
             raise InputError("shroud.length", "must be > 0 m when shroud.thickness > 0")
+
+    def root_strain(self, rpm: float) -> float:
+        """Centrifugal strain at the blade root at ``rpm``: (rho Omega^2 (R L + L^2/2) + m_s Omega^2 (R + L) / A) / E.
+
+        >>> round(100 * Parameters().root_strain(30000), 2)      # the paper's highest speed, per cent
+        1.53
+        """
+        b, omega = self.blade, 2.0 * math.pi * rpm / 60.0
+        stress = (self.material.rho * (b.disk_radius * b.length + 0.5 * b.length**2)
+                  + self.shroud_mass * (b.disk_radius + b.length) / b.area) * omega**2
+        return stress / self.material.E
+
+    @property
+    def max_rpm(self) -> float:
+        """The speed at which the root strain reaches MAX_ROOT_STRAIN, r/min (strain grows as rpm^2)."""
+        return 1000.0 * math.sqrt(MAX_ROOT_STRAIN / self.root_strain(1000.0))
+
+    def _check_speed(self) -> None:
+        rpm = max(self.speed.rpm, 0.0)
+        if rpm > self.max_rpm:
+            raise InputError("speed.rpm", f"{rpm:g} r/min strains the blade root by {100 * self.root_strain(rpm):.3g} % "
+                             "under its own centrifugal load; the beam and the solid are linear, small-strain "
+                             f"models, meaningless past {100 * MAX_ROOT_STRAIN:g} % (steel yields near 0.2 %); "
+                             f"allowed: a speed <= {self.max_rpm:.0f} r/min for this blade")
 
     # --- views -------------------------------------------------------------
     def flat(self) -> dict[str, Any]:

@@ -6,7 +6,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import reduced_model  # noqa: F401  (registers the beam models)
 from comparisons._hb import starts_at
 from shroud.analysis.hb import checkpoint, run_hb, run_hb_family, time_domain_state
 from shroud.analysis.sweep import run_sweep

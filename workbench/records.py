@@ -129,8 +129,8 @@ def check(record: dict) -> Staleness:
     if digest(record) != record["digest"]:
         problems.append("its digest does not match its contents (edited by hand?)")
     expected = sources_of(scene)
-    if sorted(record["sources"]) != expected:
-        problems.append(f"its sources {sorted(record['sources'])} are not the study's {expected}")
+    if sorted(record["sources"]) != sorted(expected):
+        problems.append(f"its sources {sorted(record['sources'])} are not the study's {sorted(expected)}")
     else:
         changed = [p for p, h in file_hashes(expected).items() if record["sources"][p] != h]
         if changed:

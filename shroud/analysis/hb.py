@@ -24,6 +24,9 @@ import numpy as np
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError
+from shroud.base.log import Progress
+from shroud.base.resources import in_words, physical_memory
+from shroud.analysis.checks import MEMORY_SHARE
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
 from shroud.core.continuation import continue_branch
@@ -48,6 +51,12 @@ def check_inputs(H: int, samples: int | None, rpm_from: float, rpm_to: float) ->
                                       f"allowed: at least 2 H + 1 = {2 * H + 1}")
     if not 0 < rpm_from < rpm_to:
         raise InputError("--rpm-from", f"{rpm_from:g} .. {rpm_to:g}: allowed: 0 < rpm-from < rpm-to")
+    need, memory = 8.0 * n * (2 * H + 1), physical_memory()    # one sampled Fourier basis, samples x (2H + 1)
+    if need > MEMORY_SHARE * memory:
+        raise InputError("--harmonics" if samples is None else "--samples",
+                         f"{H} harmonics at {n} samples a period need a {in_words(need)} Fourier basis before any "
+                         f"point, more than {MEMORY_SHARE:.0%} of this machine's {in_words(memory)}; allowed: a basis "
+                         f"within {in_words(MEMORY_SHARE * memory)} (the default H is {DEFAULT_HARMONICS})")
     return n
 
 
@@ -258,6 +267,7 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     """
     t0 = time.perf_counter()
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
+    params.updated({"speed.rpm": rpm_to})            # the models' speed bound (shroud.params) holds to the end
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(build or model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm_from)
@@ -268,10 +278,16 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     x_scale = max(float(np.abs(hb.linear_solution(lin) if start is None else start).max()), gap, 1e-7)
     count = max(min_points or MIN_POINTS, 2)
     details: list[dict] = []
+    progress = Progress(f"HB branch {model} {rpm_from:g}-{rpm_to:g} r/min", 1)
+
+    def on_point(X, rpm):
+        details.append(point_details(speeds, law, basis, X, rpm, residual.last, details[-1] if details else None))
+        progress.update((rpm - rpm_from) / (rpm_to - rpm_from),       # turning points step back: a share of the range
+                        f"{len(details)} points, at {rpm:.0f} r/min, amplitude {details[-1]['amplitude_v_L']:.3g} m")
+
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
-                             dp_max=(rpm_to - rpm_from) / (count - 1),
-                             on_point=lambda X, rpm: details.append(point_details(
-                                 speeds, law, basis, X, rpm, residual.last, details[-1] if details else None)))
+                             dp_max=(rpm_to - rpm_from) / (count - 1), on_point=on_point)
+    progress.done()
     return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
                                 iterations=branch.iterations, complete=branch.complete,
                                 stopped=branch.stopped, dofs=system.dofs, condensed=lin.condensed,
@@ -647,6 +663,7 @@ def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAU
     t0 = time.perf_counter()
     for rpm in rpms:
         check_inputs(harmonics, samples, 0.5 * rpm, rpm)
+        params.updated({"speed.rpm": float(rpm)})     # the models' speed bound (shroud.params)
     points = [checkpoint(params, model, float(rpm), harmonics, samples) for rpm in rpms]
     return {"model": model, "method": "hb", "harmonics": harmonics, "samples": points[0].samples,
             "rpm": [p.rpm for p in points], "amplitude_v_L": [p.amplitude_v_L for p in points],

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.metadata
+import sys
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -53,6 +54,7 @@ class ModelEntry:
 ENTRY_POINTS = "shroud.models"          # the metadata group where builders declare their models
 
 _MODELS: dict[str, ModelEntry] = {}          # registered at run time (they win over declared ones)
+_REGISTERED_BY: dict[str, str] = {}           # model name -> the module whose import registered it
 _DECLARED: dict[str, ModelEntry] | None = None   # read from the installed builders' metadata, once
 
 
@@ -84,6 +86,17 @@ def lazy(module: str, function: str, **fixed) -> Callable:
 def register(entry: ModelEntry) -> None:
     """Make ``entry`` known by its name (it replaces a declared or earlier model of that name)."""
     _MODELS[entry.name] = entry
+    frame = sys._getframe(1)
+    while frame is not None and frame.f_globals.get("__name__") == "shroud.api":   # api.register_model's caller
+        frame = frame.f_back
+    _REGISTERED_BY[entry.name] = frame.f_globals.get("__name__", "") if frame is not None else ""
+
+
+def packages() -> tuple[str, ...]:
+    """The modules whose import registered models at run time: what a fresh worker process imports to
+    know the same models (shroud.base.parallel.map_parallel's ``preload``); the declared ones it reads
+    from the installed metadata itself."""
+    return tuple(sorted({m for m in _REGISTERED_BY.values() if m and m != "__main__"}))
 
 
 def model(name: str) -> ModelEntry:

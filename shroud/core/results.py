@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from shroud.base.outputs import open_replacing, replacing
 from shroud.core import signals
 from shroud.core.plotting import MODEL_COLOURS, figure
 
@@ -44,7 +45,7 @@ def _finite_or_none(values) -> list[float | None]:
 
 def _write_rows(path: Path, header: list[str], rows, comment: str | None = None) -> Path:
     path = Path(path)
-    with path.open("w", newline="") as fh:
+    with open_replacing(path) as fh:
         if comment:
             fh.write(f"# {comment}\n")
         writer = csv.writer(fh)
@@ -140,7 +141,8 @@ def write_trajectory_csv(path: Path, tr: Trajectory, status: str) -> Path:
     data = np.column_stack([tr.t, tr.tip, tr.tangential, tr.normal, tr.friction, tr.state])
     fmt = ["%.9e"] * 9 + ["%d", "%d"]
     header = f"status: {status}\nunits: {CSV_UNITS}\n" + ",".join(CSV_COLUMNS)
-    np.savetxt(path, data, delimiter=",", fmt=fmt, header=header)
+    with replacing(Path(path)) as tmp:
+        np.savetxt(tmp, data, delimiter=",", fmt=fmt, header=header)
     return Path(path)
 
 
@@ -493,8 +495,10 @@ class HBResult:
                                  label=label if start == 0 else None, **line)
                 start = i
         marks = {"fold": "o", "period-doubling": "s", "Neimark-Sacker": "^"}
-        for b in self.bifurcations:
-            ax.plot(b["rpm"], b["amplitude"] * scale, marks[b["kind"]], color="k", ms=4, mfc="none")
+        for b in self.bifurcations:       # each kind in the legend once per panel
+            named = b["kind"] in ax.get_legend_handles_labels()[1]
+            ax.plot(b["rpm"], b["amplitude"] * scale, marks[b["kind"]], color="k", ms=4, mfc="none",
+                    label=None if named else b["kind"], zorder=4)
         ax.set_xlabel("speed (r/min)")
         ax.set_ylabel("amplitude of v_L (mm)")
         return ax
