@@ -199,11 +199,11 @@ def refined_point(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     (v_L amplitude m, largest |multiplier|, its 2 H harmonics), or None where Newton does not converge.
 
     Newton starts from the point's own harmonics (the higher ones zero), for at most REFINED_ITERATIONS
-    (1 um gap, alpha 30 deg, kt 5e6 N/m, mu 0.3, 5000-25000 r/min, 115 points: 114 that converge do so
-    within 13, one in 31; the 11 that do not stall at |R|/|F| 9e-3 to 0.15 after 50). Where it fails
-    and ``near`` = (X, X at 2 H) of the branch's previous point is given, from that point's 2 H state
-    moved by the step at H (the 2 H branch followed alongside): on that branch every point then has
-    its 2 H state, at 0.6 of the CPU (docs/hb-stability.md).
+    (1 um gap, alpha 30 deg, kt 5e6 N/m, mu 0.3, 5000-25000 r/min, 115 points: of the 104 that converge
+    all but one do so within 13 iterations, one in 31; the 11 others stall at |R|/|F| 9e-3 to 0.15 after
+    50). Where it fails and ``near`` = (X, X at 2 H) of the branch's previous point is given, from that
+    point's 2 H state moved by the step at H (the 2 H branch followed alongside): on that branch every
+    point then has its 2 H state, the branch at 0.74 of the CPU (docs/hb-stability.md).
     """
     fine = speeds.refined()
     n = max(basis.samples, 4 * fine.H + 1)

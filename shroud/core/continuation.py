@@ -106,7 +106,8 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     if t[-1] < 0:
         t = -t
     u = scaled(x, p0)
-    path = [u]                 # the accepted points, scaled
+    path, count = np.empty((64, u.size)), 1       # the accepted points, scaled (the first count rows)
+    path[0] = u
     while len(branch.p) < max_points:
         if dp_max is not None and abs(t[-1]) * ds * p_scale > dp_max:
             ds = dp_max / (abs(t[-1]) * p_scale)
@@ -143,14 +144,17 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
             return branch
         if turn > max_turn:
             branch.kinks.append({"p": float(p_new), "turn_rad": float(turn)})
-        back = _retraced(path, u_new, u_new - u)
+        back = _retraced(path[:count], u_new, u_new - u)
         if back is not None:
             branch.complete = False
             branch.stopped = (f"the branch came back onto its own path at p = {p_new:g} (its point {back}, "
                               f"p = {path[back][-1] * p_scale:g}): a closed loop or a cycle between kinks")
             return branch
         u, t = u_new, t_new
-        path.append(u)
+        if count == len(path):
+            path = np.vstack([path, np.empty_like(path)])
+        path[count] = u
+        count += 1
         x = u[:-1] * x_scale
         branch.x.append(x), branch.p.append(p_new), branch.iterations.append(it)
         if on_point:
@@ -166,7 +170,7 @@ RETRACE = 0.1    # a new point this close to an earlier chord (share of the long
                  # the sag of a chord whose tangent turns by max_turn = 0.5 rad (0.06 of its length)
 
 
-def _retraced(path: list[np.ndarray], u: np.ndarray, step: np.ndarray) -> int | None:
+def _retraced(path: np.ndarray, u: np.ndarray, step: np.ndarray) -> int | None:
     """The index of the earlier point whose segment the new point ``u`` lies on, going the same way, or None.
 
     ``path``: the accepted points (scaled), the last the one ``step`` leads from. A point of a branch
@@ -177,7 +181,7 @@ def _retraced(path: list[np.ndarray], u: np.ndarray, step: np.ndarray) -> int | 
     """
     if len(path) < 4:
         return None
-    P = np.array(path[:-2])
+    P = path[:-2]
     seg = P[1:] - P[:-1]
     length = np.linalg.norm(seg, axis=1)
     s = np.clip(np.einsum("ij,ij->i", u - P[:-1], seg) / np.maximum(length, 1e-300) ** 2, 0.0, 1.0)
