@@ -90,8 +90,6 @@ def run(scene, out: Path) -> dict:
              *[f"- {label}: {v['same_resonant_speed'].sentence()}" for label, v in found.items()], "",
              "![fig4_reduced_vs_full.png](fig4_reduced_vs_full.png)",
              *_coexistence.section(coexist, opts, MODELS, MODELS)]
-    write_text(out / "report.md", "
-".join(lines) + "
-")
+    write_text(out / "report.md", "\n".join(lines) + "\n")
     return {"cases": out_json, "reduced_to_full_time_ratio": t_red / t_full, "conclusions": found,
             "cpu_s": {"reduced": t_red, "full": t_full}, "coexisting_states": coexist}

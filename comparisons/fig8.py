@@ -1,4 +1,4 @@
-"""Fig. 8 and Table 3 of the paper: four models of the shroud impact and friction.
+"""Fig. 8 and Table 3 of the paper: four models of the shroud impact and friction (and Fig. 10: the shell).
 
 At 10000 r/min, N0 = 0, kn = kt = 1e7 N/m, alpha = 15 deg, mu = 0.3 (the
 scene), each model runs ``time.periods`` excitation periods from rest:
@@ -7,7 +7,9 @@ scene), each model runs ``time.periods`` excitation periods from rest:
 * "full": the beam model, 5 N = 30 DOF,
 * "fe-reduced": the solid FE model reduced to fe.cms_modes normal modes plus
   the residual attachment modes of its contact nodes and load,
-* "fe": the solid FE model, one contact element per contact-face node.
+* "fe": the solid FE model, one contact element per contact-face node;
+* "shell", "shell-reduced": the shell FE model and its reduction (paper
+  Fig. 10, scenes/fig10.toml), any of them in ``options.models``.
 
 Figures as the paper's: impact force, friction force, hysteresis loop
 (friction force against the face's tangential displacement w_s) and contact
@@ -40,7 +42,7 @@ from pathlib import Path
 from comparisons import convergence
 from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
 from comparisons._bands import CHEAPER, TIMING_NOISE, cost_versus, versus
-from comparisons.paper import TABLE3_SECONDS
+from comparisons.paper import PAPER_SECONDS, TABLE3_SECONDS
 from shroud.analysis import api
 from shroud.core import registry
 from shroud.core.states import STATE_NAMES
@@ -64,15 +66,18 @@ OPTIONS = {
     "plot_periods": 2,          # periods shown in the time panels
 }
 
-PAIRS = (("reduced", "full", 0.01), ("fe-reduced", "fe", 0.02))   # (model, its full model, NRMSE target)
+# (model, its full model, NRMSE target)
+PAIRS = (("reduced", "full", 0.01), ("fe-reduced", "fe", 0.02), ("shell-reduced", "shell", 0.02))
 LABELS = {"reduced": "reduced beam (nr modes)", "full": "full beam (5N DOF)",
           "fe-reduced": "reduced solid FE", "fe": "full solid FE",
-          "extended": "extended beam (torsion, rigid shroud; nr modes)"}
+          "extended": "extended beam (torsion, rigid shroud; nr modes)",
+          "shell": "full shell FE", "shell-reduced": "reduced shell FE"}
 # The unreduced models solid, the reductions dashed above them (each its own dash), so that a reduction
 # that lies on its full model shows as dashes on its line instead of vanishing under it.
 DASHES = {"full": dict(ls="-", zorder=2), "fe": dict(ls="-", zorder=2),
           "reduced": dict(ls=(0, (5, 3)), zorder=3), "fe-reduced": dict(ls=(0, (2, 2)), zorder=3),
-          "extended": dict(ls=(0, (6, 2, 1, 2)), zorder=3)}
+          "extended": dict(ls=(0, (6, 2, 1, 2)), zorder=3), "shell": dict(ls="-", zorder=2),
+          "shell-reduced": dict(ls=(0, (3, 1, 1, 1)), zorder=3)}
 # Bands of the conclusions. Amplitudes within 0.5 % are the same (a settled amplitude is known to the
 # settling tolerance, 0.2 %); a model is closer to the reference than another when its worst NRMSE is
 # below 1/1.5 of the other's; cost in the band of comparisons._bands; contact-state shares within
@@ -147,7 +152,7 @@ def run(scene, out: Path) -> dict:
     table3 = [{"model": m, "dofs": r["dofs"], "build_s": r["build_s"], "run_s": r.get("run_s"),
                "total_s": r["build_s"] + r.get("run_s", math.nan), "cache_build_s": r["cache_build_s"],
                "warm_total_s": r["build_s"] - r["cache_build_s"] + r.get("run_s", math.nan),
-               "paper_s": TABLE3_SECONDS.get(m),
+               "paper_s": PAPER_SECONDS.get(m),
                "status": "diverged" if "diverged" in r else "complete"} for m, r in runs.items()]
     states = {m: r["result"].state_fraction for m, r in ok.items()}
     write_records(out / "table3.csv", table3)

@@ -141,3 +141,15 @@ def test_fig8_scene_with_both_solid_models_on_two_ranks_matches_serial(tmp_path)
                 assert got == pytest.approx(share, rel=rel, abs=1e-12), (model, side, state)
             for state, share in serial["results"]["state_fraction"][model][side].items():
                 assert parallel["results"]["state_fraction"][model][side][state] == pytest.approx(share, rel=rel)
+
+
+def test_shell_modal_and_static_on_two_ranks_give_the_serial_answers():
+    """The shell model (mixed P2/CR space, T-joint mesh) distributed over two ranks."""
+    args = ["modal", "--model", "shell", "--rpm", "10000", "--modes", "5", "--json"]
+    serial, parallel = (json.loads(shroud(args, ranks=r)[0]) for r in (1, 2))
+    for a, b in zip(serial["modes"], parallel["modes"]):
+        assert a["label"] == b["label"] and b["f_hz"] == pytest.approx(a["f_hz"], rel=1e-7)
+    args = ["static", "--model", "shell", "--tip-force", "0", "100", "0", "--rpm", "10000", "--json"]
+    serial, parallel = (json.loads(shroud(args, ranks=r)[0]) for r in (1, 2))
+    for key in ("X", "Y", "Z", "v_L", "w_L"):
+        assert parallel["tip"][key] == pytest.approx(serial["tip"][key], rel=1e-8, abs=1e-15)

@@ -49,6 +49,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--coriolis", action=argparse.BooleanOptionalAction, default=True,
                    help="with the Coriolis (gyroscopic) coupling: frequencies of the damped rotating "
                         "system (default), or without it")
+    p.add_argument("--interface", choices=("free", "stuck"),
+                   help="the contact's linear limit: no springs, or every contact as springs kn, kt "
+                        "(with ring.blades = N: per nodal diameter)")
+
+    p = sub.add_parser("static", help="tip displacement under a force at the blade tip")
+    _common(p)
+    p.add_argument("--model", choices=registry.names(), default="reduced",
+                   help=f"models with a static solve: {', '.join(registry.names('static'))}")
+    p.add_argument("--tip-force", type=float, nargs=3, required=True, metavar=("FX", "FY", "FZ"),
+                   help="force at the blade tip, N, global X, Y, Z")
+    p.add_argument("--rpm", type=float, metavar="RPM", help="rotation speed, r/min (default speed.rpm: 10000)")
 
     p = sub.add_parser("transient", help="time response with impact and friction")
     _common(p)
@@ -142,11 +153,29 @@ def cmd_modal(args) -> None:
     if args.modes < 1:
         raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
     params = _params(args)
+    if args.interface is not None:
+        from shroud.analysis.limits import interface_modal
+        limit = interface_modal(params, args.model, params.speed.rpm, args.modes, args.coriolis, args.interface)
+        diameters = "".join(f"\n  nd {d['nd']:3d}: " + " ".join(f"{m['f_hz']:.2f}" for m in d["modes"])
+                            for d in limit.nodal_diameters or [])
+        rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in limit.blade.modes)
+        return _emit(args, limit.to_json(), f"{args.model} model, {params.speed.rpm:g} r/min, interface "
+                                            f"{args.interface}\n{rows}{diameters}")
     result = modal(params, args.model, rpm=params.speed.rpm, n_modes=args.modes, coriolis=args.coriolis)
     rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in result.modes)
     _emit(args, result.to_json(),
           f"{result.model} model, {result.rpm:g} r/min, {result.dofs} DOF, "
           f"Coriolis {'on' if result.coriolis else 'off'}, {result.elapsed_s:.3f} s\n{rows}")
+
+
+def cmd_static(args) -> None:
+    from shroud.analysis.api import static
+    params = _params(args)
+    result = static(params, args.model, args.tip_force, rpm=params.speed.rpm)
+    tip = result.tip
+    _emit(args, result.to_json(),
+          f"{result.model} model, {result.rpm:g} r/min, {result.dofs} DOF, {result.elapsed_s:.3f} s\n"
+          + "\n".join(f"  {k:4s} {'-' if v is None else f'{v:.6e}'} m" for k, v in tip.items()))
 
 
 def cmd_transient(args) -> None:
@@ -217,7 +246,13 @@ def _sweep_hb(args) -> int:
     if params.speed.rpm_per_s != 0:
         raise InputError("speed.rpm_per_s", "harmonic balance seeks periodic states at constant speed; "
                                             "allowed: 0 with --method hb")
-    if args.tail is not None:
+    if params.ring.blades:
+        if args.tail is not None:
+            raise InputError("--tail", "a ring's branch is solved at one H; allowed: --harmonics with ring.blades")
+        from shroud.analysis.ring_hb import run_ring_hb
+        result = run_ring_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
+                             min_points=args.rpm_count)
+    elif args.tail is not None:
         result = run_hb_to_tail(params, args.model, args.rpm_from, args.rpm_to, args.tail,
                                 min_points=args.rpm_count)
     else:
@@ -306,9 +341,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.command != "compare":
             from shroud.base.cache import check_cache
             check_cache()                # a cache that cannot be written stops the run before any work
-        return {"modal": cmd_modal, "transient": cmd_transient, "sweep": cmd_sweep,
-                "run": cmd_run, "compare": cmd_compare,
-                "record": cmd_record}[args.command](args) or 0
+        return {"modal": cmd_modal, "static": cmd_static, "transient": cmd_transient, "sweep": cmd_sweep,
+                "run": cmd_run, "compare": cmd_compare, "record": cmd_record}[args.command](args) or 0
     except InputError as exc:
         print(exc.line(), file=sys.stderr)
         return EXIT_BAD_INPUT

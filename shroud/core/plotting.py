@@ -15,7 +15,8 @@ STYLE = {
 }
 # One colour per model in every figure, so the four-model comparisons read alike.
 MODEL_COLOURS = {"reduced": "tab:red", "full": "tab:blue", "fe-reduced": "tab:green",
-                 "fe": "black", "paper": "tab:gray", "extended": "tab:purple"}
+                 "fe": "black", "paper": "tab:gray", "extended": "tab:purple",
+                 "shell": "tab:brown", "shell-reduced": "tab:orange"}
 
 
 def _pyplot():

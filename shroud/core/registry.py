@@ -49,6 +49,9 @@ class ModelEntry:
     reduced_by: str | None = None
     # params -> the parameters of this model on a larger basis (a reduction's convergence check)
     refined: Callable[[Any], Any] | None = None
+    # (params, rpm, force (3,) N along X, Y, Z) -> shroud.core.results.StaticResult: the static response
+    # to a force at the blade tip on top of the centrifugal state; None: the model has no static solve.
+    static: Callable[..., Any] | None = None
 
 
 ENTRY_POINTS = "shroud.models"          # the metadata group where builders declare their models
@@ -110,10 +113,12 @@ def model(name: str) -> ModelEntry:
 
 
 def names(capability: str = "transient") -> tuple[str, ...]:
-    """Registered model names that offer ``capability``: "transient", "modal" or "sweep"."""
+    """Registered model names that offer ``capability``: "transient", "modal", "static" or "sweep"."""
     models = _all()
     if capability == "modal":
         return tuple(n for n, e in models.items() if e.modal is not None)
+    if capability == "static":
+        return tuple(n for n, e in models.items() if e.static is not None)
     if capability == "sweep":
         return tuple(n for n, e in models.items() if e.sweepable)
     return tuple(models)

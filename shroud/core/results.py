@@ -123,6 +123,35 @@ CSV_COLUMNS = ("t", "v_L", "w_L", "w_s1", "w_s2", "N1", "N2", "Ff1", "Ff2", "sta
 CSV_UNITS = "s, m, m, m, m, N, N, N, N, 0 separate / 1 stick / 2 slip"
 
 
+@dataclass(frozen=True)
+class StaticResult:
+    """The static response to a force at the blade tip, on top of the centrifugal state at ``rpm``.
+
+    ``tip``: the tip-centre displacement caused by the force, m: global X, Y,
+    Z and v_L, w_L along e_v(L), e_w(L); X is None for a model that has no
+    radial motion at its tip.
+    """
+
+    model: str
+    rpm: float
+    dofs: int
+    force: tuple[float, float, float]    # N, global X, Y, Z
+    tip: dict[str, float | None]
+    elapsed_s: float
+
+    def to_json(self) -> dict[str, Any]:
+        return {"model": self.model, "rpm": self.rpm, "dofs": self.dofs, "force": list(self.force),
+                "tip": dict(self.tip), "elapsed_s": self.elapsed_s}
+
+
+def tip_displacement(xyz, beta_tip: float) -> dict[str, float | None]:
+    """``{"X", "Y", "Z", "v_L", "w_L"}`` of a tip displacement (X may be None), m (geometry.md frames)."""
+    X, Y, Z = xyz
+    c, s = math.cos(beta_tip), math.sin(beta_tip)
+    return {"X": None if X is None else float(X), "Y": float(Y), "Z": float(Z),
+            "v_L": float(c * Y + s * Z), "w_L": float(-s * Y + c * Z)}
+
+
 def steady_state(trajectory: Trajectory, steps_per_period: int) -> dict[str, Any]:
     """Amplitudes, peaks, state fractions and period of a finished trajectory."""
     tr, spp = trajectory, steps_per_period
