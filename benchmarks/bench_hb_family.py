@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from comparisons._hb import starts_at
-from shroud.analysis.hb import run_hb, run_hb_family, solve_at, time_domain_state
+from shroud.analysis.hb import checkpoint, run_hb, run_hb_family, time_domain_state
 from shroud.params import Parameters
 
 PARAMS = Parameters().updated({"contact.alpha_deg": 30.0, "contact.kt": 5e6, "contact.mu": 0.3,
@@ -27,8 +27,8 @@ PARAMS = Parameters().updated({"contact.alpha_deg": 30.0, "contact.kt": 5e6, "co
 def held(branches, rpm: float, amplitude: float) -> bool:
     for br in branches:
         for X, _ in starts_at(br, rpm):
-            sol, info = solve_at(PARAMS, "reduced", rpm, X0=X)
-            if sol.converged and abs(sol.amplitude_v_L / amplitude - 1) <= 1e-3 and info["stable"] is not False:
+            sol = checkpoint(PARAMS, "reduced", rpm, start=X, retry=False)
+            if sol.converged and abs(sol.amplitude_v_L / amplitude - 1) <= 1e-3 and sol.stable is not False:
                 return True
     return False
 
@@ -50,7 +50,7 @@ def main() -> None:
         if period != 1:
             continue
         p1 += 1
-        reached, _ = solve_at(PARAMS, "reduced", rpm, X0=Y.ravel())
+        reached = checkpoint(PARAMS, "reduced", rpm, start=Y.ravel(), retry=False)
         a = reached.amplitude_v_L
         alone += held([continued], rpm, a)
         together += held(family.branches, rpm, a)

@@ -36,13 +36,13 @@ def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) 
     ``multipliers=False`` takes the stability of the two branch points around
     the crossing instead of computing the state's own (large models).
     """
-    from shroud.analysis.hb import solve_at
+    from shroud.analysis.hb import checkpoint
     out = []
     for X, stable in starts_at(branch, rpm):
-        sol, info = solve_at(params, model, rpm, harmonics=branch.harmonics, samples=branch.samples,
-                             X0=X, multipliers=multipliers)
+        sol = checkpoint(params, model, rpm, harmonics=branch.harmonics, samples=branch.samples, start=X,
+                         retry=False, multipliers=multipliers)
         if sol.converged:
-            out.append((sol.amplitude_v_L, info["stable"] if multipliers else stable))
+            out.append((sol.amplitude_v_L, sol.stable if multipliers else stable))
     return out
 
 

@@ -38,7 +38,7 @@ import numpy as np
 from comparisons._agreement import agreement, signals_of
 from comparisons._bands import CHEAPER, TIMING_NOISE, cost_versus, versus
 from shroud.analysis import api
-from shroud.analysis.hb import solve_at
+from shroud.analysis.hb import checkpoint
 from shroud.core import registry
 from shroud.base.errors import InputError, RunDiverged
 from shroud.base.log import info, warn
@@ -135,14 +135,14 @@ def hb_point(params, model: str, harmonics: int) -> dict:
     """The steady state of ``model`` at the scene's speed by harmonic balance with its stability, and its cost
     measured warm as every time-domain point's (a first, untimed solve builds what it caches)."""
     t0 = time.perf_counter()
-    solve_at(params, model, params.speed.rpm, harmonics=harmonics)
+    checkpoint(params, model, params.speed.rpm, harmonics=harmonics)
     first = time.perf_counter() - t0
     t0 = time.perf_counter()
-    sol, details = solve_at(params, model, params.speed.rpm, harmonics=harmonics)
+    sol = checkpoint(params, model, params.speed.rpm, harmonics=harmonics)
     return {"model": model, "setting": f"harmonic balance, H = {harmonics}", "time_s": time.perf_counter() - t0,
             "first_build_s": first,
             "amplitudes": (sol.amplitude_v_L, sol.amplitude_w_L), "converged": sol.converged,
-            "stable": details["stable"], "spectral_tail": sol.spectral_tail}
+            "stable": sol.stable, "spectral_tail": sol.spectral_tail}
 
 
 def measure(params, point: Point, warm: bool = True):

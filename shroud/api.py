@@ -106,9 +106,12 @@ def sweep(params: Parameters, model: str, rpms: Sequence[float]) -> SweepResult:
 
 
 def harmonic_balance(params: Parameters, model: str, rpm: float, harmonics: int = _hb.DEFAULT_HARMONICS,
-                     samples: int | None = None, start=None) -> _hb.Checkpoint:
-    """The periodic steady state at one speed by harmonic balance, with its Floquet stability."""
-    return _hb.checkpoint(params, model, rpm, harmonics, samples, start)
+                     samples: int | None = None, start=None, retry: bool = True,
+                     multipliers: bool = True) -> _hb.Checkpoint:
+    """The periodic steady state at one speed by harmonic balance, with its Floquet stability
+    (shroud.analysis.hb.checkpoint: ``start`` the harmonics Newton begins from, ``retry`` from the linear
+    solution where it fails from there, ``multipliers=False`` without stability)."""
+    return _hb.checkpoint(params, model, rpm, harmonics, samples, start, retry, multipliers)
 
 
 def continuation(params: Parameters, model: str, rpm_from: float, rpm_to: float,

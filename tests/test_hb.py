@@ -9,7 +9,7 @@ import pytest
 import scipy.optimize
 
 from comparisons._hb import crossings
-from shroud.analysis.hb import run_hb, solve_at
+from shroud.analysis.hb import checkpoint, run_hb
 from shroud.analysis.transient import contact_law_for
 from shroud.analysis.api import build_system
 from shroud.core import floquet
@@ -256,10 +256,12 @@ def test_a_time_run_leaves_an_unstable_hb_state_and_stays_on_a_stable_one():
     stable_amplitudes = crossings(branch, rpm, stable=True)
     assert len(stable_amplitudes) == 2 and len(crossings(branch, rpm, stable=False)) == 1
     for stable_wanted in (True, False):
-        sol, info = _hb_state_at(p, rpm, branch, stable_wanted)
-        assert info["stable"] is stable_wanted
+        point = _hb_state_at(p, rpm, branch, stable_wanted)
+        assert point.stable is stable_wanted
         system = build_system(p.updated({"speed.rpm": rpm}), "reduced")
-        q0, v0, _ = hb.state_vector(system, sol, hb.linear_harmonics(system, 12))
+        lin = hb.linear_harmonics(system, 12)
+        sol = hb.solve(system, contact_law_for(system, p.contact), 12, 512, X0=point.X, lin=lin)   # its forces
+        q0, v0, _ = hb.state_vector(system, sol, lin)
         tr, spp = _time_domain(p, "reduced", rpm, periods=200, q0=q0, v0=v0)
         a_end = amplitude(tr.tip[:, 0], spp)
         if stable_wanted:
@@ -277,7 +279,7 @@ def _hb_state_at(p, rpm, branch, stable):
                 and branch.stable[i + 1] is stable):
             t = (rpm - r0) / (r1 - r0)
             X0 = (1 - t) * branch.X[i] + t * branch.X[i + 1]
-            return solve_at(p, "reduced", rpm, harmonics=12, samples=512, X0=X0)
+            return checkpoint(p, "reduced", rpm, harmonics=12, samples=512, start=X0, retry=False)
     raise AssertionError(f"no {'stable' if stable else 'unstable'} stretch at {rpm}")
 
 
@@ -290,15 +292,15 @@ def test_an_orbit_that_sticks_from_the_touch_is_as_stable_as_the_time_domain_say
     p = Parameters().updated({"contact.gap": 1e-4})
     rpm = 12300.0
     branch = run_hb(p, "full", 6000.0, rpm, harmonics=10, samples=512)     # up the resonance to 12300
-    sol, info = solve_at(p, "full", rpm, harmonics=10, samples=512, X0=branch.X[-1])
+    sol = checkpoint(p, "full", rpm, harmonics=10, samples=512, start=branch.X[-1], retry=False)
     system = build_system(p.updated({"speed.rpm": rpm}), "full")
     law = contact_law_for(system, p.contact)
     lin = hb.linear_harmonics(system, 10)
     state = hb.balance(sol.X, lin, law, sol.basis, jacobian=False).contact.state[0]
     touch = np.flatnonzero((state != SEPARATE) & (np.roll(state, 1) == SEPARATE))
     assert touch.size == 1 and state[touch[0]] == STICK          # the case in point: stuck from the touch
-    assert info["stable"] and np.abs(info["multipliers"]).max() < 0.99
-    q0, v0, _ = hb.state_vector(system, sol, lin)
+    assert sol.stable and sol.largest_multiplier[sol.dofs] < 0.99
+    q0, v0, _ = hb.state_vector(system, hb.solve(system, law, 10, 512, X0=sol.X, lin=lin), lin)   # its forces
     tr, spp = _time_domain(p, "full", rpm, periods=400, q0=q0, v0=v0)
     assert amplitude(tr.tip[:, 0], spp) == pytest.approx(sol.amplitude_v_L, rel=0.01)
 
@@ -421,3 +423,22 @@ def test_an_unstable_peak_is_reported_beside_the_resonance_never_as_it():
     res = branch([False] * 4).resonance
     assert np.isnan(res["amplitude"]) and res["unstable_peak"]["amplitude"] == 3.0
     assert branch([True] * 4).resonance["unstable_peak"] is None
+
+
+def test_a_closed_loop_stops_where_it_comes_back_onto_itself():
+    """R(x, p) = x^2 + (p - 10)^2 - 1: the solutions are the unit circle about p = 10, an isolated loop that
+    never reaches p_end = 100 nor turns back below p0 (the check for a branch leaving its range). The
+    continuation goes round once, covering the circle (p from 9 to 11, x from -1 to 1, every point on it),
+    and stops where it comes back onto its path, saying so, instead of circling up to max_points."""
+    def residual(x, p):
+        return np.array([x[0] ** 2 + (p - 10.0) ** 2 - 1.0]), np.array([[2 * x[0]]]), lambda: np.array([2 * (p - 10.0)])
+    from shroud.core.continuation import continue_branch
+    branch = continue_branch(residual, np.array([math.sqrt(0.75)]), 9.5, 100.0, 1.0, ds=0.02, ds_max=0.05)
+    x, p = np.array(branch.x)[:, 0], np.array(branch.p)
+    assert not branch.complete and "came back onto its own path" in branch.stopped
+    assert np.allclose(x ** 2 + (p - 10.0) ** 2, 1.0, atol=1e-8)
+    assert p.min() == pytest.approx(9.0, abs=1e-3) and p.max() == pytest.approx(11.0, abs=1e-3)
+    assert x.min() == pytest.approx(-1.0, abs=1e-3) and x.max() == pytest.approx(1.0, abs=1e-3)
+    turned = np.unwrap(np.arctan2(x, p - 10.0))
+    assert 2 * math.pi - 0.2 <= abs(turned[-1] - turned[0]) < 2 * math.pi + 0.5    # once round (to a step), not twice
+    assert len(branch.p) < 2000

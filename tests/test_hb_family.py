@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from comparisons._hb import starts_at
-from shroud.analysis.hb import run_hb, run_hb_family, solve_at, time_domain_state
+from shroud.analysis.hb import checkpoint, run_hb, run_hb_family, time_domain_state
 from shroud.analysis.sweep import run_sweep
 from shroud.params import Parameters
 
@@ -21,9 +21,9 @@ def _states_on(branches, params, rpm):
     out = []
     for br in branches:
         for X, _ in starts_at(br, rpm):
-            sol, info = solve_at(params, "reduced", rpm, X0=X)
+            sol = checkpoint(params, "reduced", rpm, start=X, retry=False)
             if sol.converged:
-                out.append((sol.amplitude_v_L, info["stable"]))
+                out.append((sol.amplitude_v_L, sol.stable))
     return out
 
 
@@ -48,7 +48,7 @@ def test_every_p1_state_of_a_time_domain_sweep_lies_on_a_stable_or_undecided_bra
     for rpm, a in p1:
         Y, period = time_domain_state(params, "reduced", rpm)
         assert period == 1
-        reached, _ = solve_at(params, "reduced", rpm, X0=Y.ravel())
+        reached = checkpoint(params, "reduced", rpm, start=Y.ravel(), retry=False)
         assert reached.converged and reached.amplitude_v_L == pytest.approx(a, rel=0.03), rpm
 
         def held(states):
@@ -66,7 +66,7 @@ def test_a_branch_through_a_state_runs_both_ways_and_holds_it():
     from shroud.analysis.hb import run_hb_through
     whole = run_hb(params, "reduced", 6000.0, 12000.0, harmonics=10, samples=512)
     (X, _), = starts_at(whole, 9000.0)
-    sol, _ = solve_at(params, "reduced", 9000.0, X0=X)
+    sol = checkpoint(params, "reduced", 9000.0, start=X, retry=False)
     through = run_hb_through(params, "reduced", sol.X, 9000.0, 6000.0, 12000.0)
     assert through.complete and through.rpm[0] == 6000.0 and through.rpm[-1] == 12000.0
     for rpm in (7000.0, 11000.0):

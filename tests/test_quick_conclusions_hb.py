@@ -70,3 +70,18 @@ def test_hb_gap_preload_quick_agrees_with_full(tmp_path):
     key = "resonant_speed_rises_as_gap_closes"
     assert got[key]["answer"] == full[key]["answer"]
     # the optimal preload is not held: the quick scene has two preloads against the full scene's five
+
+
+@pytest.mark.slow
+def test_hb_gap_preload_seeds_the_branch_its_continuation_misses(tmp_path):
+    """With seed_from_sweep the 1 um gap case grows a second branch from its own sweep: the P1 state a run
+    from rest reaches at 8000 r/min is stable and lies 0.7 % beside the continued branch's unstable stretch
+    (docs/hb-stability.md, by runs of 300 periods and Newton from their states); a case without such a
+    point keeps its one branch, and the quick scene (14 speeds) finds no branch the full one (53) does not."""
+    got = quick("hb_gap_preload", tmp_path)["branches_found"]
+    small = got["gap 1 um"]
+    assert small["branches"] >= 2 and 8000.0 in small["new_branches_from_rpm"]
+    assert got["gap 600 um"]["branches"] == 1 and not got["gap 600 um"]["seeds_rpm"]
+    full = records.load("hb_gap_preload")["conclusions"]["branches_found"]
+    for case in got.keys() & full.keys():
+        assert got[case]["branches"] <= full[case]["branches"], case

@@ -153,17 +153,20 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier):
 
 
 def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float,
-                  evaluated: tuple | None = None, truncation: bool = True) -> dict:
+                  evaluated: tuple | None = None, previous: dict | None = None) -> dict:
     """Amplitudes, spectral tail and Floquet multipliers (with their error) of a converged point.
 
     ``evaluated``: (X, rpm, Balance) of the latest evaluation of the residual; used where it is of this
     very point (continuation returns the points its correctors evaluated last, not a step beyond).
+    ``previous``: the details of the branch's previous point (its 2 H state starts this point's where
+    Newton fails from this point's own harmonics, :func:`refined_point`).
     ``stable`` is True, False or None (within the multipliers' error: floquet.Stability). The error of
-    the largest |multiplier| is the largest of its sampling error (floquet.sampling_error) and, with
-    ``truncation``, its change when the point is solved again with twice the harmonics
-    (:func:`refined_point`): the truncation can decide a point's stability (1 um gap, alpha 30 deg,
-    mu 0.3, 6000 r/min: |multiplier| 2.47 at H 10, 0.62 at H 20, 0.68 at H 30, where a run from rest
-    settles on the state). ``amplitude_error``: the v_L amplitude's change there (m; nan without).
+    the largest |multiplier| is the largest of its sampling error (floquet.sampling_error) and its change
+    when the point is solved again with twice the harmonics (:func:`refined_point`): the truncation can
+    decide a point's stability (1 um gap, alpha 30 deg, mu 0.3, 6000 r/min: |multiplier| 2.47 at H 10,
+    0.62 at H 20, 0.68 at H 30, where a run from rest settles on the state). ``amplitude_error``: the
+    v_L amplitude's change there (m). ``X``, ``refined_X``: the point's harmonics and its 2 H ones (None
+    where Newton found no 2 H state: the error is then infinite, the point undecided).
     """
     system, lin, L, F = speeds.at(rpm)
     if evaluated is not None and evaluated[1] == rpm and np.array_equal(evaluated[0], X):
@@ -173,32 +176,47 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = hb.amplitude_over_period(tip)
     st = orbit_stability(system, law, X.reshape(basis.nh, lin.nx) @ lin.Wx.T, basis, b.contact)
-    error, amplitude_error = st.error, float("nan")
-    if truncation:
-        refined = refined_point(speeds, law, basis, X, rpm)
-        if refined is None:
-            error = float("inf")                  # no state at twice the harmonics: undecided
-        else:
-            error = max(error, abs(refined[1] - st.largest))
-            amplitude_error = abs(refined[0] - float(amp[0]))
+    near = None if previous is None or previous["refined_X"] is None else (previous["X"], previous["refined_X"])
+    refined = refined_point(speeds, law, basis, X, rpm, near)
+    if refined is None:
+        error, amplitude_error, refined_X = float("inf"), float("nan"), None   # no state at 2 H: undecided
+    else:
+        error, amplitude_error = max(st.error, abs(refined[1] - st.largest)), abs(refined[0] - float(amp[0]))
+        refined_X = refined[2]
     st = dataclasses.replace(st, error=error)
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
             "multipliers": st.multipliers, "multiplier_error": st.error, "grazing": st.grazing,
-            "stable": st.stable, "amplitude_error": amplitude_error}
+            "stable": st.stable, "amplitude_error": amplitude_error, "X": X, "refined_X": refined_X}
 
 
-def refined_point(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float) -> tuple[float, float] | None:
-    """The point ``X`` at ``rpm`` solved again with 2 H harmonics (Newton from its own, the higher ones
-    zero; the same samples where they resolve 2 H): (v_L amplitude m, largest |multiplier|), or None
-    where Newton does not converge."""
+REFINED_ITERATIONS = 15    # Newton at 2 H from the point's own harmonics: at most this many iterations
+
+
+def refined_point(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float,
+                  near: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[float, float, np.ndarray] | None:
+    """The point ``X`` at ``rpm`` solved again with 2 H harmonics (the same samples where they resolve 2 H):
+    (v_L amplitude m, largest |multiplier|, its 2 H harmonics), or None where Newton does not converge.
+
+    Newton starts from the point's own harmonics (the higher ones zero), for at most REFINED_ITERATIONS
+    (1 um gap, alpha 30 deg, kt 5e6 N/m, mu 0.3, 5000-25000 r/min, 115 points: of the 104 that converge
+    all but one do so within 13 iterations, one in 31; the 11 others stall at |R|/|F| 9e-3 to 0.15 after
+    50). Where it fails and ``near`` = (X, X at 2 H) of the branch's previous point is given, from that
+    point's 2 H state moved by the step at H (the 2 H branch followed alongside): on that branch every
+    point then has its 2 H state, the branch at 0.74 of the CPU (docs/hb-stability.md).
+    """
     fine = speeds.refined()
     n = max(basis.samples, 4 * fine.H + 1)
     fine_basis = hb.fourier(fine.H, n)
     system, lin, _, _ = fine.at(rpm)
+    own = X.reshape(basis.nh, lin.nx)
     X0 = np.zeros((fine_basis.nh, lin.nx))
-    X0[:basis.nh] = X.reshape(basis.nh, lin.nx)
-    sol = hb.newton(X0.ravel(), lin, law, fine_basis)
+    X0[:basis.nh] = own
+    sol = hb.newton(X0.ravel(), lin, law, fine_basis, max_iterations=REFINED_ITERATIONS)
+    if not sol.converged and near is not None:
+        X0 = near[1].reshape(fine_basis.nh, lin.nx).copy()
+        X0[:basis.nh] += own - near[0].reshape(basis.nh, lin.nx)
+        sol = hb.newton(X0.ravel(), lin, law, fine_basis)
     if not sol.converged:
         return None
     Xf = sol.X.reshape(fine_basis.nh, lin.nx)
@@ -207,7 +225,7 @@ def refined_point(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     c = sol.balance.contact
     mult = floquet.orbit_multipliers(system.M, system.C, system.K, W, law, c.state, c.F, system.omega_e,
                                      fine_basis.rates(Xf @ lin.Wx.T, system.omega_e))
-    return float(amp[0]), float(np.abs(mult).max(initial=0.0))
+    return float(amp[0]), float(np.abs(mult).max(initial=0.0)), sol.X
 
 
 def orbit_stability(system: StructuralSystem, law, Y: np.ndarray, basis: hb.Fourier,
@@ -263,7 +281,7 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     progress = Progress(f"HB branch {model} {rpm_from:g}-{rpm_to:g} r/min", 1)
 
     def on_point(X, rpm):
-        details.append(point_details(speeds, law, basis, X, rpm, residual.last))
+        details.append(point_details(speeds, law, basis, X, rpm, residual.last, details[-1] if details else None))
         progress.update((rpm - rpm_from) / (rpm_to - rpm_from),       # turning points step back: a share of the range
                         f"{len(details)} points, at {rpm:.0f} r/min, amplitude {details[-1]['amplitude_v_L']:.3g} m")
 
@@ -308,7 +326,8 @@ def run_hb_through(params: Parameters, model: str, X: np.ndarray, rpm: float, rp
             return R, J, lambda: sign * d_rpm()
         branch = continue_branch(signed, X, sign * rpm, sign * end, x_scale, ds=0.05, ds_max=0.5, dp_max=dp_max,
                                  on_point=lambda Xc, p, sign=sign, details=details: details.append(
-                                     point_details(speeds, law, basis, Xc, sign * p, residual.last)))
+                                     point_details(speeds, law, basis, Xc, sign * p, residual.last,
+                                                   details[-1] if details else None)))
         halves.append((sign, branch, details))
     rpms, xs, details, its, kinks, stops = [], [], [], [], [], []
     for sign, branch, det in halves:
@@ -404,7 +423,7 @@ class HBFamily:
 
 def run_hb_family(params: Parameters, model: str, rpm_from: float, rpm_to: float, seed_rpms,
                   harmonics: int = DEFAULT_HARMONICS, samples: int | None = None, min_points: int | None = None,
-                  periods: int = 300, match: float = 0.01) -> HBFamily:
+                  periods: int = 300, match: float = 0.01, continued: HBResult | None = None) -> HBFamily:
     """The branch from ``rpm_from`` (:func:`run_hb`) and every branch through a time-domain state it misses.
 
     At each speed of ``seed_rpms`` a run from rest (:func:`time_domain_state`) gives a state; Newton from
@@ -413,11 +432,12 @@ def run_hb_family(params: Parameters, model: str, rpm_from: float, rpm_to: float
     follows one connected branch: states on isolated branches, or beyond a corner it stepped over, are
     found only so (1 um gap, alpha 30 deg, kt 5e6 N/m, mu 0.3: P1 states at 8000 and 11250 r/min on
     stable branches 0.7 % and 0.5 % from the continued one's unstable stretches, docs/hb-stability.md).
-    Needs a model condensed on its contact coordinates (the beams: unknowns y).
+    Needs a model condensed on its contact coordinates (the beams: unknowns y). ``continued``: the branch
+    from ``rpm_from`` where the caller has it already (the same options), so it is not computed again.
     """
     t0 = time.perf_counter()
     check_inputs(harmonics, samples, rpm_from, rpm_to)
-    branches = [run_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)]
+    branches = [continued or run_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)]
     if not branches[0].condensed:
         raise InputError("--model", f"{model}: time-domain seeds need a model condensed on its contact "
                                     "coordinates (its unknowns are y = W q)")
@@ -428,19 +448,19 @@ def run_hb_family(params: Parameters, model: str, rpm_from: float, rpm_to: float
         if period != 1:
             seeds.append(Seed(rpm, period, None, None, "no P1 run"))
             continue
-        sol, info = solve_at(params, model, rpm, harmonics, samples, X0=Y.ravel())
+        sol = checkpoint(params, model, rpm, harmonics, samples, start=Y.ravel(), retry=False)
         if not sol.converged:
             seeds.append(Seed(rpm, period, None, None, "Newton did not converge from it"))
             continue
-        a = float(sol.amplitude_v_L)
-        if info["stable"] is False:       # the run stayed where HB says it cannot: not a branch to follow
+        a = sol.amplitude_v_L
+        if sol.stable is False:       # the run stayed where HB says it cannot: not a branch to follow
             seeds.append(Seed(rpm, period, a, False, "Newton reached an unstable state from it (not continued)"))
             continue
         if on_branches(branches, rpm, a, match):
-            seeds.append(Seed(rpm, period, a, info["stable"], "on a branch"))
+            seeds.append(Seed(rpm, period, a, sol.stable, "on a branch"))
             continue
         branches.append(run_hb_through(params, model, sol.X, rpm, rpm_from, rpm_to, harmonics, samples, min_points))
-        seeds.append(Seed(rpm, period, a, info["stable"], "new branch"))
+        seeds.append(Seed(rpm, period, a, sol.stable, "new branch"))
     return HBFamily(branches=branches, seeds=seeds, elapsed_s=time.perf_counter() - t0)
 
 
@@ -461,21 +481,6 @@ def run_hb_to_tail(params: Parameters, model: str, rpm_from: float, rpm_to: floa
         if result.spectral_tail <= tail or 2 * H > most:
             return dataclasses.replace(result, harmonics_tried=tuple(tried), tail_target=float(tail))
         H *= 2
-
-
-def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-             samples: int | None = None, X0: np.ndarray | None = None,
-             multipliers: bool = True) -> tuple[hb.HarmonicSolution, dict]:
-    """One speed: the harmonic-balance solution reached from ``X0`` (default: the linear one, then a load
-    homotopy if Newton fails from it) and its details (amplitudes, multipliers, stability; with
-    ``multipliers=False`` no stability, an empty dict)."""
-    n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
-    basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(model_at_speed(params, model), harmonics)
-    system, lin, _, _ = speeds.at(rpm)
-    law = contact_law_for(system, params.contact)
-    sol = hb.solve(system, law, harmonics, n, X0=X0, condense=lin.condensed)
-    return sol, point_details(speeds, law, basis, sol.X, rpm) if multipliers else {}
 
 
 NO_FLOQUET = ("not computed: the Floquet multipliers need the monodromy of the full M, C, K (2 n states), "
@@ -525,7 +530,9 @@ class Checkpoint:
     building the system and its linear part per harmonic (0 when an earlier
     point at the speed built them), ``start_s`` the reduced model's state,
     ``newton_s`` the model's own Newton, ``stability_s`` its multipliers
-    (with the bases they are projected on, where not cached).
+    (with the bases they are projected on, where not cached). ``X``: the
+    state's harmonics (its unknowns, as HBResult.X holds a branch's; not in
+    the JSON), e.g. to start a continuation through it (:func:`run_hb_through`).
     """
 
     model: str
@@ -551,13 +558,20 @@ class Checkpoint:
     start_s: float
     newton_s: float
     stability_s: float
+    X: np.ndarray = dataclasses.field(repr=False, compare=False)
 
     @property
     def elapsed_s(self) -> float:
         return self.linear_s + self.start_s + self.newton_s + self.stability_s
 
+    @property
+    def basis(self) -> hb.Fourier:
+        """The harmonics and time samples the state was solved on."""
+        return hb.fourier(self.harmonics, self.samples)
+
     def to_json(self) -> dict:
-        return {**dataclasses.asdict(self), "elapsed_s": round(self.elapsed_s, 6)}
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "X"}
+        return {**out, "elapsed_s": round(self.elapsed_s, 6)}
 
 
 def _start_on_contact(params: Parameters, model: str, rpm: float, harmonics: int, samples: int,
@@ -570,9 +584,15 @@ def _start_on_contact(params: Parameters, model: str, rpm: float, harmonics: int
     return dataclasses.replace(sol, X=sol.X.reshape(2 * harmonics + 1, lin.nx) @ lin.Wx.T)
 
 
+NOT_ASKED = "not computed (not asked)"
+
+
 def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-               samples: int | None = None, start: np.ndarray | None = None) -> Checkpoint:
-    """The harmonic-balance state of ``model`` at ``rpm`` (r/min), one speed, no continuation.
+               samples: int | None = None, start: np.ndarray | None = None, retry: bool = True,
+               multipliers: bool = True) -> Checkpoint:
+    """The harmonic-balance state of ``model`` at ``rpm`` (r/min), one speed, no continuation: the one
+    way to harmonic balance at a speed (shroud.api.harmonic_balance, ``shroud sweep --checkpoints``, the
+    studies and the seeds of :func:`run_hb_family` all come here).
 
     A model with its own ``linear_harmonics`` (the full solid, condensed exactly
     on its contact coordinates by its own sparse solver) starts Newton from
@@ -583,6 +603,11 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     Its Floquet multipliers are those of its own orbit, the perturbations
     projected on that model (:func:`projected_multipliers`). Other models
     start from ``start`` or their linear solution and get their own.
+    ``retry``: where Newton fails from ``start``, start again from the
+    linear solution (False: report the failure, ``converged`` False; a state
+    sought near a given one, not any state at the speed).
+    ``multipliers=False``: no stability (``stable`` None), e.g. where the
+    caller takes it from the branch points around the state.
     """
     n = check_inputs(harmonics, samples, 0.5 * rpm, rpm)
     entry = registry.model(model)
@@ -603,11 +628,13 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     t2 = time.perf_counter()
     law = contact_law_for(system, params.contact)
     sol = hb.solve(system, law, harmonics, n, X0=X0, lin=lin)
-    if not sol.converged and X0 is not None:
+    if not sol.converged and X0 is not None and retry:
         sol, how = hb.solve(system, law, harmonics, n, lin=lin), f"linear solution, load homotopy ({how} failed)"
     t3 = time.perf_counter()
     stable, stability, largest, error = None, NO_FLOQUET, {}, None
-    if speeds is not None:
+    if not multipliers:
+        stability = NOT_ASKED
+    elif speeds is not None:
         details = point_details(speeds, law, sol.basis, sol.X, rpm)
         stable, stability, error = details["stable"], "Floquet multipliers", details["multiplier_error"]
         largest = {system.dofs: float(np.abs(details["multipliers"]).max(initial=0.0))}
@@ -626,7 +653,8 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
                       stable=stable, stability=stability, largest_multiplier=largest, multiplier_error=error,
                       dofs=system.dofs,
                       condensed_on=lin.nx if lin.condensed else 0,
-                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=t3 - t2, stability_s=time.perf_counter() - t3)
+                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=t3 - t2, stability_s=time.perf_counter() - t3,
+                      X=sol.X)
 
 
 def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAULT_HARMONICS,
