@@ -2,23 +2,33 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from shroud.core.verdict import Verdict
 
-def crossings(branch, rpm: float, stable: bool) -> list[float]:
-    """Amplitudes (m) where stretches of ``branch`` with the given stability cross ``rpm`` (interpolated)."""
+SAME_RESONANCE = 0.01     # two models' resonant amplitudes this close (relative): the same resonance
+SAME_REASON = ("1 %: the match within which the studies put a time-domain point on a branch; margin: each "
+               "resonance's change at twice the harmonics plus its rise between branch points")
+
+
+def crossings(branch, rpm: float, stable: bool | None) -> list[float]:
+    """Amplitudes (m) where stretches of ``branch`` with the given stability (True, False, or None:
+    undecided, HBResult.stable) cross ``rpm`` (interpolated)."""
     out = []
     for i in range(len(branch.rpm) - 1):
         r0, r1 = branch.rpm[i], branch.rpm[i + 1]
-        if (r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1) and branch.stable[i] == stable
-                and branch.stable[i + 1] == stable):
+        if (r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1) and branch.stable[i] is stable
+                and branch.stable[i + 1] is stable):
             t = (rpm - r0) / (r1 - r0)
             out.append(float((1 - t) * branch.amplitude_v_L[i] + t * branch.amplitude_v_L[i + 1]))
     return sorted(out)
 
 
-def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) -> list[tuple[float, bool]]:
-    """Every P1 state of ``branch`` at ``rpm``: (amplitude m, stable), solved there by harmonic balance.
+def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) -> list[tuple[float, bool | None]]:
+    """Every P1 state of ``branch`` at ``rpm``: (amplitude m, stable: True, False or None where undecided),
+    solved there by harmonic balance.
 
     Each crossing of the branch with the speed is interpolated and then
     converged at exactly that speed (Newton from the interpolated
@@ -26,33 +36,35 @@ def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) 
     ``multipliers=False`` takes the stability of the two branch points around
     the crossing instead of computing the state's own (large models).
     """
-    from shroud.analysis.hb import solve_at
+    from shroud.analysis.hb import checkpoint
     out = []
     for X, stable in starts_at(branch, rpm):
-        sol, info = solve_at(params, model, rpm, harmonics=branch.harmonics, samples=branch.samples,
-                             X0=X, multipliers=multipliers)
+        sol = checkpoint(params, model, rpm, harmonics=branch.harmonics, samples=branch.samples, start=X,
+                         retry=False, multipliers=multipliers)
         if sol.converged:
-            out.append((sol.amplitude_v_L, info["stable"] if multipliers else stable))
+            out.append((sol.amplitude_v_L, sol.stable if multipliers else stable))
     return out
 
 
 def starts_at(branch, rpm: float) -> list[tuple[np.ndarray, bool]]:
     """Every crossing of ``branch`` with ``rpm``: its coefficients interpolated there, and whether the two
-    branch points around it are stable."""
+    branch points around it are both stable (True, not undecided)."""
     out = []
     for i in range(len(branch.rpm) - 1):
         r0, r1 = branch.rpm[i], branch.rpm[i + 1]
         if r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1):
             t = (rpm - r0) / (r1 - r0)
-            out.append(((1 - t) * branch.X[i] + t * branch.X[i + 1], bool(branch.stable[i] and branch.stable[i + 1])))
+            out.append(((1 - t) * branch.X[i] + t * branch.X[i + 1],
+                        branch.stable[i] is True and branch.stable[i + 1] is True))
     return out
 
 
-def landed_on(states: list[tuple[float, bool]], amplitude: float, period, match: float) -> str:
-    """Name of the P1 state (from :func:`states_at`) a time-domain point landed on."""
+def landed_on(states: list[tuple[float, bool | None]], amplitude: float, period, match: float) -> str:
+    """Name of the P1 state (from :func:`states_at`) a time-domain point landed on: a stable one, else one
+    of undecided stability (its |multiplier| within its error of 1), else why none."""
     if not np.isfinite(amplitude):
         return "diverged"
-    stable = sorted(a for a, s in states if s)
+    stable = sorted(a for a, s in states if s is True)
     names = (["lower stable", "upper stable"] if len(stable) == 2 else
              [f"stable {i + 1} of {len(stable)}" for i in range(len(stable))] if len(stable) > 2 else
              ["stable"])
@@ -60,11 +72,13 @@ def landed_on(states: list[tuple[float, bool]], amplitude: float, period, match:
         i = int(np.argmin([abs(a / amplitude - 1) for a in stable]))
         if abs(stable[i] / amplitude - 1) <= match:
             return names[i]
+    if period == 1 and any(s is None and abs(a / amplitude - 1) <= match for a, s in states):
+        return "undecided P1 state (|multiplier| within its error of 1)"
     if period is None:
         return "no steady state within the run (no period detected: still drifting, or quasi-periodic)"
     if period != 1:
         return f"P{period} (no P1 branch holds it)"
-    if any(not s for _, s in states) and not stable:
+    if any(s is False for _, s in states) and not stable:
         return "beside an unstable P1 branch"
     return "off the P1 branches"
 
@@ -72,3 +86,53 @@ def landed_on(states: list[tuple[float, bool]], amplitude: float, period, match:
 def on_stable(name: str) -> bool:
     """Whether a name from :func:`landed_on` is a stable P1 branch."""
     return name.endswith("stable") or name.startswith("stable")
+
+
+def resonance_of(branch) -> dict:
+    """A branch's resonance as conclusions hold it (HBResult.resonance: on the points not shown unstable):
+    rpm (r/min) and amplitude_m with their errors, its stability (True, or None: undecided), and the larger
+    unstable peak beside it (rpm, amplitude_m) or None."""
+    r = branch.resonance
+    other = r["unstable_peak"]
+    return {"rpm": r["rpm"], "rpm_error": r["rpm_error"], "amplitude_m": r["amplitude"],
+            "amplitude_error_m": r["amplitude_error"], "stable": r["stable"],
+            "unstable_peak": None if other is None else {"rpm": other["rpm"], "amplitude_m": other["amplitude"]}}
+
+
+def relative_error(resonance: dict) -> float:
+    """The relative error of a :func:`resonance_of` amplitude (inf where unknown)."""
+    a, e = resonance["amplitude_m"], resonance["amplitude_error_m"]
+    return e / a if a > 0 and math.isfinite(e) else math.inf
+
+
+def same_resonance(a: dict, b: dict, names: tuple[str, str]) -> Verdict:
+    """Whether two :func:`resonance_of` amplitudes are the same (within SAME_RESONANCE, margin their
+    relative errors summed)."""
+    value = abs(a["amplitude_m"] / b["amplitude_m"] - 1) if b["amplitude_m"] > 0 else math.nan
+    return Verdict.of(value, SAME_RESONANCE, relative_error(a) + relative_error(b), below="same", above="different",
+                      reason=f"{names[0]} against {names[1]}: {SAME_REASON}")
+
+
+def rises(resonances: list[dict], what: str) -> Verdict:
+    """Whether the resonant speed of successive :func:`resonance_of` entries rises: the smallest step from
+    one to the next (r/min) against 0, margin that pair's speed errors summed."""
+    steps = [(b["rpm"] - a["rpm"], a["rpm_error"] + b["rpm_error"]) for a, b in zip(resonances, resonances[1:])]
+    value, margin = min(steps, default=(math.nan, 0.0))
+    return Verdict.of(value, 0.0, margin, below=False, above=True, unit="r/min",
+                      reason=f"{what}: the smallest rise of the resonant speed from one case to the next, against "
+                             "0 within the two peaks' speed errors (half the branch steps around each)")
+
+
+def notes_line(named: list[tuple[str, object]]) -> str:
+    """One sentence of what named branches say about their own trust (HBResult.notes: incomplete, kinks
+    stepped over, a tail target missed, points of undecided stability); empty when none says anything."""
+    notes = [f"{name}: {'; '.join(br.notes())}" for name, br in named if br.notes()]
+    return ("Branch notes: " + " | ".join(notes) + ".") if notes else ""
+
+
+def verdict_text(v: dict, scale: float = 1.0, unit: str = "") -> str:
+    """A verdict's JSON (shroud.core.verdict) in words: answer (value against threshold +- margin), the
+    numbers times ``scale`` in ``unit``."""
+    def num(x):
+        return "-" if x is None or not math.isfinite(x) else f"{scale * x:.3g}"
+    return f"{v['answer']} ({num(v['value'])} against {num(v['threshold'])} +- {num(v['margin'])}{unit})"

@@ -84,13 +84,16 @@ def contact_map_picture(path: Path, faces, shares: list[np.ndarray], title: str)
             plotter.add_mesh(surface, color="lightgrey", show_edges=True, edge_color="grey", line_width=0.5)
             points = pv.PolyData(_in_plane(face.nodes, face.e_ws) + [0.0, 0.0, 0.01])
             points[name] = s[:, col]
+            # The bar carries ticks only: VTK draws a horizontal bar's title over its ticks, so the
+            # quantity goes in the panel's heading; each bar needs its own (blank) title to be its own.
             plotter.add_mesh(points, scalars=name, cmap="viridis", clim=(0.0, 1.0), point_size=9,
                              render_points_as_spheres=True,
-                             scalar_bar_args={"title": f"side {face.side}: share of window {name} (-)",
+                             scalar_bar_args={"title": " " * (1 + row * len(STATE_NAMES) + col),
                                               "n_labels": 6, "fmt": "%.1f", "vertical": False,
                                               "position_x": 0.15, "position_y": 0.04, "width": 0.7,
-                                              "height": 0.08, "title_font_size": 14, "label_font_size": 12})
-            plotter.add_text(f"side {face.side}: {name}" + (f"   ({title})" if row == col == 0 else ""),
+                                              "height": 0.1, "label_font_size": 12})
+            plotter.add_text(f"side {face.side}: {name}, colour: share of the window (-)"
+                             + (f"\n{title}" if row == col == 0 else ""),
                              font_size=9, position="upper_left")
             plotter.add_text("horizontal: e_ws, vertical: radius X (face plane)", font_size=7,
                              position="upper_right")

@@ -16,6 +16,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable, Protocol
 
+from shroud.base.outputs import write_text
+
 
 class Result(Protocol):
     """What compute returns: a results object that is results.json when asked."""
@@ -26,12 +28,12 @@ class Result(Protocol):
 def study(compute: Callable[..., Result], plot: Callable[[Result, object, Path], list[str]],
           report: Callable[[Result, object, list[str]], str], writes: bool = False) -> Callable[[object, Path], dict]:
     """The study's ``run(scene, out)``: compute (``writes``: it is handed ``out``), plot, report into
-    out/report.md; the results as JSON."""
+    out/report.md (written whole or not at all, shroud.base.outputs); the results as JSON."""
 
     def run(scene, out: Path) -> dict:
         result = compute(scene, out) if writes else compute(scene)
         files = plot(result, scene, out)
-        (out / "report.md").write_text(report(result, scene, files))
+        write_text(out / "report.md", report(result, scene, files))
         return result.to_json()
 
     run.__doc__ = f"compute -> plot -> report ({compute.__module__}); the results as JSON."

@@ -27,6 +27,7 @@ from reduced_model.campbell import CampbellResult, campbell
 from shroud.base.errors import InputError
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
+from shroud.base.outputs import open_replacing
 
 OPTIONS = {
     "rpm_from": 0.0,
@@ -162,7 +163,7 @@ def compute(scene) -> CampbellComparison:
 def plot(result: CampbellComparison, scene, out: Path) -> list[str]:
     """The Campbell diagram (campbell.png); the frequencies and engine-order lines as CSV."""
     plain, gyro, orders = result.plain, result.gyro, result.orders
-    with open(out / "campbell.csv", "w", newline="") as fh:
+    with open_replacing(out / "campbell.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["rpm"] + [f"{lab}_hz" for lab in plain.labels]
                    + [f"{lab}_coriolis_hz" for lab in gyro.labels]

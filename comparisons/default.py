@@ -39,6 +39,7 @@ from shroud.base.errors import InputError
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.core.verdict import NOT_DECIDED, BandVerdict
 from shroud.base.markdown import demote, markdown_table, relink, seconds
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {
     "modal_rpm": 8500.0,                      # r/min, the speed of the paper's Table 1
@@ -108,7 +109,7 @@ def plot(result: DefaultResult, scene, out: Path) -> list[str]:
     if result.transient is not None:
         fig8_scene, folder = _fig8_scene(scene), _fig8_folder(out)
         shown = fig8.plot(result.transient, fig8_scene, folder)
-        (folder / "report.md").write_text(fig8.report(result.transient, fig8_scene, shown))
+        write_text(folder / "report.md", fig8.report(result.transient, fig8_scene, shown))
         files += [f"fig8/{f}" for f in shown]
     return files
 
@@ -193,7 +194,7 @@ def frequencies(modal: dict, rpm: float) -> dict:
 def _write_frequencies(modal: dict, out: Path) -> Path:
     """The frequencies' CSV and figure (names in ``modal``)."""
     rows = modal["rows"]
-    with open(out / modal["csv"], "w", newline="") as fh:
+    with open_replacing(out / modal["csv"]) as fh:
         writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}, key=_column_order))
         writer.writeheader()
         writer.writerows(rows)

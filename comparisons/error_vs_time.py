@@ -41,7 +41,7 @@ from shroud.analysis.agreement import agreement, signals_of
 from comparisons._study import study
 from comparisons._bands import CHEAPER, TIMING_NOISE, cost_versus, versus
 from shroud.analysis import api
-from shroud.analysis.hb import solve_at
+from shroud.analysis.hb import checkpoint
 from shroud.core import registry
 from shroud.base.errors import InputError, RunDiverged
 from shroud.base.log import info, warn
@@ -50,6 +50,7 @@ from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.transient import simulate
 from shroud.core.signals import amplitude
 from shroud.core.verdict import RatioVerdict
+from shroud.base.outputs import open_replacing
 
 OPTIONS = {
     "reduced_nr": [2, 4, 6, 10],          # beam model, kept modes (at reduced.N)
@@ -137,14 +138,14 @@ def hb_point(params, model: str, harmonics: int) -> dict:
     """The steady state of ``model`` at the scene's speed by harmonic balance with its stability, and its cost
     measured warm as every time-domain point's (a first, untimed solve builds what it caches)."""
     t0 = time.perf_counter()
-    solve_at(params, model, params.speed.rpm, harmonics=harmonics)
+    checkpoint(params, model, params.speed.rpm, harmonics=harmonics)
     first = time.perf_counter() - t0
     t0 = time.perf_counter()
-    sol, details = solve_at(params, model, params.speed.rpm, harmonics=harmonics)
+    sol = checkpoint(params, model, params.speed.rpm, harmonics=harmonics)
     return {"model": model, "setting": f"harmonic balance, H = {harmonics}", "time_s": time.perf_counter() - t0,
             "first_build_s": first,
             "amplitudes": (sol.amplitude_v_L, sol.amplitude_w_L), "converged": sol.converged,
-            "stable": details["stable"], "spectral_tail": sol.spectral_tail}
+            "stable": sol.stable, "spectral_tail": sol.spectral_tail}
 
 
 def measure(params, point: Point, warm: bool = True):
@@ -243,7 +244,7 @@ def compute(scene) -> ErrorVsTime:
 def plot(result: ErrorVsTime, scene, out: Path) -> list[str]:
     """Error against run time with its front, amplitude error against run time (HB points too); the CSV."""
     rows = result.rows
-    with open(out / "error_vs_time.csv", "w", newline="") as fh:
+    with open_replacing(out / "error_vs_time.csv") as fh:
         w = csv.DictWriter(fh, fieldnames=[k for k in rows[0] if k != "names"], extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)

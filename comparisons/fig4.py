@@ -25,6 +25,7 @@ from comparisons._families import grid_limits, same_speed
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
+from shroud.base.outputs import open_replacing
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 4000.0, "rpm_to": 30000.0, "rpm_count": 53, **coexistence.OPTIONS}
@@ -103,7 +104,7 @@ def plot(result: Fig4Result, scene, out: Path) -> list[str]:
         ax.set_ylabel("amplitude of v_L (mm)")
         ax.legend()
     files = [save(fig, out / "fig4_reduced_vs_full.png").name]
-    with open(out / "fig4.csv", "w", newline="") as fh:
+    with open_replacing(out / "fig4.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["case", "rpm", "reduced_m", "full_m"])
         for i, label in enumerate(result.labels):

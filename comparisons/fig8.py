@@ -1,4 +1,4 @@
-"""Fig. 8 and Table 3 of the paper: four models of the shroud impact and friction.
+"""Fig. 8 and Table 3 of the paper: four models of the shroud impact and friction (and Fig. 10: the shell).
 
 At 10000 r/min, N0 = 0, kn = kt = 1e7 N/m, alpha = 15 deg, mu = 0.3 (the
 scene), each model runs ``time.periods`` excitation periods from rest:
@@ -7,7 +7,9 @@ scene), each model runs ``time.periods`` excitation periods from rest:
 * "full": the beam model, 5 N = 30 DOF,
 * "fe-reduced": the solid FE model reduced to fe.cms_modes normal modes plus
   the residual attachment modes of its contact nodes and load,
-* "fe": the solid FE model, one contact element per contact-face node.
+* "fe": the solid FE model, one contact element per contact-face node;
+* "shell", "shell-reduced": the shell FE model and its reduction (paper
+  Fig. 10, scenes/fig10.toml), any of them in ``options.models``.
 
 Figures as the paper's: impact force, friction force, hysteresis loop
 (friction force against the face's tangential displacement w_s) and contact
@@ -44,7 +46,7 @@ from comparisons import convergence
 from comparisons._study import study
 from shroud.analysis.agreement import SIGNALS, Agreement, agreement, signals_of
 from comparisons._bands import CHEAPER, TIMING_NOISE, cost_versus, versus
-from comparisons.paper import TABLE3_SECONDS
+from comparisons.paper import PAPER_SECONDS, TABLE3_SECONDS
 from shroud.analysis import api
 from shroud.core import registry
 from shroud.core.states import STATE_NAMES
@@ -68,10 +70,18 @@ OPTIONS = {
 }
 
 FIGURE = "fig8.png"      # paper Fig. 8 (a)-(j)
-PAIRS = (("reduced", "full", 0.01), ("fe-reduced", "fe", 0.02))   # (model, its full model, NRMSE target)
+# (model, its full model, NRMSE target)
+PAIRS = (("reduced", "full", 0.01), ("fe-reduced", "fe", 0.02), ("shell-reduced", "shell", 0.02))
 LABELS = {"reduced": "reduced beam (nr modes)", "full": "full beam (5N DOF)",
           "fe-reduced": "reduced solid FE", "fe": "full solid FE",
-          "extended": "extended beam (torsion, rigid shroud; nr modes)"}
+          "extended": "extended beam (torsion, rigid shroud; nr modes)",
+          "shell": "full shell FE", "shell-reduced": "reduced shell FE"}
+# The unreduced models solid, the reductions dashed above them (each its own dash), so that a reduction
+# that lies on its full model shows as dashes on its line instead of vanishing under it.
+DASHES = {"full": dict(ls="-", zorder=2), "fe": dict(ls="-", zorder=2),
+          "reduced": dict(ls=(0, (5, 3)), zorder=3), "fe-reduced": dict(ls=(0, (2, 2)), zorder=3),
+          "extended": dict(ls=(0, (6, 2, 1, 2)), zorder=3), "shell": dict(ls="-", zorder=2),
+          "shell-reduced": dict(ls=(0, (3, 1, 1, 1)), zorder=3)}
 # Bands of the conclusions. Amplitudes within 0.5 % are the same (a settled amplitude is known to the
 # settling tolerance, 0.2 %); a model is closer to the reference than another when its worst NRMSE is
 # below 1/1.5 of the other's; cost in the band of comparisons._bands; contact-state shares within
@@ -148,7 +158,7 @@ class Fig8Result:
         return [{"model": m, "dofs": r["dofs"], "build_s": r["build_s"], "run_s": r.get("run_s"),
                  "total_s": r["build_s"] + r.get("run_s", math.nan), "cache_build_s": r["cache_build_s"],
                  "warm_total_s": r["build_s"] - r["cache_build_s"] + r.get("run_s", math.nan),
-                 "paper_s": TABLE3_SECONDS.get(m),
+                 "paper_s": PAPER_SECONDS.get(m),
                  "status": "diverged" if "diverged" in r else "complete"} for m, r in self.runs.items()]
 
     @property
@@ -327,7 +337,7 @@ def _figures(ok: dict, params, o, period: float, out: Path) -> list[Path]:
         loop = slice(len(t) - 1 - spp, None)
         tt = (t[shown] - t[shown][0]) / period
         style = dict(color=MODEL_COLOURS[model], label=LABELS[model], lw=1.0 if model != "fe" else 1.6,
-                     ls="-" if model in ("fe", "full") else "--")
+                     **DASHES[model])
         for col, side in enumerate((1, 2)):
             axes[0, col].plot(tt, s[f"N{side}"][shown], **style)
             axes[1, col].plot(tt, s[f"Ff{side}"][shown], **style)
@@ -511,6 +521,8 @@ def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, maps, res
                               seconds(r["warm_total_s"]) if math.isfinite(r["warm_total_s"]) else "-",
                               seconds(r["paper_s"]), r["status"]) for r in table3]),
              "\n![Fig. 8](fig8.png)\n",
+             "Full models solid, reductions dashed and drawn above them: where a reduction lies on its "
+             "full model, its dashes run along that line.\n",
              "## Agreement over the last periods\n"]
     if pairs:
         lines.append("Reduced model against its own full model (worst NRMSE over the six signals):\n")

@@ -204,7 +204,7 @@ def report(result: FamilyComparison, scene, files: list[str]) -> str:
                              "periods seen", "cpu"],
                             [(r["variant"], r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
-             *[f"![{f}]({f})" for f in files]]
+             *[f"![{f}]({f})" for f in files], "", fam.WIDEST_FIRST]
     return "\n".join(lines) + "\n"
 
 

@@ -133,7 +133,7 @@ def report(result: GapPreloadResult, scene, files: list[str]) -> str:
                             [(r["case"], fam.speed_text(r), r["resonance_amplitude_m"] * 1e3,
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
              fam.settling_text(rows, opts),
-             *[f"![{f}]({f})" for f in files]]
+             *[f"![{f}]({f})" for f in files], "", fam.WIDEST_FIRST]
     return "\n".join(lines) + "\n"
 
 

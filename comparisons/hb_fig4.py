@@ -17,12 +17,14 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._hb import landed_on, on_stable, states_at
+from comparisons._hb import (landed_on, notes_line, on_stable, resonance_of, same_resonance, states_at,
+                             verdict_text)
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 4000.0, "rpm_to": 30000.0, "td_rpm_count": 53,
@@ -32,6 +34,17 @@ MODELS = ("reduced", "full")
 
 def _fold_speeds(branch) -> list[float]:
     return [float(b["rpm"]) for b in branch.bifurcations if b["kind"] == "fold"]
+
+
+def conclusions(labels: list[str], branches: dict) -> dict:
+    """Per case: each model's resonance (on points not shown unstable, with its errors and stability;
+    comparisons._hb.resonance_of) and whether the two are the same (a Verdict: the paper's "good
+    agreement" of the reduced and full beams, Fig. 4)."""
+    out = {}
+    for i, label in enumerate(labels):
+        res = {m: resonance_of(branches[m][i]) for m in MODELS}
+        out[label] = {**res, "same_resonance": same_resonance(res["reduced"], res["full"], MODELS).to_json()}
+    return out
 
 
 def run(scene, out: Path) -> dict:
@@ -47,9 +60,11 @@ def run(scene, out: Path) -> dict:
     for i, (label, p) in enumerate(cases):
         ax = axes[i // 3][i % 3]
         row = {"case": label}
-        for m in MODELS:
+        for k, m in enumerate(MODELS):
             br, sw = branches[m][i], sweeps[m][i]
-            br.plot(ax, label=f"{m} ({br.dofs} DOF)", colour=MODEL_COLOURS[m])
+            # widest first: the reduced beam lies on the full one (dashes mean unstable here)
+            br.plot(ax, label=f"{m} ({br.dofs} DOF)", colour=MODEL_COLOURS[m],
+                    linewidth=1.0 + 0.9 * (len(MODELS) - 1 - k))
             ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, "." if m == "reduced" else "x", color=MODEL_COLOURS[m], ms=4)
             names = [landed_on(states_at(br, p, m, r), a, per, opts["match"])
                      for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
@@ -91,7 +106,13 @@ def run(scene, out: Path) -> dict:
              "",
              f"Time-domain points not on a stable P1 branch within {100 * opts['match']:g} %: {len(off)} of "
              f"{len(points)} (listed in td_points_by_branch.csv with the branch each landed on).",
-             "", "![hb_fig4_reduced_vs_full.png](hb_fig4_reduced_vs_full.png)"]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"cases": rows, "branches": out_json, "time_domain_points": points,
+             "", "![hb_fig4_reduced_vs_full.png](hb_fig4_reduced_vs_full.png)", "",
+             f"{MODELS[0]} drawn wider, {MODELS[-1]} inside it: where the two coincide, a line within a line."]
+    concl = conclusions([label for label, _ in cases], branches)
+    lines[-4:-4] = ["Same resonance (reduced against full, relative amplitude difference): " + "; ".join(
+        f"{label}: {verdict_text(c['same_resonance'], 100, ' %')}" for label, c in concl.items()) + ". " + notes_line([(f"{m} {label}", branches[m][i]) for m in MODELS
+                                                             for i, (label, _) in enumerate(cases)]), ""]
+    write_text(out / "report.md", "\n".join(lines) + "\n")
+    return {"conclusions": concl, "cases": rows, "branches": out_json, "time_domain_points": points,
             "cost_s": {"harmonic_balance": hb_cost, "time_domain_cpu": td_cost}}
+

@@ -29,13 +29,15 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import _families as fam
-from comparisons._hb import landed_on, on_stable, starts_at, states_at
+from comparisons._hb import (landed_on, notes_line, on_stable, resonance_of, same_resonance, starts_at,
+                             states_at)
 from shroud.analysis.hb import checkpoint, run_hb
 from shroud.base.errors import InputError
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "small_gap_um": 1.0, "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 6000.0, "rpm_to": 14000.0, "td_rpm_count": 17, "harmonics": 7, "samples": 256,
@@ -71,6 +73,22 @@ def full_solid_checkpoints(cases, solids, o) -> list[dict]:
     return out
 
 
+def conclusions(cases, branches: dict, checks: list[dict]) -> dict:
+    """Per case: the beam's and the reduced solid's resonance (on points not shown unstable, with errors and
+    stability: comparisons._hb.resonance_of) and whether they are the same (a Verdict: the paper's "good
+    agreement" of its beam and FE model, Fig. 7); per full-solid checkpoint its stability next to the reduced
+    solid's branch there (True, False, None: undecided or not computed)."""
+    out = {}
+    for k, c in enumerate(cases):
+        beam, solid = resonance_of(branches[LINE][k]), resonance_of(branches[POINTS][k])
+        out[c.label] = {"beam": beam, "solid": solid,
+                        "same_resonance": same_resonance(beam, solid, ("beam", "reduced solid")).to_json(),
+                        "checkpoints": [{"rpm": p["rpm"], "stable": p["stable"],
+                                         "reduced_branch_stable": p["reduced_branch_stable"]}
+                                        for p in checks if p["case"] == c.label]}
+    return out
+
+
 def run(scene, out: Path) -> dict:
     from reference_fe.frequency import basis_error
     from reference_fe.system import reduced_operators
@@ -96,8 +114,9 @@ def run(scene, out: Path) -> dict:
         solid.plot(ax, label=f"{c.label} solid (reduced)", colour=colour, linewidth=0.8)
         ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, "o", ms=3.5, mfc="none", color=colour)
         mine = [p for p in checks if p["case"] == c.label and p["converged"]]
-        for stable, fill, word in ((True, colour, "stable"), (False, "none", "unstable")):
-            these = [p for p in mine if bool(p["stable"]) == stable]
+        for stable, fill, word in ((True, colour, "stable"), (False, "none", "unstable"),
+                                   (None, "0.85", "undecided")):
+            these = [p for p in mine if p["stable"] is stable]
             if these:
                 ax.plot([p["rpm"] for p in these], [p["amplitude_v_L"] * 1e3 for p in these], "D", ms=6,
                         color=colour, mfc=fill, mec="k", label=f"{c.label} full solid (HB checkpoints, {word})")
@@ -115,7 +134,8 @@ def run(scene, out: Path) -> dict:
                      "complete": line.complete and solid.complete})
         curves[c.label] = {LINE: line.to_json(), POINTS: solid.to_json()}
     for ax, title in zip(axes[0], ("(a) initial gaps", "(b) small gap and initial preloads")):
-        ax.set_title(f"{title}\n(beam thick, solid thin, o solid TD, \u25c6/\u25c7 full solid HB stable/unstable)",
+        ax.set_title(f"{title}\n(beam thick, solid thin, o solid TD, \u25c6/\u25c7 full solid HB stable/unstable;"
+                     " dotted: undecided)",
                      fontsize=9)
         ax.legend(fontsize=6, ncol=2)
     save(fig, out / "hb_fig7.png")
@@ -130,6 +150,7 @@ def run(scene, out: Path) -> dict:
             "full_solid_condensation_s": sum(p["linear_s"] for p in checks),
             "full_solid_newton_s": sum(p["start_s"] + p["newton_s"] for p in checks),
             "full_solid_stability_s": sum(p["stability_s"] for p in checks)}
+    concl = conclusions(cases, branches, checks)
     lines = [f"# {scene.title}\n",
              f"Harmonic balance H = {o['harmonics']}, {o['samples']} samples, {o['rpm_from']:g}-{o['rpm_to']:g} r/min; "
              f"the reduced solid on one basis built at {params.speed.rpm:g} r/min. Against the per-speed bases: "
@@ -146,9 +167,13 @@ def run(scene, out: Path) -> dict:
                               ", ".join(f"{x:.0f}" for x in r["beam_folds_rpm"]) or "none",
                               ", ".join(f"{x:.0f}" for x in r["solid_folds_rpm"]) or "none",
                               f"{r['td_on_stable']}/{r['td_points']}") for r in rows]),
+             "", "Same resonance (beam against reduced solid): " + "; ".join(
+                 f"{label}: {c['same_resonance']['answer']}" for label, c in concl.items()) + ". "
+             + notes_line([(f"{m} {c.label}", branches[m][k]) for m in (LINE, POINTS) for k, c in enumerate(cases)]),
              "", "![hb_fig7.png](hb_fig7.png)", "", *checkpoint_report(checks, cost)]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"cases": rows, "branches": curves, "time_domain_points": points, "basis_error": errors, "cost_s": cost,
+    write_text(out / "report.md", "\n".join(lines) + "\n")
+    return {"conclusions": concl, "cases": rows, "branches": curves, "time_domain_points": points,
+            "basis_error": errors, "cost_s": cost,
             "full_solid_checkpoints": checks}
 
 
@@ -173,13 +198,20 @@ def checkpoint_report(checks: list[dict], cost: dict) -> list[str]:
                             "Newton iterations", "condensation (s)", "Newton (s)", "stability (s)"],
                            [(p["case"], f"{p['rpm']:.0f}",
                              f"{p['start_amplitude_v_L'] * 1e6:.3f}" if p["start_amplitude_v_L"] else "-",
-                             f"{p['amplitude_v_L'] * 1e6:.3f}" + ("" if p["converged"] else " (not converged)"),
+                             f"{p['amplitude_v_L'] * 1e6:.3f}" + _newton_note(p),
                              f"{100 * p['difference']:.3f}" if p["difference"] is not None else "-",
                              _word(p["reduced_branch_stable"]), _word(p["stable"]),
                              ", ".join(f"{d}: {m:.4f}" for d, m in p["largest_multiplier"].items()) or "-",
                              p["iterations"], f"{p['linear_s']:.1f}", f"{p['start_s'] + p['newton_s']:.1f}",
                              f"{p['stability_s']:.1f}")
                             for p in checks])]
+
+
+def _newton_note(p: dict) -> str:
+    """What a checkpoint's Newton reached, where short of what was asked (Checkpoint.converged, .short)."""
+    if not p["converged"]:
+        return " (not converged)"
+    return f" (residual {p['residual']:.1e}: short of the tolerance asked)" if p["short"] else ""
 
 
 def _word(stable: bool | None) -> str:

@@ -6,7 +6,7 @@ with its stability (shroud.analysis.hb; stable solid, unstable dashed,
 stability changes marked), over a speed range extended beyond the paper's
 so that the preloads' resonances lie inside it. The resonant speed and
 amplitude over the gap (Fig. 13a-b) are read off the branches (largest P1
-amplitude, stable or not); over the preload (Fig. 13c-d) they are the
+amplitude on the points not shown unstable); over the preload (Fig. 13c-d) they are the
 resonance followed in N0 from touching (N0 = 0) on (shroud.analysis.peak),
 with the branches' peaks as markers (the 1 um gap: its branch's peak). Where the time-domain sweep is run
 (``time_domain``) its points are overlaid and named by the HB state they
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import hb_optimal_preload as peak
-from comparisons._hb import landed_on, on_stable, states_at
+from comparisons._hb import landed_on, notes_line, on_stable, rises, states_at, verdict_text
 from comparisons.hb_gap_preload import cases as fig11_cases
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
@@ -35,6 +35,8 @@ from shroud.base.markdown import markdown_table, seconds
 from shroud.base.tables import write_records
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult
+from shroud.core.verdict import NOT_DECIDED, Verdict
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "values": [0.1, 0.3, 0.5],
@@ -53,6 +55,12 @@ OPTIONS = {
 NO_EFFECT = 0.05        # resonances spread by less than this share across the variants: (almost) no effect
 NEARLY_SAME = 0.10      # optimal preloads or smallest resonant amplitudes spread by less than this share: the same
 LARGE_GAP_UM = 100.0
+NO_EFFECT_REASON = ("5 %: 'hardly affects' as the paper reads it off its curves (Sect. 3.2); margin: the spread's "
+                    "own error, from the two extreme resonances' errors (amplitude: its change at twice the "
+                    "harmonics plus its rise between branch points; speed: half the branch steps around the peak)")
+NEARLY_SAME_REASON = ("10 %: 'nearly the same' / 'unaffected' as the paper reads them (Sects. 3.2-3.3); margin: "
+                      "the spread's own error, from the two extremes' errors (optimal preload: half its bracket of "
+                      "tracked points; amplitude: its change at twice the harmonics)")
 
 
 def check(scene) -> None:
@@ -90,9 +98,12 @@ class Variant:
     sweeps: list[SweepResult] | None
 
     def gap_rows(self) -> list[dict]:
-        """Resonance of every gap branch (Fig. 13a-b): largest P1 amplitude on it, stable or not."""
+        """Resonance of every gap branch (Fig. 13a-b): largest P1 amplitude on its points not shown unstable
+        (HBResult.resonance), with its errors and stability."""
         return [{"variant": self.name, "case": label, "gap_um": value, "rpm": br.resonance["rpm"],
-                 "amplitude_m": br.resonance["amplitude"], "covered": peak_covered(br), "hb_s": br.elapsed_s}
+                 "amplitude_m": br.resonance["amplitude"], "rpm_error": br.resonance["rpm_error"],
+                 "amplitude_error_m": br.resonance["amplitude_error"], "stable": br.resonance["stable"],
+                 "covered": peak_covered(br), "hb_s": br.elapsed_s}
                 for (label, kind, value, _), br in zip(self.cases, self.branches) if kind == "gap"]
 
     def preload_rows(self) -> list[dict]:
@@ -132,6 +143,21 @@ def spread(values: list[float]) -> float:
     return (max(values) - min(values)) / max(values)
 
 
+def spread_verdict(values: list[float], errors: list[float], threshold: float, below, above,
+                   reason: str) -> Verdict:
+    """:func:`spread` of ``values`` against ``threshold``, its margin from the errors of the largest and the
+    smallest value: d[(max - min) / max] = (e_min + e_max min / max) / max, the errors adding (inf: unknown)."""
+    hi, lo = int(np.argmax(values)), int(np.argmin(values))
+    margin = (errors[lo] + errors[hi] * values[lo] / values[hi]) / values[hi]
+    return Verdict.of(spread(values), threshold, margin if np.isfinite(margin) else float("inf"), below, above, reason)
+
+
+def both(a: Verdict, b: Verdict):
+    """The answer of two yes/no verdicts together: True when both are, False when either is, else not decided."""
+    answers = (a.answer, b.answer)
+    return False if False in answers else True if answers == (True, True) else NOT_DECIDED
+
+
 def trend(values: list[float], tolerance: float = 1e-3) -> int:
     """+1 when the last value is larger than the first by more than ``tolerance`` (share), -1 when smaller, 0 else."""
     d = (values[-1] - values[0]) / max(abs(values[0]), 1e-300)
@@ -151,30 +177,44 @@ def conclusions(variants: list[Variant]) -> dict:
     kept = [i for i in range(len(pre[0])) if all(rows[i]["covered"] for rows in pre)]   # branches stopped short: out
     shared = set.intersection(*({r["gap_um"] for r in rows if r["gap_um"] >= LARGE_GAP_UM} for rows in gaps))
     large = [[r for r in sorted(rows, key=lambda r: r["gap_um"]) if r["gap_um"] in shared] for rows in gaps]
-    amp_spread = max((spread([rows[i]["amplitude_m"] for rows in large]) for i in range(len(shared))), default=0.0)
-    rpm_spread = max((spread([rows[i]["rpm"] for rows in large]) for i in range(len(shared))), default=0.0)
+
+    def widest(value: str, error: str) -> Verdict:
+        """The spread verdict of the shared large gap whose values spread most."""
+        found = [spread_verdict([rows[i][value] for rows in large], [rows[i][error] for rows in large], NO_EFFECT,
+                                True, False, NO_EFFECT_REASON) for i in range(len(shared))]
+        return max(found, key=lambda v: v.value, default=Verdict.of(0.0, NO_EFFECT, 0.0, True, False,
+                                                                    NO_EFFECT_REASON))
+    amp_v, rpm_v = widest("amplitude_m", "amplitude_error_m"), widest("rpm", "rpm_error")
+    touching = [{"rpm": float(v.preload.curve.rpm[0]), "rpm_error": 0.0} for v in variants]   # tracked: exact
+    closing = [rises(sorted(rows, key=lambda r: -r["gap_um"]) + [end], "gaps closing down to touching (N0 = 0)")
+               for rows, end in zip(gaps, touching)]
     opt = [v.preload.curve.optimum for v in variants]
     stuck = [v.preload.stuck_from_N0 for v in variants]
     ends = [float(v.preload.curve.amplitude_v_L[-1]) for v in variants]
+    preload_v = spread_verdict([o["N0"] for o in opt], [0.5 * (o["bracket"][1] - o["bracket"][0]) for o in opt],
+                               NEARLY_SAME, True, False, NEARLY_SAME_REASON)
+    minimum_v = spread_verdict([o["amplitude"] for o in opt], [o["amplitude_error"] for o in opt], NEARLY_SAME,
+                               True, False, NEARLY_SAME_REASON)
     out = {
-        "resonant_speed_rises_as_gap_closes": {
-            v.name: bool(np.all(np.diff([r["rpm"] for r in sorted(rows, key=lambda r: -r["gap_um"])]
-                                        + [v.preload.curve.rpm[0]]) > 0)) for v, rows in zip(variants, gaps)},
-        "large_gaps": {"amplitude_spread": amp_spread, "speed_spread": rpm_spread,
-                       "no_effect": bool(amp_spread < NO_EFFECT and rpm_spread < NO_EFFECT)},
+        "resonant_speed_rises_as_gap_closes": {v.name: r.answer for v, r in zip(variants, closing)},
+        "resonant_speed_rises_as_gap_closes_verdict": {v.name: r.to_json() for v, r in zip(variants, closing)},
+        "large_gaps": {"amplitude_spread": amp_v.value, "speed_spread": rpm_v.value, "no_effect": both(amp_v, rpm_v),
+                       "amplitude_spread_verdict": amp_v.to_json(), "speed_spread_verdict": rpm_v.to_json()},
         "preload_cases": {pre[0][i]["case"]: {"speed_trend": trend([rows[i]["rpm"] for rows in pre]),
                                               "amplitude_trend": trend([rows[i]["amplitude_m"] for rows in pre])}
                           for i in kept},
         "preload_cases_left_out": [pre[0][i]["case"] for i in range(len(pre[0])) if i not in kept],
         "optimal_preload_N": {v.name: o["N0"] for v, o in zip(variants, opt)},
         "optimal_bracket_N": {v.name: o["bracket"] for v, o in zip(variants, opt)},
+        "optimal_stable": {v.name: o["stable"] for v, o in zip(variants, opt)},
         "optimum_inside": {v.name: not o["at_end"] for v, o in zip(variants, opt)},
-        "optimal_preload_spread": spread([o["N0"] for o in opt]),
-        "optimal_preload_unaffected": bool(spread([o["N0"] for o in opt]) < NEARLY_SAME),
-        "optimal_preload_trend": (0 if spread([o["N0"] for o in opt]) < NEARLY_SAME
-                                  else trend([o["N0"] for o in opt])),
-        "minimum_amplitude_spread": spread([o["amplitude"] for o in opt]),
-        "minimum_amplitude_nearly_same": bool(spread([o["amplitude"] for o in opt]) < NEARLY_SAME),
+        "optimal_preload_spread": preload_v.value,
+        "optimal_preload_unaffected": preload_v.answer,
+        "optimal_preload_unaffected_verdict": preload_v.to_json(),
+        "optimal_preload_trend": ({True: 0, False: trend([o["N0"] for o in opt])}.get(preload_v.answer, NOT_DECIDED)),
+        "minimum_amplitude_spread": minimum_v.value,
+        "minimum_amplitude_nearly_same": minimum_v.answer,
+        "minimum_amplitude_nearly_same_verdict": minimum_v.to_json(),
         "stuck_from_N0": {v.name: s for v, s in zip(variants, stuck)},
         "stuck_resonance_same": bool(all(s is not None for s in stuck) and spread(ends) < 1e-4),
         "peak_tracking_complete": bool(all(v.preload.curve.complete for v in variants)),
@@ -182,8 +222,13 @@ def conclusions(variants: list[Variant]) -> dict:
     return out
 
 
-def _trend_word(t: int, up: str = "rises", down: str = "falls") -> str:
-    return {1: up, -1: down, 0: "stays the same"}[t]
+def _trend_word(t, up: str = "rises", down: str = "falls") -> str:
+    return {1: up, -1: down, 0: "stays the same"}.get(t, NOT_DECIDED)
+
+
+def _answer_word(answer, yes: str = "yes", no: str = "no") -> str:
+    """A verdict's answer (True, False or not decided) in words."""
+    return yes if answer is True else no if answer is False else NOT_DECIDED
 
 
 def plot(out: Path, variants: list[Variant]) -> list[str]:
@@ -201,7 +246,8 @@ def plot(out: Path, variants: list[Variant]) -> list[str]:
         axes[i][1].plot(c.rpm, c.amplitude_v_L * 1e3, "k-", lw=1.2, label="resonance over N0")
         small = next(label for label, kind, _, _ in v.cases if kind == "preload")
         for j, what in enumerate(("initial gaps", f"{small} and preloads")):
-            axes[i][j].set_title(f"{v.name}: {what}" + (" (HB -, --; time domain .)" if v.sweeps else ""))
+            axes[i][j].set_title(f"{v.name}: {what}" + (" (HB stable -, unstable --, undecided :x; time domain .)"
+                                                         if v.sweeps else ""))
             axes[i][j].legend(ncol=2, fontsize=7)
     files = [save(fig, out / "hb_branches.png").name]
     fig, axes = figure(2, 2, width=10.0, height=7.0)
@@ -262,10 +308,13 @@ def report(scene, variants: list[Variant], concl: dict, points: list[dict], file
             + (f", time domain {seconds(td_s[n])} CPU" if n in td_s else "") for n in names) + ".\n",
         "| paper | here |", "|---|---|",
         f"| gaps >= {LARGE_GAP_UM:g} um: {describe} has (almost) no effect on the resonant speed and amplitude | "
-        f"{'yes' if lg['no_effect'] else 'no'}: spread across the variants {100 * lg['speed_spread']:.2f} % "
-        f"(speed), {100 * lg['amplitude_spread']:.2f} % (amplitude) |",
+        f"{_answer_word(lg['no_effect'])}: spread across the variants, speed "
+        f"{verdict_text(lg['speed_spread_verdict'], 100, ' %')}, amplitude "
+        f"{verdict_text(lg['amplitude_spread_verdict'], 100, ' %')} |",
         "| the resonant speed rises as the gap closes (down to touching, N0 = 0) | " + "; ".join(
-            f"{n}: {'yes' if ok else 'no'}" for n, ok in concl["resonant_speed_rises_as_gap_closes"].items()) + " |",
+            f"{n}: {_answer_word(ok)} (smallest rise "
+            f"{verdict_text(concl['resonant_speed_rises_as_gap_closes_verdict'][n], unit=' r/min')})"
+            for n, ok in concl["resonant_speed_rises_as_gap_closes"].items()) + " |",
         f"| 1 um gap or a preload: the resonant speed as {describe} grows | " + "; ".join(
             f"{c}: {_trend_word(t['speed_trend'])}" for c, t in pre.items()) + " |",
         f"| ... the resonant amplitude as {describe} grows | " + "; ".join(
@@ -275,10 +324,11 @@ def report(scene, variants: list[Variant], concl: dict, points: list[dict], file
                         f"at the end ({concl['optimal_preload_N'][n]:g} N)") for n in names)
         + f": it {_trend_word(concl['optimal_preload_trend'])} as {describe} grows; spread across the variants "
           f"{100 * concl['optimal_preload_spread']:.1f} % ("
-          f"{'unaffected: within' if concl['optimal_preload_unaffected'] else 'affected: beyond'} {100 * NEARLY_SAME:g} %) |",
+          f"{_answer_word(concl['optimal_preload_unaffected'], 'unaffected', 'affected')}: "
+          f"{verdict_text(concl['optimal_preload_unaffected_verdict'], 100, ' %')}) |",
         f"| smallest resonant amplitude | spread {100 * concl['minimum_amplitude_spread']:.1f} % across the variants "
-        f"({'nearly the same: within' if concl['minimum_amplitude_nearly_same'] else 'not the same: beyond'} "
-        f"{100 * NEARLY_SAME:g} %) |",
+        f"({_answer_word(concl['minimum_amplitude_nearly_same'], 'nearly the same', 'not the same')}: "
+        f"{verdict_text(concl['minimum_amplitude_nearly_same_verdict'], 100, ' %')}) |",
         "| stuck through the resonance (the resonance no longer changes with N0) from | " + "; ".join(
             f"{n}: " + (f"{s:.1f} N" if s is not None else f"not within {opts['n0_to']:g} N") for n, s in stuck.items())
         + ("; there every variant has the same resonance" if concl["stuck_resonance_same"] else "") + " |",
@@ -306,6 +356,9 @@ def report(scene, variants: list[Variant], concl: dict, points: list[dict], file
             [f"{v.name} peak tracking: {v.preload.curve.stopped}" for v in variants if not v.preload.curve.complete]
             + [f"{v.name} {c[0]}: {b.stopped}" for v in variants for c, b in zip(v.cases, v.branches)
                if not b.complete])]
+    branch_notes = notes_line([(f"{v.name} {c[0]}", b) for v in variants for c, b in zip(v.cases, v.branches)])
+    if branch_notes:
+        lines += ["", branch_notes]
     lines += ["", *[f"![{f}]({f})" for f in files]]
     return "\n".join(lines) + "\n"
 
@@ -325,8 +378,8 @@ def run_variants(scene, out: Path, variants: dict, describe: str, explain=None) 
     write_records(out / "resonances_over_gap.csv", [r for v in done for r in v.gap_rows()])
     write_records(out / "resonances_over_preload.csv", [r for v in done for r in v.preload_rows()])
     lines, explained = explain(done, concl) if explain is not None else ([], None)
-    (out / "report.md").write_text(report(scene, done, concl, points, files, describe)
-                                   + "".join(line + "\n" for line in lines))
+    write_text(out / "report.md", report(scene, done, concl, points, files, describe)
+                                  + "".join(line + "\n" for line in lines))
     return {"conclusions": concl, **({"explanation": explained} if explained is not None else {}),
             "variants": {v.name: {"gaps": v.gap_rows(), "preloads": v.preload_rows(),
                                   "peak_curve": v.preload.curve.to_json(),

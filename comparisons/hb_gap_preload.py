@@ -10,8 +10,17 @@ landed on: a stable P1 branch (the lower or upper one where several
 coexist), or none (a run still drifting, or a P3/P5/... state the P1
 curves cannot hold; the Neimark-Sacker and period-doubling marks say
 where those begin). The resonance of each case (largest P1 amplitude on
-the branch, stable or not) and the optimal preload are read off the
+the branch's points not shown unstable) and the optimal preload are read off the
 branches; both methods' costs are reported side by side.
+
+With ``seed_from_sweep`` the study also finds the branches the continuation
+from ``rpm_from`` misses (isolated loops, stretches beyond a corner it
+stepped over) from its own time-domain sweep: each P1 point of the sweep not
+on a stable stretch of the continued branch seeds one
+(shroud.analysis.hb.run_hb_family; the seed's state is the run's own, from
+rest over ``time.periods``, as the sweep ran it), and the points are named by
+every branch found. The conclusions say how many branches each case has and
+from which seeds.
 """
 
 from __future__ import annotations
@@ -20,12 +29,13 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._hb import landed_on, on_stable, states_at
-from shroud.analysis.hb import run_hb
+from comparisons._hb import landed_on, notes_line, on_stable, resonance_of, rises, states_at, verdict_text
+from shroud.analysis.hb import run_hb, run_hb_family
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
 from shroud.base.tables import write_records
+from shroud.base.outputs import write_text
 
 OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
@@ -36,6 +46,7 @@ OPTIONS = {
     "harmonics": 10, "samples": 512,
     "model": "reduced",
     "match": 0.01,                 # a time-domain point is on a branch within this relative difference
+    "seed_from_sweep": False,      # continue a branch through each P1 point of the sweep the first one misses
 }
 
 
@@ -49,6 +60,53 @@ def cases(params, opts) -> list[tuple[str, str, float, object]]:
     return out
 
 
+def seeded(params, opts, sweep, branch):
+    """The family of ``branch`` (the one continued from rpm_from) grown from the sweep's P1 points it does not
+    hold on a stable stretch: their speeds are the seeds, their states the runs' own (the scene's periods)."""
+    seeds = [r for r, a, per in zip(sweep.rpm, sweep.amplitude_v_L, sweep.period)
+             if per == 1 and not on_stable(landed_on(states_at(branch, params, opts["model"], r), a, per,
+                                                     opts["match"]))]
+    return run_hb_family(params, opts["model"], opts["rpm_from"], opts["rpm_to"], seeds,
+                         harmonics=int(opts["harmonics"]), samples=int(opts["samples"]),
+                         periods=params.time.periods, match=opts["match"], continued=branch)
+
+
+def branches_found(family) -> dict:
+    """How many branches a case has and the seeds they came from (data for the conclusions)."""
+    return {"branches": len(family.branches), "seeds_rpm": [s.rpm for s in family.seeds],
+            "new_branches_from_rpm": [s.rpm for s in family.seeds if s.outcome == "new branch"],
+            "seed_outcomes": [s.to_json() for s in family.seeds]}
+
+
+def seeds_text(found: dict | None) -> str:
+    """The report's sentence on the branches found (seed_from_sweep), or on their not being sought."""
+    if found is None:
+        return ("Branches: the one continued from the range's first speed per case (seed_from_sweep off: "
+                "branches it misses are not sought).")
+    return ("Branches (the continued one, then one through each P1 point of the time-domain sweep it does not "
+            "hold on a stable stretch): " + "; ".join(
+                f"{label} {f['branches']}" + (f" (new from {', '.join(f'{r:.0f}' for r in f['new_branches_from_rpm'])}"
+                                               " r/min)" if f["new_branches_from_rpm"] else "")
+                + (f", {len(f['seeds_rpm'])} seeds" if f["seeds_rpm"] else "") for label, f in found.items()) + ".")
+
+
+def conclusions(cs, branches, best: dict | None, families=None) -> dict:
+    """What the study concludes, as data: every case's resonance (on points not shown unstable, with its
+    errors and stability: comparisons._hb.resonance_of); whether the resonant speed rises as the gap closes
+    (the gaps from the largest down to the small gap: a Verdict, paper Sect. 3.1); the optimal preload read
+    off the branches (N0, N, with its resonance's stability; None when no preload peaks inside the range);
+    with ``families`` (seed_from_sweep) how many branches each case has and from which seeds."""
+    res = {label: resonance_of(br) for (label, _, _, _), br in zip(cs, branches)}
+    closing = [res[label] for label, kind, value, _ in sorted(cs, key=lambda c: -abs(c[2]) if c[1] == "gap" else 0.0)
+               if kind == "gap" or value < 0]
+    out = {"resonances": res,
+           "resonant_speed_rises_as_gap_closes": rises(closing, "gaps closing down to the small gap").to_json(),
+           "optimal_preload": None if best is None else {"N0": best["value"], "stable": res[best["case"]]["stable"]}}
+    if families is not None:
+        out["branches_found"] = {label: branches_found(f) for (label, _, _, _), f in zip(cs, families)}
+    return out
+
+
 def run(scene, out: Path) -> dict:
     opts, params = scene.options, scene.params
     cs = cases(params, opts)
@@ -56,14 +114,23 @@ def run(scene, out: Path) -> dict:
                        samples=int(opts["samples"])) for _, _, _, p in cs]
     rpms = np.linspace(opts["rpm_from"], opts["rpm_to"], int(opts["td_rpm_count"]))
     sweeps = run_sweeps([p for _, _, _, p in cs], opts["model"], rpms)
+    families = ([seeded(p, opts, sw, br) for (_, _, _, p), sw, br in zip(cs, sweeps, branches)]
+                if opts["seed_from_sweep"] else None)
     fig, axes = figure(1, 2, width=10.0, height=4.2)
     rows, points, curves = [], [], {}
+    in_panel = [kind for _, kind, _, _ in cs]
     for i, ((label, kind, value, p), br, sw) in enumerate(zip(cs, branches, sweeps)):
         ax = axes[0][0 if kind == "gap" else 1]
         colour = f"C{i % 10}"
-        br.plot(ax, label=label, colour=colour)
+        # widest first: a curve that lies on an earlier one (the preloaded blade stuck alike at 25 and
+        # 100 N) shows as a line within a line; dashes mean unstable here, so they cannot tell them apart
+        later = in_panel[i + 1:].count(kind)
+        br.plot(ax, label=label, colour=colour, linewidth=1.0 + 0.9 * later)
+        found = families[i].branches if families else [br]
+        for extra in found[1:]:
+            extra.plot(ax, colour=colour, linewidth=1.0)
         ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, ".", color=colour, ms=4)
-        names = [landed_on(states_at(br, p, opts["model"], r), a, per, opts["match"])
+        names = [landed_on([s for b in found for s in states_at(b, p, opts["model"], r)], a, per, opts["match"])
                  for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
         on = sum(on_stable(n) for n in names)
         for r, a, per, n in zip(sw.rpm, sw.amplitude_v_L, sw.period, names):
@@ -75,18 +142,22 @@ def run(scene, out: Path) -> dict:
                      "stability_changes": [dict(b, rpm=float(b["rpm"]), amplitude=float(b["amplitude"]))
                                            for b in br.bifurcations],
                      "hb_points": len(br.rpm), "hb_complete": br.complete, "hb_stopped": br.stopped,
-                     "hb_s": br.elapsed_s, "td_cpu_s": sw.cpu_s, "td_wall_s": sw.elapsed_s,
+                     "hb_s": br.elapsed_s + (families[i].elapsed_s if families else 0.0), "hb_branches": len(found),
+                     "td_cpu_s": sw.cpu_s, "td_wall_s": sw.elapsed_s,
                      "spectral_tail": br.spectral_tail})
         curves[label] = br.to_json()
+        if families:
+            curves[label]["seeded_branches"] = [b.to_json() for b in found[1:]]
     for j, title in enumerate(("(a) initial gaps", "(b) 1 um gap and initial preloads")):
         ax = axes[0][j]
-        ax.set_title(f"{title}: HB stable -, unstable --; time domain .")
+        ax.set_title(f"{title}: HB stable -, unstable --, undecided :x; time domain .")
         ax.legend(ncol=2)
     save(fig, out / "hb_fig11.png")
     pre = [r for r in rows if r["kind"] == "preload" and r["value"] >= 0
            and opts["rpm_from"] < r["hb_resonance_rpm"] < opts["rpm_to"]]      # peaks inside the range only
     best = min(pre, key=lambda r: r["hb_resonance_amplitude_m"]) if pre else None
     write_records(out / "td_points_by_branch.csv", points)
+    concl = conclusions(cs, branches, best, families)
     hb_total, td_total = sum(r["hb_s"] for r in rows), sum(r["td_cpu_s"] for r in rows)
     off = [p for p in points if not on_stable(p["branch"])]
     lines = [f"# {scene.title}\n",
@@ -115,8 +186,14 @@ def run(scene, out: Path) -> dict:
              *(markdown_table(["case", "rpm", "amplitude (mm)", "period", "landed on"],
                               [(p["case"], f"{p['rpm']:.0f}", p["amplitude_m"] * 1e3, p["period"] or "-",
                                 p["branch"]) for p in off]).splitlines() if off else []),
-             "", "![hb_fig11.png](hb_fig11.png)"]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"cases": rows, "branches": curves, "time_domain_points": points,
+             "", seeds_text(concl.get("branches_found")),
+             "", "Resonant speed rises as the gap closes (its smallest rise from one gap to the next): "
+             + verdict_text(concl["resonant_speed_rises_as_gap_closes"], unit=" r/min") + ". "
+             + notes_line([(label, br) for (label, _, _, _), br in zip(cs, branches)]),
+             "", "![hb_fig11.png](hb_fig11.png)", "",
+             "Each panel's curves are drawn widest first: where two coincide (a preloaded blade stuck all "
+             "period responds alike at every preload), the later one runs inside the earlier one."]
+    write_text(out / "report.md", "\n".join(lines) + "\n")
+    return {"conclusions": concl, "cases": rows, "branches": curves, "time_domain_points": points,
             "optimal_preload_N": best["value"] if best else None,
             "cost_s": {"harmonic_balance_wall": hb_total, "time_domain_cpu": td_total}}

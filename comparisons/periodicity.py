@@ -43,6 +43,7 @@ from shroud.core import floquet, signals
 from shroud.core import harmonic_balance as hb
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult, TransientResult
+from shroud.base.outputs import open_replacing, write_text
 
 OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0, 50.0],
            "plot_periods": 20,
@@ -57,7 +58,11 @@ OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0,
            # where the start is easy) to the band's end, with its Floquet multipliers (shroud.analysis.hb)
            "hb": True, "hb_rpm_from": 20000.0, "harmonics": 10, "samples": 512,
            "match": 0.01,        # a time-domain P1 point is on an HB state within this relative amplitude
-           "margin": 0.01,       # |multiplier| within this of 1: a verdict only as good as the law's sampling
+           # a point without P1 is read against a P1 state only within this relative amplitude: 1.5 times the
+           # farthest measured, 9.8 % (this scene's quick map: gap 1 um, mu 0.5, 23375 r/min, no period, beside
+           # its Neimark-Sacker P1 state); the 8 non-P1 points of the 1 um gap sweep at mu 0.3 lie 0.7-6.1 %
+           # from theirs (docs/hb-stability.md)
+           "near": 0.15,
            # where a time-domain point is on no state of the branch: Newton from these multiples of the
            # contact-free linear solution at that speed finds the coexisting P1 states the branch misses
            "hb_seeds": [2.0, 3.0, 5.0, 8.0, 12.0, 20.0],
@@ -89,24 +94,26 @@ class Confirmation:
 
 @dataclass(frozen=True)
 class HBState:
-    """One P1 state by harmonic balance at one speed of the map: its v_L amplitude (m), Floquet verdict, the
-    largest |multiplier|, how that multiplier lies (``kind``: "fold" real > 0, "period-doubling" real < 0,
+    """One P1 state by harmonic balance at one speed of the map: its v_L amplitude (m), Floquet verdict (True,
+    False, None: within ``error``, the largest |multiplier|'s own, of 1), the largest |multiplier|, how that multiplier lies (``kind``: "fold" real > 0, "period-doubling" real < 0,
     "Neimark-Sacker" a complex pair, whose angle gives ``n`` = 2 pi / |arg|) and where Newton started:
     "branch" (the continued branch's crossing of the speed) or "seeded" (a multiple of the linear solution)."""
 
     amplitude: float
-    stable: bool
+    stable: bool | None
     largest: float
     kind: str
     n: float | None
     source: str
     X: np.ndarray | None = field(default=None, repr=False, compare=False)   # harmonic coefficients
+    error: float = floquet.MULTIPLIER_FLOOR
 
     def describe(self) -> str:
         how = {"fold": "real > 0", "period-doubling": "real < 0",
                "Neimark-Sacker": f"complex pair, n ~ {self.n:.1f}" if self.n else "complex pair"}[self.kind]
-        return (f"{self.amplitude * 1e6:.2f} um {'stable' if self.stable else 'unstable'} ({self.source}; "
-                f"|mu| {self.largest:.3f}, {how})")
+        word = {True: "stable", False: "unstable", None: "undecided"}[self.stable]
+        return (f"{self.amplitude * 1e6:.2f} um {word} ({self.source}; "
+                f"|mu| {self.largest:.3f} +- {self.error:.3f}, {how})")
 
 
 @dataclass(frozen=True)
@@ -137,14 +144,14 @@ class PeriodicityResult:
     hb_cases: list[HBCase] = ()
     band: tuple[float, float] = (0.0, 0.0)
     match: float = 0.01
-    margin: float = 0.01
+    near: float = 0.15
     search_mu: float = paper.P10_MU
     probes: list[dict] = ()
 
     def readings(self) -> list[dict]:
         """Every map point read against the HB states at its speed (:func:`reading`)."""
         by_label = dict(self.period_map)
-        return [dict(case=c.label, rpm=float(r), **reading(per, amp, sts, self.match, self.margin))
+        return [dict(case=c.label, rpm=float(r), **reading(per, amp, sts, self.match, self.near))
                 for c in self.hb_cases
                 for r, per, amp, sts in zip(self.map_rpm, by_label[c.label].period,
                                             by_label[c.label].amplitude_v_L, c.states)]
@@ -282,8 +289,8 @@ class _Orbits:
             return None
         d = self.details(sol.X, rpm)
         kind, n = floquet.crossing(d["multipliers"])
-        return HBState(amplitude=d["amplitude_v_L"], stable=bool(d["stable"]),
-                       largest=float(np.abs(d["multipliers"]).max()), kind=kind, n=n, source=source, X=sol.X)
+        return HBState(amplitude=d["amplitude_v_L"], stable=d["stable"], largest=float(np.abs(d["multipliers"]).max()),
+                       kind=kind, n=n, source=source, X=sol.X, error=float(d["multiplier_error"]))
 
     def branch_from(self, X: np.ndarray, rpm_from: float, rpm_to: float, points: int) -> HBResult:
         """The branch through the state ``X`` at ``rpm_from``, continued to ``rpm_to`` as run_hb continues,
@@ -335,19 +342,20 @@ def hb_case(label: str, params, rpm_from: float, rpm_to: float, td: SweepResult,
 def unstable_kinds(case: HBCase, band: tuple[float, float]) -> list[str]:
     """Kinds of the largest multiplier at the continued branch's unstable points inside ``band`` (r/min)."""
     return sorted({k for (k, _), r, s in zip(case.branch.critical, case.branch.rpm, case.branch.stable)
-                   if not s and band[0] <= r <= band[1]})
+                   if s is False and band[0] <= r <= band[1]})
 
 
 def unstable_stretches(branch: HBResult) -> list[dict]:
-    """Contiguous unstable stretches of a branch: from / to (r/min, halfway to the stable neighbours), the
-    kinds of their largest multipliers, the range of n = 2 pi / |arg mu| of complex ones, the largest |mu|."""
+    """Contiguous unstable stretches of a branch (points shown unstable, beyond their multipliers' error):
+    from / to (r/min, halfway to the neighbours), the kinds of their largest multipliers, the range of
+    n = 2 pi / |arg mu| of complex ones, the largest |mu|."""
     out, i, m, kinds = [], 0, len(branch.rpm), branch.critical
     while i < m:
-        if branch.stable[i]:
+        if branch.stable[i] is not False:
             i += 1
             continue
         j = i
-        while j + 1 < m and not branch.stable[j + 1]:
+        while j + 1 < m and branch.stable[j + 1] is False:
             j += 1
         r = branch.rpm
         ns = [k[1] for k in kinds[i:j + 1] if k[1] is not None]
@@ -360,32 +368,39 @@ def unstable_stretches(branch: HBResult) -> list[dict]:
     return out
 
 
-def reading(period, amplitude: float, states: list[HBState], match: float, margin: float) -> dict:
+def reading(period, amplitude: float, states: list[HBState], match: float, near: float) -> dict:
     """A time-domain point (period, amplitude m) read against the P1 states HB finds at its speed.
 
     The state it is read against is the nearest in amplitude (log ratio). A P1 point agrees when a stable
-    state lies within ``match``; a point without P1 (any other period, or none up to P10) agrees when
-    its nearest state is unstable (the run could not stay on it). A disagreement whose state has its
-    largest |multiplier| within ``margin`` of 1 is "marginal": the sampled law decides it only to ~1 %.
+    state lies within ``match``; it is "marginal" when only states of undecided stability (|multiplier|
+    within its own error of 1) do. A point without P1 (any other period, or none up to P10) is read only
+    against a state within ``near`` of it: it agrees when that state is unstable (the run could not stay
+    on it), is marginal when undecided; with no P1 state within ``near`` the verdict is "no P1 state
+    nearby" (an unstable state far away explains nothing).
     """
     out = {"period": period, "amplitude_m": float(amplitude), "states": [st.describe() for st in states],
-           "stable_at_speed": any(st.stable for st in states)}
+           "stable_at_speed": any(st.stable is True for st in states)}
     if not states or not np.isfinite(amplitude) or amplitude <= 0:
         return {**out, "verdict": "no HB state", "nearest": None, "why": "no P1 state found at this speed"}
-    near = min(states, key=lambda st: abs(np.log(st.amplitude / amplitude)))
-    out["nearest"] = near.describe()
-    out["kind"], out["n"] = (near.kind, near.n) if not near.stable else ("", None)
+    closest = min(states, key=lambda st: abs(np.log(st.amplitude / amplitude)))
+    out["nearest"] = closest.describe()
+    out["kind"], out["n"] = (closest.kind, closest.n) if closest.stable is not True else ("", None)
     if period == 1:
-        on = [st for st in states if st.stable and abs(st.amplitude / amplitude - 1) <= match]
+        within = [st for st in states if abs(st.amplitude / amplitude - 1) <= match]
+        on = [st for st in within if st.stable is True]
         if on:
             return {**out, "verdict": "agree", "why": f"on the stable P1 state {on[0].describe()}"}
-        verdict = "marginal" if not near.stable and near.largest <= 1 + margin else "disagree"
+        verdict = "marginal" if any(st.stable is None for st in within) else "disagree"
         return {**out, "verdict": verdict,
-                "why": f"P1 run on no stable HB state within {100 * match:g} %; nearest {near.describe()}"}
-    if not near.stable:
-        return {**out, "verdict": "agree", "why": f"nearest P1 state unstable: {near.describe()}"}
-    verdict = "marginal" if near.largest >= 1 - margin else "disagree"
-    return {**out, "verdict": verdict, "why": f"nearest P1 state stable: {near.describe()}"}
+                "why": f"P1 run on no stable HB state within {100 * match:g} %; nearest {closest.describe()}"}
+    if abs(closest.amplitude / amplitude - 1) > near:
+        return {**out, "verdict": "no P1 state nearby",
+                "why": f"no P1 state within {100 * near:g} %; nearest {closest.describe()}"}
+    if closest.stable is False:
+        return {**out, "verdict": "agree", "why": f"nearest P1 state unstable: {closest.describe()}"}
+    verdict = "marginal" if closest.stable is None else "disagree"
+    return {**out, "verdict": verdict, "why": f"nearest P1 state {'undecided' if verdict == 'marginal' else 'stable'}: "
+                                              f"{closest.describe()}"}
 
 
 def probe(params, opts, readings: list[dict]) -> list[dict]:
@@ -431,7 +446,7 @@ def compute(scene, out: Path) -> PeriodicityResult:
     confirmed = confirm(params, opts["confirm_points"], opts["search_periods"]) if opts["confirm_points"] else []
     result = PeriodicityResult(runs=runs, map_rpm=rpms, period_map=search, confirmed=confirmed, hb_cases=hb_cases,
                                band=(float(opts["search_rpm_from"]), float(opts["search_rpm_to"])),
-                               match=float(opts["match"]), margin=float(opts["margin"]),
+                               match=float(opts["match"]), near=float(opts["near"]),
                                search_mu=float(opts["search_mu"]))
     return dataclasses.replace(result, probes=probe(params, opts, result.readings())) if hb_cases else result
 
@@ -486,7 +501,7 @@ def plot(result: PeriodicityResult, scene, out: Path) -> list[Path]:
 
 KIND_MARKS = {"Neimark-Sacker": ("^", "tab:red"), "period-doubling": ("s", "tab:blue"), "fold": ("o", "tab:gray")}
 VERDICT_COLOURS = {"agree": "#9fd89f", "predicted": "#8ecae6", "disagree": "#f08080", "marginal": "#f5d76e",
-                   "no HB state": "#cccccc"}
+                   "no HB state": "#cccccc", "no P1 state nearby": "#e0e0e0"}
 MULTIPLIER_AXIS_TOP = 1.5    # the |multiplier| panels stop here (saddle branches reach 2-4)
 
 
@@ -515,8 +530,8 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
         sw = by_label[c.label]
         for ax_ in (ax, axm):
             ax_.axvspan(lo, hi, color="0.93", zorder=0)
-        c.branch.plot(ax, label="HB P1 branch, continued from below (stable -, unstable --)", colour="k",
-                      scale=1e6, lw=1.0)
+        c.branch.plot(ax, label="HB P1 branch, continued from below (stable -, unstable --, undecided :x)",
+                      colour="k", scale=1e6, lw=1.0)
         for k, br in enumerate(c.seeded):
             br.plot(ax, label="HB P1 branch through a seeded state" if k == 0 else None, colour="tab:purple",
                     scale=1e6, lw=1.0)
@@ -535,12 +550,16 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
         for br, colour in [(c.branch, "k")] + [(b, "tab:purple") for b in c.seeded]:
             axm.plot(br.rpm, br.max_multiplier, "-", color=colour, lw=0.9)
             for kind, (mark, col) in KIND_MARKS.items():
-                sel = [i for i, ((kd, _), s) in enumerate(zip(br.critical, br.stable)) if kd == kind and not s]
+                sel = [i for i, ((kd, _), s) in enumerate(zip(br.critical, br.stable)) if kd == kind and s is False]
                 if sel:
                     axm.plot(br.rpm[sel], br.max_multiplier[sel], mark, color=col, ms=4, mfc="none",
                              label=f"unstable: {kind}" + (" (real > 1)" if kind == "fold" else ""))
+            undecided = np.flatnonzero(br.uncertain)
+            if undecided.size:
+                axm.plot(br.rpm[undecided], br.max_multiplier[undecided], "o", color="goldenrod", ms=4, mfc="none",
+                         label="undecided: |mu| within its error of 1")
         axm.axhline(1.0, color="0.3", lw=0.8)
-        for y in (1 - result.margin, 1 + result.margin):
+        for y in (1 - floquet.MULTIPLIER_FLOOR, 1 + floquet.MULTIPLIER_FLOOR):
             axm.axhline(y, color="0.5", lw=0.6, ls=":")
         top = max([float(b.max_multiplier.max()) for b in (c.branch, *c.seeded) if len(b.rpm)] or [1.0])
         if top > MULTIPLIER_AXIS_TOP:
@@ -548,7 +567,7 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
             axm.text(0.99, 0.97, f"off scale: up to {top:.2f}", transform=axm.transAxes, ha="right", va="top",
                      fontsize=7)
         ns = [s["n_range"] for s in c.stretches() if s["n_range"]]
-        axm.set_title("largest |Floquet multiplier| (1 +- margin dotted)"
+        axm.set_title("largest |Floquet multiplier| (1 +- its least error dotted)"
                       + (f"; NS pair: n ~ {min(n[0] for n in ns):.1f}-{max(n[1] for n in ns):.1f}" if ns else ""))
         axm.set_xlabel("speed (r/min)")
         axm.set_ylabel("|mu| max")
@@ -576,7 +595,7 @@ def plot_hb(result: PeriodicityResult, scene, out: Path) -> list[Path]:
     ax.set_xlabel("speed (r/min)")
     ax.set_title(f"mu = {result.search_mu:g}: period found by the time domain (text; * HB has no stable P1 at "
                  "that speed)\ngreen: P1 on a stable HB P1 state; blue: no P1, HB's nearest P1 state unstable;\n"
-                 "red: HB disagrees; yellow: |mu| within the margin of 1",
+                 "red: HB disagrees; yellow: |mu| within its error of 1; light grey: no P1 state nearby",
                  fontsize=8)
     paths.append(save(fig, out / "period_map_vs_hb.png"))
     return paths
@@ -618,7 +637,9 @@ def report_hb(result: PeriodicityResult, scene) -> list[str]:
              "solution, and the states so found at the first such speed are continued over the band too "
              "(coexisting branches, 'seeded'). Each time-domain point is read against the P1 state nearest to "
              "it in amplitude: a P1 point agrees when a stable state lies within the match, a point without P1 "
-             "when its nearest state is unstable.\n",
+             f"when its nearest state is unstable and within {100 * result.near:g} % of it (else: no P1 state "
+             "nearby). A state whose largest |multiplier| lies within its own error of 1 (sampling, harmonic "
+             "truncation) is undecided, and a point read against it marginal.\n",
              "| what | measured |", "|---|---|",
              f"| time-domain points without P1 whose nearest HB P1 state is unstable | "
              f"{pct(c['td_non_p1_on_unstable_p1'], c['td_non_p1'])} |",
@@ -727,17 +748,17 @@ def report(result: PeriodicityResult, scene) -> str:
 
 
 def write_csv(result: PeriodicityResult, out: Path) -> None:
-    with open(out / "periods.csv", "w", newline="") as fh:
+    with open_replacing(out / "periods.csv") as fh:
         csv.writer(fh).writerows([("mu", "case", "period", "amplitude_v_L_mm", "peak_N1", "peak_Ff1", "time"),
                                   *_case_rows(result.runs)])
-    with open(out / "period_map.csv", "w", newline="") as fh:
+    with open_replacing(out / "period_map.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["case", "rpm", "period", "amplitude_v_L_m"])
         for label, sw in result.period_map:
             for k, r in enumerate(result.map_rpm):
                 w.writerow([label, r, sw.period[k] or "", sw.amplitude_v_L[k]])
     if result.hb_cases:
-        with open(out / "hb_readings.csv", "w", newline="") as fh:
+        with open_replacing(out / "hb_readings.csv") as fh:
             w = csv.writer(fh)
             w.writerow(["case", "rpm", "td_period", "td_amplitude_v_L_m", "verdict", "hb_stable_p1_at_speed",
                         "nearest_hb_state", "hb_states"])
@@ -752,5 +773,5 @@ def run(scene, out: Path) -> dict:
     plot(result, scene, out)
     if result.hb_cases:
         plot_hb(result, scene, out)
-    (out / "report.md").write_text(report(result, scene))
+    write_text(out / "report.md", report(result, scene))
     return result.to_json()

@@ -116,8 +116,26 @@ def grid(spec: MeshSpec) -> tuple[int, int, int, int, int]:
     return n_v, n_w, n_end, n_x, n_t
 
 
+# Cells this many times longer than thick, measured here on the blade (5 mm cells): at 100 (blade.thickness
+# 0.1 mm) the modes solve as usual; at 10^4 (1 um) MUMPS stops with FACTOR_OUTMEMORY at 0.7 GB (the
+# stiffness across a cell exceeds that along it by the aspect squared, and pivoting runs away).
+MAX_CELL_ASPECT = 100.0
+
+
+def cell_aspect(spec: MeshSpec) -> float:
+    """The blade's cells' longest side (chord or span) over their thickness."""
+    n_v, n_w, _, n_x, _ = grid(spec)
+    return max(spec.width / n_w, spec.length / n_x) / (spec.thickness / n_v)
+
+
 def check_hex_geometry(spec: MeshSpec) -> None:
     """Raise InputError for a solid the swept hexahedral mesh cannot hold (before gmsh runs)."""
+    aspect = cell_aspect(spec)
+    if aspect > MAX_CELL_ASPECT:
+        raise InputError("blade.thickness", f"{spec.thickness:g} m makes the solid's cells {aspect:.3g} times longer "
+                         f"than thick at fe.mesh_size {spec.size:g} m, past what a direct factor survives "
+                         f"({MAX_CELL_ASPECT:g}); allowed: a thickness >= {spec.thickness * aspect / MAX_CELL_ASPECT:.3g} m, "
+                         f"or fe.mesh_size <= {spec.size * MAX_CELL_ASPECT / aspect:.3g} m")
     if not spec.has_shroud:
         return
     n_v, n_w, n_end, _, _ = grid(spec)

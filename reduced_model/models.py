@@ -37,9 +37,14 @@ def _extended_at_speed(params):
     return lambda rpm: _named_extended(systems(rpm))
 
 
+def _extended_static(params, rpm, force):
+    return lazy("reduced_model.static", "static_response", name="extended")(params.updated(EXTENDED), rpm, force)
+
+
 MODELS = (
     ModelEntry("reduced", build_system=lazy("reduced_model.system", "build_system", reduced=True),
                modal=lazy("reduced_model.modal", "modal_analysis"),
+               static=lazy("reduced_model.static", "static_response"),
                at_speed=lazy("reduced_model.system", "at_speed", reduced=True),
                description="beam reduced to reduced.nr free-interface modes"),
     ModelEntry("full", build_system=lazy("reduced_model.system", "build_system", reduced=False),
@@ -47,6 +52,7 @@ MODELS = (
                description="Galerkin beam, 5N DOF (6N with reduced.torsion)"),
     ModelEntry("extended", build_system=_extended(lazy("reduced_model.system", "build_system", reduced=True)),
                modal=_extended(lazy("reduced_model.modal", "modal_analysis")),
+               static=_extended_static,
                at_speed=_extended_at_speed,
                description="beam with torsion and a rigid shroud, reduced to reduced.nr modes"),
 )

@@ -186,7 +186,10 @@ def interpolated(x2: np.ndarray, bary: np.ndarray, f2: np.ndarray, shapes: np.nd
     basis = np.zeros(shapes.shape[1:])
     for j in range(w.size):
         basis += w[j] * shapes[j]
-    return np.sqrt(np.maximum(w @ f2, 0.0)), basis
+    # no clamp: a certified panel's f^2 is within PANEL_TOLERANCE of the exact, positive one (over the default
+    # blade's panels 0-60000 r/min the smallest interpolated f^2 is 0.77 of the largest nodal one); a negative
+    # one would come out nan, never silently 0
+    return np.sqrt(w @ f2), basis
 
 
 @njit(cache=True)

@@ -86,7 +86,14 @@ import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
 
+from shroud.base.errors import InputError
+from shroud.base.resources import in_words, physical_memory
+
 GRID_THICKNESS_CELLS = 24     # cells across the thickness on the coarser grid of the J solve
+# What section_properties holds per node of its finest torsion grid (2 cells_v x 2 cells_w), measured
+# here on the rectangle (peak RSS less the interpreter's): 0.28 GB at chord/thickness 100 (235 000
+# nodes), 1.1 GB at 400 (941 000): 1.2 KB a node, growing with the chord's share of the grid.
+BYTES_PER_GRID_NODE = 1.2e3
 SYMMETRIC_ORDERING = "MMD_AT_PLUS_A"   # SuperLU's fill-reducing ordering for the symmetric grid operators
 
 
@@ -378,9 +385,32 @@ def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
                              grids=(inside, v_range, w_range, cells_v, cells_w))
 
 
+def grid_bytes(span_v: float, span_w: float, cells_v: int = GRID_THICKNESS_CELLS) -> float:
+    """Memory section_properties needs for a box span_v x span_w (m), estimated before any grid is made."""
+    cells_w = max(1, round(cells_v * span_w / span_v))
+    return BYTES_PER_GRID_NODE * (2 * cells_v + 1) * (2 * cells_w + 1)
+
+
+def check_section_grid(chord: float, thickness: float, memory: float | None = None) -> None:
+    """Refuse (InputError on blade.thickness) a section whose grids this machine cannot hold.
+
+    The grids keep their cells square, so their size grows with chord / thickness:
+    a 1 um blade of 40 mm chord would need about 110 GB.
+    """
+    memory = physical_memory() if memory is None else memory
+    need = grid_bytes(thickness, chord)
+    if need > memory:
+        thinnest = thickness * need / memory            # the node count grows as chord / thickness
+        raise InputError("blade.thickness", f"{thickness:g} m against blade.width {chord:g} m makes the section's "
+                         f"torsion grid {chord / thickness:.3g} times longer than thick, about {in_words(need)} to "
+                         f"solve; this machine has {in_words(memory)}; allowed: a thickness >= {thinnest:.3g} m "
+                         "for this chord")
+
+
 @functools.lru_cache(maxsize=32)
 def rectangle(chord: float, thickness: float) -> SectionProperties:
     """The blade's section: chord b along e_w, thickness h along e_v, centred (m)."""
+    check_section_grid(chord, thickness)
     hv, hw = 0.5 * thickness, 0.5 * chord
 
     def inside(v, w):

@@ -204,7 +204,8 @@ def _system(params: Parameters, beam: BeamMatrices, omega: float, omega_dot: flo
         f_const = f_const + omega_dot * (beam.f_acc1 if basis is None else basis.T @ beam.f_acc1)
     return StructuralSystem(
         model="full" if basis is None else "reduced", M=M, C=C, K=K, f_const=f_const, f_aero=f_aero,
-        omega_e=params.load.ke * omega, tip=tip, contact=contact, build_s=time.perf_counter() - t0)
+        omega_e=params.load.ke * omega, tip=tip, contact=contact, build_s=time.perf_counter() - t0,
+        rayleigh=(float(alpha), float(beta)))
 
 
 def _projected(basis, terms, f_c1, f_aero1, rows):

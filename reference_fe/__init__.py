@@ -9,5 +9,8 @@ Its models are declared in ``reference_fe.models`` (entry-point group
   Floquet multipliers those of its own orbit with the perturbations on
   fe-reduced's basis (at 1x and 2x the kept modes);
 * ``fe-reduced``: its free-interface component-mode-synthesis reduction, which
-  also offers one basis for a speed range (``at_speed``, reference_fe.frequency).
+  also offers one basis for a speed range (``at_speed``, reference_fe.frequency);
+* ``shell``: the Reissner-Mindlin shell of the blade's mid-surface with the
+  shroud as a plate on its tip (reference_fe.shell, docs/shell.md);
+* ``shell-reduced``: its free-interface reduction to ``shell.cms_modes`` modes.
 """

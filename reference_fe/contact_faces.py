@@ -64,6 +64,10 @@ class ContactFace:
     weight: np.ndarray     # (k,) area share, sums to 1
     area: float            # face area, m^2
     coords: np.ndarray     # (k, 3) node positions, m
+    # A point of the face that a node carries at an arm a from it (the shell's plate edge: the face
+    # centre t_s/2 out along X) moves by u + theta x a: the node's rotation DOFs (k, 3), and a (3,), m.
+    rotation_dofs: np.ndarray | None = None
+    arm: np.ndarray | None = None
 
     @property
     def centroid(self) -> np.ndarray:
@@ -73,9 +77,11 @@ class ContactFace:
 def face_nodes(V: fem.FunctionSpace, facet_tags, tag: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Consistent nodal areas of the facets tagged ``tag``: (dofs (k, 3), areas (k,), coords (k, 3)).
 
-    The nodes with a positive area, gathered from every rank (each rank
-    contributes the nodes it owns, in rank order); ``dofs`` are global
-    unrolled indices (DOLFINx/PETSc numbering; the local ones serially).
+    The nodes with a positive area, gathered from every rank and put in
+    one order whatever the ranks (by position: x, then y, then z, to the
+    nanometre), so that the contact elements, their states and every sum
+    over them are the same serially and under mpirun -n 2 or 3; ``dofs`` are
+    global unrolled indices (DOLFINx/PETSc numbering; the local ones serially).
     """
     V0, to_parent = V.sub(0).collapse()
     ds = ufl.Measure("ds", domain=V.mesh, subdomain_data=facet_tags)
@@ -90,7 +96,9 @@ def face_nodes(V: fem.FunctionSpace, facet_tags, tag: int) -> tuple[np.ndarray, 
     first = global_offset(V) + np.asarray(to_parent).ravel()[keep]
     dofs = first[:, None] + np.arange(3)[None, :]
     parts = comm.allgather((dofs, areas[keep], V0.tabulate_dof_coordinates()[keep]))
-    return tuple(np.concatenate([p[i] for p in parts]) for i in range(3))
+    dofs, areas, coords = (np.concatenate([p[i] for p in parts]) for i in range(3))
+    order = np.lexsort(np.round(coords, 9).T[::-1])        # x first: lexsort's last key is the primary one
+    return dofs[order], areas[order], coords[order]
 
 
 def contact_faces(V: fem.FunctionSpace, facet_tags, tags: tuple[int, int],
@@ -123,24 +131,30 @@ def contact_elements(faces: tuple[ContactFace, ...], frame: TipFrame, free_index
     ``free_index`` maps an unrolled DOF of the space to its column in the
     model's (free-DOF) numbering; the contact faces are never clamped.
     """
-    dofs = np.vstack([f.dofs for f in faces])
-    k = dofs.shape[0]
-    rows = np.repeat(np.arange(2 * k), 3)
-    cols = np.repeat(free_index[dofs], 2, axis=0).ravel()
-    vals = np.tile(np.vstack([frame.e_vs, frame.e_ws]), (k, 1)).ravel()
-    W = sp.csr_matrix((vals, (rows, cols)), shape=(2 * k, n))
+    directions = np.vstack([frame.e_vs, frame.e_ws])
+    W = sp.vstack([point_rows(f, directions, free_index, n) for f in faces]).tocsr()
+    k = W.shape[0] // 2
     return ContactElements(W=W, normal_row=2 * np.arange(k), tangent_row=2 * np.arange(k) + 1,
                            side=np.concatenate([np.full(f.dofs.shape[0], f.side) for f in faces]),
                            weight=np.concatenate([f.weight for f in faces]))
 
 
+def point_rows(face: ContactFace, directions: np.ndarray, free_index: np.ndarray, n: int) -> sp.csr_matrix:
+    """(d k, n): the displacement of each of the face's k points along each of ``directions`` (d, 3),
+    point by point (rows j d .. j d + d - 1 for point j): e . u, plus (a x e) . theta with an arm a."""
+    d, k = directions.shape[0], face.dofs.shape[0]
+    rows = np.repeat(np.arange(d * k), 3)
+    cols = np.repeat(free_index[face.dofs], d, axis=0).ravel()
+    vals = np.tile(directions, (k, 1)).ravel()
+    if face.rotation_dofs is not None:
+        rows = np.concatenate([rows, rows])
+        cols = np.concatenate([cols, np.repeat(free_index[face.rotation_dofs], d, axis=0).ravel()])
+        vals = np.concatenate([vals, np.tile(np.cross(face.arm, directions), (k, 1)).ravel()])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(d * k, n))
+
+
 def tip_rows(faces: tuple[ContactFace, ...], frame: TipFrame, free_index: np.ndarray, n: int):
     """(2, n) rows giving v_L, w_L of the shroud centre: the mean of the faces' area averages."""
-    rows, cols, vals = [], [], []
-    for f in faces:
-        for r, e in enumerate((frame.e_v, frame.e_w)):
-            rows.append(np.full(f.dofs.size, r))
-            cols.append(free_index[f.dofs].ravel())
-            vals.append((0.5 * f.weight[:, None] * e[None, :]).ravel())
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                         shape=(2, n))
+    directions = np.vstack([frame.e_v, frame.e_w])
+    return sum(sp.csr_matrix(0.5 * np.kron(f.weight, np.eye(2))) @ point_rows(f, directions, free_index, n)
+               for f in faces).tocsr()

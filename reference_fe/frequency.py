@@ -32,25 +32,27 @@ from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
 
 
-def _build(params: Parameters, path: Path) -> None:
+def _build(params: Parameters, path: Path, kind: str = "fe") -> None:
     from reference_fe.cms import free_interface_basis, project
     from reference_fe.factor import MumpsFactor
-    from reference_fe.system import _solid
+    from reference_fe.system import _kept, _solid, check_reduction_sizes
     from shroud.base.log import info
 
     t0 = time.perf_counter()
     rpm = params.speed.rpm
     omega = 2.0 * math.pi * rpm / 60.0
-    solid, at_rest = _solid(params, rpm), _solid(params, 0.0)
+    solid, at_rest = _solid(params, rpm, kind), _solid(params, 0.0, kind)
+    modes, patterns = _kept(params, kind)
     contact = solid.contact
     W = contact.W if contact is not None else np.zeros((0, solid.M.shape[0]))
-    basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, solid.f_aero[:, None],
-                                 lu=MumpsFactor(solid.K), W=W, interface_modes=params.fe.interface_modes)
+    check_reduction_sizes(params, solid.M.shape[0], W.shape[0], kind)
+    basis = free_interface_basis(solid.K, solid.M, modes, solid.f_aero[:, None],
+                                 lu=MumpsFactor(solid.K), W=W, interface_modes=patterns)
     K0 = project(basis, at_rest.K)                     # T^T K_e T
     K2 = (np.diag(basis.omega2) - K0) / omega**2       # T^T K_rot1 T
     G1 = project(basis, solid.G) / omega
     T = basis.T
-    info(f"FE speed-range basis at {rpm:g} r/min: {basis.size} vectors in {time.perf_counter() - t0:.1f} s")
+    info(f"{kind} speed-range basis at {rpm:g} r/min: {basis.size} vectors in {time.perf_counter() - t0:.1f} s")
     with open(path, "wb") as fh:
         np.savez(fh, K0=0.5 * (K0 + K0.T), K2=0.5 * (K2 + K2.T), G1=0.5 * (G1 - G1.T),
                  f_aero=T.T @ solid.f_aero, tip=np.asarray(solid.tip @ T), W=np.asarray(W @ T),
@@ -60,18 +62,19 @@ def _build(params: Parameters, path: Path) -> None:
                  weight=contact.weight if contact else np.zeros(0), rpm=rpm)
 
 
-def speed_range_operators(params: Parameters) -> Path:
-    """Path of the cached .npz of the one-basis operators (K0, K2, G1, loads, W) built at params.speed.rpm."""
+def speed_range_operators(params: Parameters, kind: str = "fe") -> Path:
+    """Path of the cached .npz of the one-basis operators (K0, K2, G1, loads, W) built at params.speed.rpm
+    for the solid (``kind = "fe"``) or the shell."""
     from reference_fe.system import reduction_inputs
     # Built serially, as the per-speed bases: under mpirun rank 0 builds it into the cache for all.
-    return on_rank_zero(lambda: cached("fe_speed_range", {**reduction_inputs(params, params.speed.rpm),
-                                                          "polynomial": 1}, ".npz",
-                                       lambda path: _build(params, path), what="FE speed-range basis"))
+    return on_rank_zero(lambda: cached(f"{kind}_speed_range", {**reduction_inputs(params, params.speed.rpm, kind),
+                                                               "polynomial": 1}, ".npz",
+                                       lambda path: _build(params, path, kind), what=f"{kind} speed-range basis"))
 
 
-def at_speed(params: Parameters) -> Callable[[float], StructuralSystem]:
-    """rpm -> the reduced solid at that speed on the one basis of :func:`speed_range_operators`."""
-    with np.load(speed_range_operators(params)) as data:
+def at_speed(params: Parameters, kind: str = "fe") -> Callable[[float], StructuralSystem]:
+    """rpm -> the reduced solid (shell: ``kind``) at that speed on the one basis of :func:`speed_range_operators`."""
+    with np.load(speed_range_operators(params, kind)) as data:
         d = {k: data[k] for k in data.files}
     contact = None
     if d["side"].size and params.contact.enabled:
@@ -85,9 +88,10 @@ def at_speed(params: Parameters) -> Callable[[float], StructuralSystem]:
         K = d["K0"] + omega**2 * d["K2"]
         w2 = np.linalg.eigvalsh(K)[:2]
         a, b = rayleigh(*(np.sqrt(w2) / (2 * math.pi)), params.damping.xi1, params.damping.xi2)
-        return StructuralSystem(model="fe-reduced", M=eye, C=a * eye + b * K + omega * d["G1"], K=K,
+        return StructuralSystem(model=f"{kind}-reduced", M=eye, C=a * eye + b * K + omega * d["G1"], K=K,
                                 f_const=np.zeros(r), f_aero=params.load.F0 * d["f_aero"],
-                                omega_e=params.load.ke * omega, tip=d["tip"], contact=contact)
+                                omega_e=params.load.ke * omega, tip=d["tip"], contact=contact,
+                                rayleigh=(float(a), float(b)))
     return system
 
 

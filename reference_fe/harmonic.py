@@ -179,24 +179,26 @@ _KEPT: dict[str, tuple] = {}       # the last speeds' systems and condensations,
 KEEP = 2
 
 
-def condensed_at(params: Parameters, rpm: float, H: int) -> tuple[StructuralSystem, hb.LinearHarmonics]:
-    """The "fe" model at ``rpm`` (r/min) and its linear part condensed on the contact coordinates.
+def condensed_at(params: Parameters, rpm: float, H: int,
+                 kind: str = "fe") -> tuple[StructuralSystem, hb.LinearHarmonics]:
+    """The "fe" (or "shell": ``kind``) model at ``rpm`` (r/min) and its linear part condensed on the
+    contact coordinates.
 
     Kept in memory by exactly what shapes them (mesh, material, speed, damping,
     load, H; not the contact law's kn, kt, mu, N0, which act on the condensed
     coordinates only), so the cases of a study at one speed share one
-    condensation. The model registry's ``linear_harmonics`` hook of "fe".
+    condensation. The model registry's ``linear_harmonics`` hook of "fe" and "shell".
     """
     from reference_fe.system import full_system, reduction_inputs
     at = params.updated({"speed.rpm": float(rpm)})
-    inputs = reduction_inputs(at, rpm)
-    key = json.dumps({"mesh": inputs["mesh"], "material": inputs["material"], "rpm": float(rpm),
+    inputs = reduction_inputs(at, rpm, kind)
+    key = json.dumps({"kind": kind, "mesh": inputs["mesh"], "material": inputs["material"], "rpm": float(rpm),
                       "contact": inputs["contact"], "damping": dataclasses.asdict(params.damping),
                       "load": dataclasses.asdict(params.load), "H": int(H)}, sort_keys=True)
     if key not in _KEPT:
         if len(_KEPT) >= KEEP:
             _release(_KEPT.pop(next(iter(_KEPT)))[0])
-        system = full_system(at)
+        system = full_system(at, kind)
         if system.contact is None:
             raise InputError("contact.enabled", "the full solid is condensed on its contact coordinates; "
                                                 "allowed: contact enabled on a shrouded blade")

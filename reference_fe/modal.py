@@ -50,7 +50,7 @@ from slepc4py import SLEPc
 
 from meshes.blade import section_frame
 from reference_fe.factor import block_solve, dense_on
-from reference_fe.solid import RotatingOperators, SolidModel, lu_solver, rotating_operators
+from reference_fe.solid import FEModel, RotatingOperators, lu_solver
 from shroud.base.log import Progress, info
 from shroud.core.modes import label_modes, pair_by_mac
 from shroud.params import Parameters
@@ -84,24 +84,16 @@ class SolidModes:
         return self.f_coriolis / self.f_undamped - 1.0
 
 
-def tip_components(model: SolidModel, xr, xi=None) -> np.ndarray:
+def tip_components(model: FEModel, xr, xi=None) -> np.ndarray:
     """[flap, chord, torsion * b/2, axial] of one (possibly complex) shape, m.
 
-    Nodal values at the embedded tip nodes (meshes.blade.tip_points): centre
-    c and c -/+ (b/4) e_w(L). A twist theta about X moves c +/- d e_w by
+    Nodal values at the tip nodes (FEModel.tip_dofs): centre c and
+    c -/+ (b/4) e_w(L). A twist theta about X moves c +/- d e_w by
     -/+ theta d e_v (X x e_w = -e_v), so theta = -(u_+ - u_-).e_v / (2 d).
     """
     spec = model.spec
     e_v, e_w = section_frame(spec.beta_tip)
-    values = np.zeros((3, 3), dtype=complex)
-    owned = model.tip_dofs[:, 0] >= 0
-    for part, scale in ((xr, 1.0), (xi, 1j)):
-        if part is None:
-            continue
-        local = part.getArray(readonly=True)
-        values[owned] += scale * local[model.tip_dofs[owned]]
-    values = model.comm.allreduce(values, op=MPI.SUM)
-    centre, minus, plus = values
+    centre, minus, plus = model.gather_tip(xr, xi)
     d = 0.25 * spec.width
     theta = -((plus - minus) @ e_v) / (2.0 * d)
     return np.array([centre @ e_v, centre @ e_w, theta * 0.5 * spec.width, centre[0]])
@@ -218,13 +210,22 @@ def _gyroscopic(ops: RotatingOperators, shapes, factor):
     return lam[up].imag / (2 * np.pi), -lam[up].real / np.abs(lam[up]), np.abs(cross)**2 / norms
 
 
+def operators_of(kind: str):
+    """``(params, rpm) -> RotatingOperators`` of the FE model ``kind``: "fe" (the solid) or "shell"."""
+    if kind == "shell":
+        from reference_fe.shell import rotating_operators
+    else:
+        from reference_fe.solid import rotating_operators
+    return rotating_operators
+
+
 def solve_modes(params: Parameters, rpm: float | None = None, n_modes: int = 6,
-                coriolis: bool = True) -> SolidModes:
-    """Undamped (and gyroscopic) modes of the prestressed solid at ``rpm``."""
+                coriolis: bool = True, kind: str = "fe") -> SolidModes:
+    """Undamped (and gyroscopic) modes of the prestressed solid (or shell: ``kind``) at ``rpm``."""
     rpm = params.speed.rpm if rpm is None else float(rpm)
     t0 = time.perf_counter()
     progress = Progress(f"FE modes at {rpm:g} r/min", 3)
-    ops = rotating_operators(params, rpm)
+    ops = operators_of(kind)(params, rpm)
     progress.update(1)
     gyroscopic = coriolis and ops.omega > 0
     ksp, factor = _stiffness_factor(ops)
@@ -249,19 +250,21 @@ def solve_modes(params: Parameters, rpm: float | None = None, n_modes: int = 6,
     progress.update(3)
     elapsed = time.perf_counter() - t0
     progress.done()
-    info(f"FE modes at {rpm:g} r/min: " + ", ".join(f"{l} {f:.1f} Hz" for l, f in zip(labels, f0)))
+    shown = f_cor if f_cor is not None else f0           # the variant a Coriolis-on result reports
+    variant = "with Coriolis" if f_cor is not None else "without Coriolis"
+    info(f"FE modes at {rpm:g} r/min, {variant}: " + ", ".join(f"{l} {f:.2f} Hz" for l, f in zip(labels, shown)))
     return SolidModes(rpm=rpm, dofs=model.global_dofs, f_undamped=f0, f_coriolis=f_cor,
                       damping_coriolis=zeta_cor, mac_coriolis=mac_cor, labels=tuple(labels), participation=tuple(parts),
                       tip=tip, vectors=tuple(vectors), operators=ops, solve_s=elapsed)
 
 
 def modal_analysis(params: Parameters, rpm: float | None = None, n_modes: int = 6,
-                   coriolis: bool = True) -> ModalResult:
-    """shroud.analysis.api entry: the solid's modes as a ModalResult (Coriolis frequencies if asked)."""
-    modes = solve_modes(params, rpm, n_modes, coriolis)
+                   coriolis: bool = True, kind: str = "fe") -> ModalResult:
+    """shroud.analysis.api entry: the solid's (shell's) modes as a ModalResult (Coriolis frequencies if asked)."""
+    modes = solve_modes(params, rpm, n_modes, coriolis, kind)
     f = modes.f_coriolis if coriolis else modes.f_undamped
     order = np.argsort(f, kind="stable")
-    return ModalResult(model="fe", rpm=modes.rpm, dofs=modes.dofs, elapsed_s=modes.solve_s,
+    return ModalResult(model=kind, rpm=modes.rpm, dofs=modes.dofs, elapsed_s=modes.solve_s,
                        coriolis=coriolis,
                        modes=tuple(Mode(f_hz=float(f[i]), label=modes.labels[i],
                                         participation=modes.participation[i],

@@ -40,8 +40,7 @@ Contract (used by engineer D's transient and CMS; names are stable)
     ``M, K, G`` on the free DOFs (scipy CSR serially; under mpirun
     reference_fe.distributed matrices acting on replicated vectors) and
     arrays ``f_c, f_aero``; ``free`` (free -> global unrolled index),
-    ``free_index`` (global unrolled -> free, -1 when clamped), ``coords``
-    (n_free, 3) and ``component`` (n_free,) of each free DOF.
+    ``free_index`` (global unrolled -> free, -1 when clamped).
 """
 
 from __future__ import annotations
@@ -58,6 +57,7 @@ import ufl
 from dolfinx import fem
 from dolfinx.fem import petsc as fem_petsc
 from dolfinx.io import gmsh as gmshio
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, check_geometry,
@@ -68,20 +68,13 @@ from shroud.base.parallel import in_task, task_comm
 from shroud.params import Material, Parameters
 
 
-@dataclass(frozen=True, eq=False)      # identity hash: one per process and mesh
-class SolidModel:
-    """Mesh, space and clamp of one blade geometry (one per process and mesh)."""
+class FEModel:
+    """What the solid and the shell (reference_fe.shell) share: sizes and the tip nodes' values.
 
-    spec: MeshSpec
-    material: Material
-    mesh: Any
-    V: Any
-    cell_tags: Any
-    facet_tags: Any
-    bcs: tuple
-    clamped_dofs: np.ndarray     # local unrolled indices of clamped DOFs (owned and ghost)
-    tip_dofs: np.ndarray         # (3, 3) unrolled local indices of the tip nodes, -1 if not owned here
-    contact_tags: tuple[int, int] = (CONTACT_SIDE1, CONTACT_SIDE2)
+    A subclass has ``mesh``, ``V`` (its space), ``clamped_dofs`` and
+    ``tip_dofs`` ((3, 3) indices in V of the displacement at the tip centre
+    and at centre -/+ (b/4) e_w(L); -1 on ranks that do not own them).
+    """
 
     @property
     def comm(self):
@@ -95,6 +88,32 @@ class SolidModel:
     @property
     def owned_dofs(self) -> int:
         return self.V.dofmap.index_map.size_local * self.V.dofmap.index_map_bs
+
+    def gather_tip(self, xr, xi=None) -> np.ndarray:
+        """(3, 3) displacements (X, Y, Z) of the three tip nodes in the shape xr + i xi (PETSc Vecs), every rank."""
+        values = np.zeros((3, 3), dtype=complex)
+        owned = self.tip_dofs[:, 0] >= 0
+        for part, scale in ((xr, 1.0), (xi, 1j)):
+            if part is None:
+                continue
+            values[owned] += scale * part.getArray(readonly=True)[self.tip_dofs[owned]]
+        return self.comm.allreduce(values, op=MPI.SUM)
+
+
+@dataclass(frozen=True, eq=False)      # identity hash: one per process and mesh
+class SolidModel(FEModel):
+    """Mesh, space and clamp of one blade geometry (one per process and mesh)."""
+
+    spec: MeshSpec
+    material: Material
+    mesh: Any
+    V: Any
+    cell_tags: Any
+    facet_tags: Any
+    bcs: tuple
+    clamped_dofs: np.ndarray     # local unrolled indices of clamped DOFs (owned and ghost)
+    tip_dofs: np.ndarray         # (3, 3) unrolled local indices of the tip nodes, -1 if not owned here
+    contact_tags: tuple[int, int] = (CONTACT_SIDE1, CONTACT_SIDE2)
 
 
 @dataclass(frozen=True)
@@ -121,8 +140,6 @@ class FreeOperators:
     f_aero: np.ndarray
     free: np.ndarray          # (n_free,) global unrolled DOF index of each free DOF
     free_index: np.ndarray    # (n_all,) free index of each global unrolled DOF, -1 if clamped
-    coords: np.ndarray        # (n_free, 3) position of each free DOF's node, m
-    component: np.ndarray     # (n_free,) 0, 1, 2 for X, Y, Z
 
     @property
     def n(self) -> int:
@@ -170,11 +187,24 @@ class RotatingOperators:
             layout = Layout.of(comm, mine.size)
             M, K, G = (free_rows(A, offset + mine, layout) for A in (self.M, self.K, self.G))
             gather = layout.gather
-        nodes = model.V.tabulate_dof_coordinates()
         return FreeOperators(
             M=M, K=K, G=G, f_c=gather(self.f_c.getArray()[mine]),
-            f_aero=gather(self.f_aero.getArray()[mine]), free=free, free_index=free_index,
-            coords=gather(nodes[mine // 3]), component=free % 3)
+            f_aero=gather(self.f_aero.getArray()[mine]), free=free, free_index=free_index)
+
+    @classmethod
+    def at(cls, model, unit: UnitOperators, rpm: float) -> "RotatingOperators":
+        """The operators of ``model`` at ``rpm`` from its unit-speed ones: K_e + Omega^2 K_rot1, Omega G1."""
+        omega = 2.0 * math.pi * float(rpm) / 60.0
+        K = unit.K_e.copy()
+        K.axpy(omega**2, unit.K_rot1, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+        G = unit.G1.copy()
+        G.scale(omega)
+        f_c = unit.f_c1.copy()
+        f_c.scale(omega**2)
+        u0 = fem.Function(model.V, name="prestatic_displacement")
+        u0.x.array[:] = omega**2 * unit.u0_1.x.array
+        return cls(model=model, rpm=float(rpm), omega=omega, M=unit.M, K=K, G=G, K_e=unit.K_e,
+                   f_c=f_c, f_aero=unit.f_aero, u0=u0)
 
 
 def tip_centre_dofs(model: SolidModel) -> np.ndarray:
@@ -241,7 +271,7 @@ def _solid_model(spec: MeshSpec, material: Material, alone: bool) -> SolidModel:
     comm = task_comm()
     path = mesh_file(spec) if comm.rank == 0 else None
     path = comm.bcast(path, root=0)
-    data = _read_mesh(path, comm)
+    data = read_mesh(path, comm)
     msh = data.mesh
     V = fem.functionspace(msh, ("Lagrange", spec.order, (3,)))
     fdim = msh.topology.dim - 1
@@ -256,16 +286,19 @@ def _solid_model(spec: MeshSpec, material: Material, alone: bool) -> SolidModel:
                       tip_dofs=_tip_dofs(V, tip_points(spec), spec.size))
 
 
-def _read_mesh(path, comm):
-    """gmshio.read_from_msh without gmsh's console output (stdout is kept for --json)."""
+def read_mesh(path, comm, max_facet_to_cell_links: int = 2):
+    """gmshio.read_from_msh without gmsh's console output (stdout is kept for --json).
+
+    ``max_facet_to_cell_links``: 3 for a branching surface (the shell's shroud on its tip line).
+    """
     import gmsh
     if comm.rank != 0:
-        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)
+        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3, max_facet_to_cell_links=max_facet_to_cell_links)
     gmsh.initialize(interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.merge(str(path))
-        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)
+        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3, max_facet_to_cell_links=max_facet_to_cell_links)
     finally:
         gmsh.finalize()
 
@@ -317,17 +350,17 @@ def _unit_forms(model: SolidModel):
     )
 
 
-def _assemble_matrix(form, bcs, diag: float):
+def assemble_matrix(form, bcs, diag: float):
     A = fem_petsc.assemble_matrix(fem.form(form), bcs=list(bcs), diag=diag)
     A.assemble()
     return A
 
 
-def _assemble_vector(form, model: SolidModel):
+def assemble_vector(form, bcs):
     """Load vector with clamped rows set to zero (the prescribed value)."""
     b = fem_petsc.assemble_vector(fem.form(form))
     b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-    fem_petsc.set_bc(b, list(model.bcs))
+    fem_petsc.set_bc(b, list(bcs))
     return b
 
 
@@ -343,40 +376,38 @@ def lu_solver(A, comm, prefix: str, symmetric: bool = True):
     return ksp
 
 
-@functools.lru_cache(maxsize=4)
-def _unit_operators(model: SolidModel) -> UnitOperators:
-    forms = _unit_forms(model)
+def unit_operators_from(model, forms: dict, k_sigma_of) -> UnitOperators:
+    """Assemble the unit-speed operators of ``forms`` (m, k_e, k_spin, g, f_c, f_aero) on ``model``.
+
+    ``k_sigma_of(u0)`` is the geometric-stiffness form of the prestatic
+    state u0 (K_e u0 = f_c at 1 rad/s, clamped root), which is solved here.
+    Clamped rows: diag 1 on K_e, 0 on the others (they add no finite eigenvalue).
+    """
     bcs = model.bcs
-    M = _assemble_matrix(forms["m"], bcs, 0.0)
-    K_e = _assemble_matrix(forms["k_e"], bcs, 1.0)
-    f_c1 = _assemble_vector(forms["f_c"], model)
-    f_aero = _assemble_vector(forms["f_aero"], model)
-    # Prestress at 1 rad/s: K_e u0 = f_c (linear static, clamped root).
+    M = assemble_matrix(forms["m"], bcs, 0.0)
+    K_e = assemble_matrix(forms["k_e"], bcs, 1.0)
+    f_c1 = assemble_vector(forms["f_c"], bcs)
+    f_aero = assemble_vector(forms["f_aero"], bcs)
     u0 = fem.Function(model.V, name="prestatic_displacement_1rad_s")
     ksp = lu_solver(K_e, model.comm, "shroud_prestress_")
     ksp.solve(f_c1, u0.x.petsc_vec)
     u0.x.scatter_forward()
     ksp.destroy()
-    du, v = ufl.TrialFunction(model.V), ufl.TestFunction(model.V)
-    k_sigma = ufl.inner(sigma(u0, model.material), ufl.dot(ufl.grad(du).T, ufl.grad(v))) * _dx(model)
-    K_rot1 = _assemble_matrix(k_sigma + forms["k_spin"], bcs, 0.0)
-    G1 = _assemble_matrix(forms["g"], bcs, 0.0)
+    K_rot1 = assemble_matrix(k_sigma_of(u0) + forms["k_spin"], bcs, 0.0)
+    G1 = assemble_matrix(forms["g"], bcs, 0.0)
     return UnitOperators(M=M, K_e=K_e, K_rot1=K_rot1, G1=G1, f_c1=f_c1, f_aero=f_aero, u0_1=u0)
+
+
+@functools.lru_cache(maxsize=4)
+def _unit_operators(model: SolidModel) -> UnitOperators:
+    def k_sigma(u0):
+        du, v = ufl.TrialFunction(model.V), ufl.TestFunction(model.V)
+        return ufl.inner(sigma(u0, model.material), ufl.dot(ufl.grad(du).T, ufl.grad(v))) * _dx(model)
+    return unit_operators_from(model, _unit_forms(model), k_sigma)
 
 
 def rotating_operators(params: Parameters, rpm: float | None = None) -> RotatingOperators:
     """M, K(Omega), G(Omega), the loads and the prestatic displacement at ``rpm`` (SI)."""
     rpm = params.speed.rpm if rpm is None else float(rpm)
-    omega = 2.0 * math.pi * rpm / 60.0
     model = solid_model(params)
-    unit = _unit_operators(model)
-    K = unit.K_e.copy()
-    K.axpy(omega**2, unit.K_rot1, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
-    G = unit.G1.copy()
-    G.scale(omega)
-    f_c = unit.f_c1.copy()
-    f_c.scale(omega**2)
-    u0 = fem.Function(model.V, name="prestatic_displacement")
-    u0.x.array[:] = omega**2 * unit.u0_1.x.array
-    return RotatingOperators(model=model, rpm=rpm, omega=omega, M=unit.M, K=K, G=G, K_e=unit.K_e,
-                             f_c=f_c, f_aero=unit.f_aero, u0=u0)
+    return RotatingOperators.at(model, _unit_operators(model), rpm)

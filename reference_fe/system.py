@@ -47,6 +47,8 @@ import scipy.sparse as sp
 
 from shroud.base.blas import single_threaded_blas
 from shroud.base.cache import cached
+from shroud.base.errors import InputError
+from shroud.base.resources import in_words, physical_memory
 from shroud.core.damping import rayleigh
 from shroud.params import Parameters
 from shroud.base.parallel import on_rank_zero
@@ -69,18 +71,27 @@ def _has_contact(params: Parameters) -> bool:
     return params.contact.enabled and params.shroud.thickness > 0
 
 
-def _solid(params: Parameters, rpm: float) -> _Solid:
-    from reference_fe.contact_faces import contact_elements, contact_faces, tip_frame, tip_rows
-    from reference_fe.solid import rotating_operators, solid_model, tip_centre_dofs
+def _solid(params: Parameters, rpm: float, kind: str = "fe") -> _Solid:
+    """The full model ``kind`` ("fe": the solid; "shell": reference_fe.shell) at ``rpm`` on its free DOFs."""
+    from reference_fe.contact_faces import contact_elements, tip_frame, tip_rows
+    from reference_fe.solid import tip_centre_dofs
 
-    model = solid_model(params)
+    if kind == "shell":
+        from reference_fe.shell import contact_faces, rotating_operators, shell_model
+        model = shell_model(params)
+        faces = (lambda: contact_faces(model, params))
+    else:
+        from reference_fe.contact_faces import contact_faces
+        from reference_fe.solid import rotating_operators, solid_model
+        model = solid_model(params)
+        faces = (lambda: contact_faces(model.V, model.facet_tags, model.contact_tags, params))
     ops = rotating_operators(params, rpm).free()
     frame = tip_frame(params)
     if params.shroud.thickness > 0:
-        faces = contact_faces(model.V, model.facet_tags, model.contact_tags, params)
+        faces = faces()
         tip = tip_rows(faces, frame, ops.free_index, ops.n)
         contact = contact_elements(faces, frame, ops.free_index, ops.n) if _has_contact(params) else None
-    else:                               # no shroud: the embedded tip-centre node
+    else:                               # no shroud: the tip-centre node
         centre = ops.free_index[tip_centre_dofs(model)]
         tip = sp.csr_matrix((np.concatenate([frame.e_v, frame.e_w]),
                              (np.repeat([0, 1], 3), np.tile(centre, 2))), shape=(2, ops.n))
@@ -88,53 +99,66 @@ def _solid(params: Parameters, rpm: float) -> _Solid:
     return _Solid(M=ops.M, K=ops.K, G=ops.G, f_aero=ops.f_aero, tip=tip, contact=contact)
 
 
-def build_system(params: Parameters, reduced: bool) -> StructuralSystem:
-    """The "fe" (``reduced=False``) or "fe-reduced" system at ``params.speed.rpm``."""
+def build_system(params: Parameters, reduced: bool, kind: str = "fe") -> StructuralSystem:
+    """The "fe" (``reduced=False``) or "fe-reduced" system at ``params.speed.rpm``; ``kind="shell"``: the shell's."""
     t0 = time.perf_counter()
-    system = reduced_system(params) if reduced else full_system(params)
+    system = reduced_system(params, kind) if reduced else full_system(params, kind)
     return dataclasses.replace(system, build_s=time.perf_counter() - t0)
 
 
-def full_system(params: Parameters) -> StructuralSystem:
-    """The solid FE model on its free DOFs (scipy sparse, or row-distributed under mpirun), SI units."""
+def full_system(params: Parameters, kind: str = "fe") -> StructuralSystem:
+    """The solid (shell) FE model on its free DOFs (scipy sparse, or row-distributed under mpirun), SI units."""
     from reference_fe.cms import normal_modes
     from reference_fe.factor import MumpsFactor, mumps_lu
 
-    solid = _solid(params, params.speed.rpm)
+    solid = _solid(params, params.speed.rpm, kind)
     with MumpsFactor(solid.K) as lu:
         omega2, _ = normal_modes(solid.K, solid.M, 2, lu)
     f1, f2 = np.sqrt(omega2) / (2 * math.pi)
     a, b = rayleigh(f1, f2, params.damping.xi1, params.damping.xi2)
     n = solid.M.shape[0]
     return StructuralSystem(
-        model="fe", M=solid.M, C=a * solid.M + b * solid.K + solid.G, K=solid.K,
+        model=kind, M=solid.M, C=a * solid.M + b * solid.K + solid.G, K=solid.K,
         f_const=np.zeros(n), f_aero=params.load.F0 * solid.f_aero,
         omega_e=params.load.ke * params.speed.omega, tip=solid.tip, contact=solid.contact,
-        factorize=mumps_lu, layout=getattr(solid.M, "layout", None))
+        factorize=mumps_lu, layout=getattr(solid.M, "layout", None), rayleigh=(float(a), float(b)))
 
 
-def reduction_inputs(params: Parameters, rpm: float) -> dict:
+def _kept(params: Parameters, kind: str) -> tuple[int, int]:
+    """(normal modes, contact-face patterns; 0 = all) the reduction of ``kind`` keeps.
+
+    The shell's contact points are few (shell.contact_points per face): all their patterns are kept.
+    """
+    return (params.shell.cms_modes, 0) if kind == "shell" else (params.fe.cms_modes, params.fe.interface_modes)
+
+
+def reduction_inputs(params: Parameters, rpm: float, kind: str = "fe") -> dict:
     """Exactly what shapes the reduced operators (the cache key)."""
-    from meshes.blade import MeshSpec
-    return {"mesh": dataclasses.asdict(MeshSpec.from_params(params)),
+    if kind == "shell":
+        from meshes.shell import ShellSpec as Spec
+    else:
+        from meshes.blade import MeshSpec as Spec
+    modes, patterns = _kept(params, kind)
+    return {"mesh": dataclasses.asdict(Spec.from_params(params)),
             "material": dataclasses.asdict(params.material), "rpm": float(rpm),
-            "cms_modes": params.fe.cms_modes, "interface_modes": params.fe.interface_modes,
-            "contact": _has_contact(params)}
+            "cms_modes": modes, "interface_modes": patterns, "contact": _has_contact(params)}
 
 
-def reduced_operators(params: Parameters, rpm: float | None = None) -> Path:
+def reduced_operators(params: Parameters, rpm: float | None = None, kind: str = "fe") -> Path:
     """Path of the cached .npz of the reduced operators at ``rpm`` (built if missing)."""
     rpm = params.speed.rpm if rpm is None else float(rpm)
     # The basis is built serially (scipy): under mpirun rank 0 builds it into the cache for all.
-    return on_rank_zero(lambda: cached("fe_reduction", reduction_inputs(params, rpm), ".npz",
-                                       lambda path: _build_reduction(params, rpm, path),
-                                       what="FE reduction basis", sources=REDUCTION_SOURCES,
+    return on_rank_zero(lambda: cached(f"{'shell' if kind == 'shell' else 'fe'}_reduction",
+                                       reduction_inputs(params, rpm, kind), ".npz",
+                                       lambda path: _build_reduction(params, rpm, path, kind),
+                                       what=f"{kind} reduction basis", sources=REDUCTION_SOURCES[kind],
                                        check=_check_npz))
 
 
 # The code that shapes the reduced operators: editing any of it builds them anew.
-REDUCTION_SOURCES = ("meshes.blade", "reference_fe.contact_faces", "reference_fe.solid", "reference_fe.cms",
-                     __name__)
+_COMMON_SOURCES = ("reference_fe.contact_faces", "reference_fe.solid", "reference_fe.cms", __name__)
+REDUCTION_SOURCES = {"fe": ("meshes.blade", *_COMMON_SOURCES),
+                     "shell": ("meshes.shell", "reference_fe.shell", *_COMMON_SOURCES)}
 
 
 def _check_npz(path: Path) -> None:
@@ -144,29 +168,55 @@ def _check_npz(path: Path) -> None:
             data[name]
 
 
-def _build_reduction(params: Parameters, rpm: float, path: Path) -> None:
+def _build_reduction(params: Parameters, rpm: float, path: Path, kind: str = "fe") -> None:
     """The reduced operators into ``path``, on one BLAS thread (shroud.base.blas: the basis is a chain
     of small BLAS calls between MUMPS solves, which the process's four OpenBLAS pools slowed 2-4x in
     a third to a half of the runs on the 2-core machine)."""
     import reference_fe.solid  # noqa: F401  (DOLFINx and PETSc, and the OpenBLAS each brings, loaded first)
 
     with single_threaded_blas():
-        _write_reduction(params, rpm, path)
+        _write_reduction(params, rpm, path, kind)
 
 
-def _write_reduction(params: Parameters, rpm: float, path: Path) -> None:
+def check_reduction_sizes(params: Parameters, dofs: int, patterns: int, kind: str = "fe") -> None:
+    """Refuse (InputError) kept counts this model does not have, once it is assembled, before any mode is solved.
+
+    ``dofs``: the model's free DOF; ``patterns``: its contact-face coordinates (the face-force
+    patterns the reduction chooses among). The basis is dense, dofs x (modes + patterns), and
+    the eigensolver works on about twice the kept modes: 8 dofs (3 modes + 2 patterns) bytes.
+    """
+    modes, chosen = _kept(params, kind)
+    section = "shell" if kind == "shell" else "fe"
+    size = params.shell.mesh_size if kind == "shell" else params.fe.mesh_size
+    if modes >= dofs:
+        raise InputError(f"{section}.cms_modes", f"{modes} modes asked of a {kind} model with {dofs} DOF "
+                         f"({section}.mesh_size {size:g} m); allowed: 1 .. {dofs - 1}")
+    if chosen > patterns:
+        raise InputError("fe.interface_modes", f"{chosen} is more than the {patterns} contact-face "
+                         f"patterns of this mesh; allowed: 0 (all of them) .. {patterns}")
+    kept = chosen or patterns
+    need, memory = 8.0 * dofs * (3 * modes + 2 * kept), physical_memory()
+    if need > memory:
+        most = int((memory / (8.0 * dofs) - 2 * kept) / 3)
+        raise InputError(f"{section}.cms_modes", f"{modes} modes of a {kind} model with {dofs} DOF need about "
+                         f"{in_words(need)}; this machine has {in_words(memory)}; allowed: at most {max(most, 1)} here")
+
+
+def _write_reduction(params: Parameters, rpm: float, path: Path, kind: str) -> None:
     from reference_fe.cms import free_interface_basis, project
     from reference_fe.factor import MumpsFactor
     from shroud.base.log import info
 
-    solid = _solid(params, rpm)
+    solid = _solid(params, rpm, kind)
+    modes, patterns = _kept(params, kind)
     W = solid.contact.W if solid.contact is not None else sp.csr_matrix((0, solid.M.shape[0]))
+    check_reduction_sizes(params, solid.M.shape[0], W.shape[0], kind)
     t0 = time.perf_counter()
     with MumpsFactor(solid.K) as lu:
-        basis = free_interface_basis(solid.K, solid.M, params.fe.cms_modes, solid.f_aero[:, None],
-                                     lu=lu, W=W, interface_modes=params.fe.interface_modes)
-    info(f"FE reduction at {rpm:g} r/min: {solid.M.shape[0]} DOF -> {basis.n_modes} modes + "
-         f"{basis.n_attachment} attachment modes ({params.fe.interface_modes or 'all'} of {W.shape[0]} "
+        basis = free_interface_basis(solid.K, solid.M, modes, solid.f_aero[:, None],
+                                     lu=lu, W=W, interface_modes=patterns)
+    info(f"{kind} reduction at {rpm:g} r/min: {solid.M.shape[0]} DOF -> {basis.n_modes} modes + "
+         f"{basis.n_attachment} attachment modes ({patterns or 'all'} of {W.shape[0]} "
          f"contact-face patterns) in {time.perf_counter() - t0:.1f} s")
     T = basis.T
     contact = solid.contact
@@ -180,9 +230,9 @@ def _write_reduction(params: Parameters, rpm: float, path: Path) -> None:
                  weight=contact.weight if contact else np.zeros(0))
 
 
-def reduced_system(params: Parameters) -> StructuralSystem:
-    """The solid projected on its free-interface basis (dense, M = I, K diagonal), SI units."""
-    with np.load(reduced_operators(params)) as data:
+def reduced_system(params: Parameters, kind: str = "fe") -> StructuralSystem:
+    """The solid (shell) projected on its free-interface basis (dense, M = I, K diagonal), SI units."""
+    with np.load(reduced_operators(params, kind=kind)) as data:
         d = {k: data[k] for k in data.files}
     omega2 = d["omega2"]
     f1, f2 = np.sqrt(omega2[:2]) / (2 * math.pi)        # the two lowest normal modes lead the basis
@@ -193,6 +243,6 @@ def reduced_system(params: Parameters) -> StructuralSystem:
         contact = ContactElements(W=d["W"], normal_row=d["normal_row"], tangent_row=d["tangent_row"],
                                   side=d["side"], weight=d["weight"])
     return StructuralSystem(
-        model="fe-reduced", M=np.eye(r), C=np.diag(a + b * omega2) + d["G"], K=np.diag(omega2),
+        model=f"{kind}-reduced", M=np.eye(r), C=np.diag(a + b * omega2) + d["G"], K=np.diag(omega2),
         f_const=np.zeros(r), f_aero=params.load.F0 * d["f_aero"],
-        omega_e=params.load.ke * params.speed.omega, tip=d["tip"], contact=contact)
+        omega_e=params.load.ke * params.speed.omega, tip=d["tip"], contact=contact, rayleigh=(float(a), float(b)))

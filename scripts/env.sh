@@ -1,35 +1,16 @@
-#!/usr/bin/env bash
-# Create (or reuse) the project's .venv on Python >= 3.12 with pinned dependencies.
-# Sourced by main.sh and test.sh; safe to run again (it only installs when the lock changed).
-set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-VENV="$ROOT/.venv"
-STAMP="$VENV/.lock-stamp"
-
-find_python() {
-  local c
-  for c in python3.13 python3.12; do
-    if command -v "$c" >/dev/null 2>&1 && "$c" -c 'import sys; sys.exit(sys.version_info < (3,12))' 2>/dev/null; then
-      command -v "$c"; return 0
-    fi
-  done
-  for c in "${PYENV_ROOT:-$HOME/.pyenv}"/versions/3.13*/bin/python3.13 "${PYENV_ROOT:-$HOME/.pyenv}"/versions/3.12*/bin/python3.12; do
-    [ -x "$c" ] && { echo "$c"; return 0; }
-  done
-  return 1
-}
-
-want="$(sha256sum "$ROOT/requirements.lock" "$ROOT/pyproject.toml" | sha256sum | cut -c1-16)"
-if [ ! -x "$VENV/bin/python" ] || [ "$(cat "$STAMP" 2>/dev/null)" != "$want" ]; then
-  if [ ! -x "$VENV/bin/python" ]; then
-    PY="$(find_python)" || { echo "error: Python >= 3.12 is needed (python3.13 or python3.12 on PATH, or under ~/.pyenv/versions); none found" >&2; exit 1; }
-    echo "[env] creating .venv with $PY" >&2
-    "$PY" -m venv "$VENV"
-  fi
-  echo "[env] installing pinned dependencies (requirements.lock)" >&2
-  "$VENV/bin/python" -m pip install -q --upgrade pip >&2
-  "$VENV/bin/python" -m pip install -q -r "$ROOT/requirements.lock" >&2
-  "$VENV/bin/python" -m pip install -q --no-deps -e "$ROOT" >&2
-  echo "$want" > "$STAMP"
+# Put the project's .venv/bin on PATH:  source scripts/env.sh   (bash)
+# Creates or updates .venv first (scripts/venv.sh, run as its own strict process).
+# Changes nothing in the caller's shell but PATH: no shell options, no variables, no exit;
+# if the setup fails, `source` returns its status and the shell stays open.
+if _shroud_env_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)" \
+   && bash "$_shroud_env_root/scripts/venv.sh"; then
+  case ":$PATH:" in
+    *":$_shroud_env_root/.venv/bin:"*) ;;
+    *) export PATH="$_shroud_env_root/.venv/bin:$PATH" ;;
+  esac
+  unset _shroud_env_root
+else
+  echo "error: scripts/env.sh: the environment could not be set up (see above); PATH unchanged" >&2
+  unset _shroud_env_root
+  false
 fi
-export PATH="$VENV/bin:$PATH"

@@ -7,10 +7,14 @@ studies are built on these calls; a script needs nothing else::
 
     p = api.parameters({"speed.rpm": 8500.0})                  # validated once
     modes = api.modal(p, "reduced", n_modes=4)                 # ModalResult
+    tip = api.static(p, "reduced", force=(0.0, 100.0, 0.0))    # StaticResult: tip displacement, m
     run = api.transient(p.updated({"speed.rpm": 10000.0}), "reduced")   # TransientResult
     point = api.harmonic_balance(p, "reduced", rpm=10000.0)    # Checkpoint: one speed
     branch = api.continuation(p, "reduced", 5000.0, 20000.0)   # HBResult: a branch with stability
     curve = api.sweep(p, "reduced", [8000.0, 8500.0, 9000.0])  # SweepResult: time domain
+    ring = api.parameters({"ring.blades": 12}, base=p)         # a ring of 12 blades (geometry.md)
+    limits = api.linear_limits(ring, "reduced", interface="stuck")   # per nodal diameter
+    wave = api.continuation(ring, "reduced", 5000.0, 12000.0)  # the tuned ring by one sector
 
 Every result serializes itself (``to_json``) and the branch and curves draw
 themselves (``plot``). Models are looked up by name in the core's registry
@@ -36,12 +40,12 @@ from shroud.analysis import api as _analysis
 from shroud.analysis import hb as _hb
 from shroud.core import registry as _registry
 from shroud.core.registry import ModelEntry
-from shroud.core.results import HBResult, ModalResult, SweepResult
+from shroud.core.results import HBResult, ModalResult, StaticResult, SweepResult
 from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
 
 __all__ = ["ContactElements", "ModelEntry", "Parameters", "StructuralSystem", "build_system", "continuation", "harmonic_balance", "modal", "models",
-           "parameters", "register_model", "sweep", "transient"]
+           "linear_limits", "parameters", "register_model", "static", "sweep", "transient"]
 
 
 def parameters(values: Mapping[str, Any] | None = None, base: Parameters | None = None) -> Parameters:
@@ -75,8 +79,24 @@ def modal(params: Parameters, model: str, rpm: float | None = None, n_modes: int
     return _analysis.modal(params, model, rpm, n_modes, coriolis)
 
 
+def static(params: Parameters, model: str, force: Sequence[float], rpm: float | None = None) -> StaticResult:
+    """Tip displacement (m) under ``force`` (N, global X, Y, Z) at the blade tip, on top of the centrifugal
+    state at ``rpm`` (default ``params.speed.rpm``)."""
+    return _analysis.static(params, model, force, rpm)
+
+
+def linear_limits(params: Parameters, model: str, interface: str = "stuck", rpm: float | None = None,
+                  n_modes: int = 6, coriolis: bool = True):
+    """The contact's linear limits: modes with no contact springs (``interface="free"``) or with every
+    contact point as springs k_n, k_t (``"stuck"``); with ``ring.blades = N``, per nodal diameter."""
+    from shroud.analysis.limits import interface_modal
+    rpm = params.speed.rpm if rpm is None else rpm
+    return interface_modal(params, model, rpm, n_modes, coriolis, interface)
+
+
 def transient(params: Parameters, model: str, csv_path: Path | None = None):
-    """One Newmark run with impact and friction (paper Sect. 2): a TransientResult."""
+    """One Newmark run with impact and friction (paper Sect. 2): a TransientResult (with
+    ``ring.blades = N``, the whole ring's)."""
     return _analysis.transient(params, model, csv_path)
 
 
@@ -86,12 +106,19 @@ def sweep(params: Parameters, model: str, rpms: Sequence[float]) -> SweepResult:
 
 
 def harmonic_balance(params: Parameters, model: str, rpm: float, harmonics: int = _hb.DEFAULT_HARMONICS,
-                     samples: int | None = None, start=None) -> _hb.Checkpoint:
-    """The periodic steady state at one speed by harmonic balance, with its Floquet stability."""
-    return _hb.checkpoint(params, model, rpm, harmonics, samples, start)
+                     samples: int | None = None, start=None, retry: bool = True,
+                     multipliers: bool = True) -> _hb.Checkpoint:
+    """The periodic steady state at one speed by harmonic balance, with its Floquet stability
+    (shroud.analysis.hb.checkpoint: ``start`` the harmonics Newton begins from, ``retry`` from the linear
+    solution where it fails from there, ``multipliers=False`` without stability)."""
+    return _hb.checkpoint(params, model, rpm, harmonics, samples, start, retry, multipliers)
 
 
 def continuation(params: Parameters, model: str, rpm_from: float, rpm_to: float,
-                 harmonics: int = _hb.DEFAULT_HARMONICS, min_points: int | None = None) -> HBResult:
-    """The steady-state branch from ``rpm_from`` to ``rpm_to`` by harmonic balance with continuation."""
+                 harmonics: int = _hb.DEFAULT_HARMONICS, min_points: int | None = None):
+    """The steady-state branch from ``rpm_from`` to ``rpm_to`` by harmonic balance with continuation: an
+    HBResult; with ``ring.blades = N``, the ring's (one sector when tuned, the whole ring when mistuned)."""
+    if params.ring.blades:
+        from shroud.analysis.ring_hb import run_ring_hb
+        return run_ring_hb(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)
     return _hb.run_hb(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)

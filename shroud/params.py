@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
+import tomllib
 from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
@@ -136,11 +137,56 @@ class FE:
     interface_modes: int = 8   # kept contact-face patterns of fe-reduced (0 = all); see bench_fe_transient
 
 
+@dataclass(frozen=True)
+class Shell:
+    mesh_size: float = 0.004   # m; element size of the mid-surface mesh (reference_fe.shell, docs/shell.md)
+    order: int = 2             # polynomial degree of the displacement (rotations: Crouzeix-Raviart)
+    cms_modes: int = 24        # kept modes of the reduced shell model (the paper's 24)
+    contact_points: int = 11   # contact points per shroud face (the paper's 11)
+
+
+@dataclass(frozen=True)
+class Ring:
+    """N blades on a rigid disk, coupled through their shrouds (geometry.md, "Moving neighbours").
+
+    blades = 0 is the paper's blade between two fixed neighbours. Blade j's
+    E (and with it G) is E (1 + d_j): d_j from ``mistuning`` (N values) or,
+    when ``mistuning_std`` > 0, drawn from a normal law with that standard
+    deviation and ``seed``.
+    """
+
+    blades: int = 0                        # N; 0 = the paper's fixed neighbours
+    mistuning: tuple[float, ...] = ()      # d_j, j = 0 .. N-1 (empty: tuned, or drawn)
+    mistuning_std: float = 0.0             # standard deviation of the drawn d_j
+    seed: int = 0                          # of the drawn d_j
+
+    @property
+    def deviations(self) -> tuple[float, ...]:
+        """d_j of the N blades (all 0 when tuned)."""
+        if self.mistuning:
+            return self.mistuning
+        if self.mistuning_std > 0.0:
+            import numpy as np             # only a mistuned ring draws
+            rng = np.random.default_rng(self.seed)
+            return tuple(float(d) for d in rng.normal(0.0, self.mistuning_std, self.blades))
+        return (0.0,) * self.blades
+
+    @property
+    def tuned(self) -> bool:
+        return not any(self.deviations)
+
+
 SECTIONS: dict[str, type] = {
     "blade": Blade, "material": Material, "shroud": Shroud, "contact": Contact,
     "damping": Damping, "load": Load, "speed": Speed, "time": Time,
-    "reduced": Reduced, "fe": FE,
+    "reduced": Reduced, "fe": FE, "shell": Shell, "ring": Ring,
 }
+
+
+# The beam and the solid are linear, small-strain models of the centrifugally prestressed blade
+# (paper Sect. 2; reference_fe: linear prestress). Past this centrifugal strain at the blade root
+# they describe nothing (steel yields near 0.2 %); the paper's studies reach 8 % (70000 r/min).
+MAX_ROOT_STRAIN = 0.10
 
 
 def _positive(v): return v > 0
@@ -154,7 +200,7 @@ _RULES: dict[str, tuple[Any, str]] = {
     "blade.width": (_positive, "a length > 0 m"),
     "blade.thickness": (_positive, "a length > 0 m"),
     "blade.stagger_deg": (lambda v: -180 <= v <= 180, "an angle in [-180, 180] deg"),
-    "blade.twist_deg": (lambda v: -90 < v < 90, "an angle in (-90, 90) deg"),
+    "blade.twist_deg": (lambda v: -90 <= v <= 90, "an angle in [-90, 90] deg"),
     "material.E": (_positive, "a modulus > 0 Pa"),
     "material.rho": (_positive, "a density > 0 kg/m^3"),
     "material.nu": (lambda v: -1.0 < v < 0.5, "a Poisson ratio in (-1, 0.5)"),
@@ -185,6 +231,13 @@ _RULES: dict[str, tuple[Any, str]] = {
     "fe.hex_span_ratio": (lambda v: 0.25 <= v <= 8, "a ratio in [0.25, 8]"),
     "fe.cms_modes": (lambda v: v >= 1, "an integer >= 1"),
     "fe.interface_modes": (lambda v: v >= 0, "an integer >= 0 (0 keeps every contact attachment mode)"),
+    "shell.mesh_size": (_positive, "an element size > 0 m"),
+    "shell.order": (lambda v: v == 2, "2 (P2 displacements with Crouzeix-Raviart rotations)"),
+    "shell.cms_modes": (lambda v: v >= 1, "an integer >= 1"),
+    "shell.contact_points": (lambda v: v >= 2, "an integer >= 2 points per shroud face"),
+    "ring.blades": (lambda v: v == 0 or v >= 2, "0 (the paper's fixed neighbours) or an integer >= 2 blades"),
+    "ring.mistuning": (lambda v: all(d > -1.0 for d in v), "relative changes d_j > -1 of E (E (1 + d_j) > 0)"),
+    "ring.mistuning_std": (_nonneg, "a standard deviation >= 0"),
 }
 
 
@@ -195,13 +248,15 @@ def all_keys() -> list[str]:
 def _type_of(section: str, name: str) -> type:
     hint = {f.name: f for f in fields(SECTIONS[section])}[name].type
     return {"float": float, "int": int, "bool": bool, "str": str,
-            "float | None": float}[hint]
+            "float | None": float, "tuple[float, ...]": tuple}[hint]
 
 
 def _coerce(key: str, value: Any, typ: type) -> Any:
     """Convert a scene or --set value to the key's type, or raise InputError."""
     if value is None and key == "contact.gap":
         return None
+    if typ is tuple:
+        return _coerce_list(key, value)
     if isinstance(value, str) and typ is not str:
         text = value.strip()
         if typ is bool:
@@ -234,9 +289,31 @@ def _coerce(key: str, value: Any, typ: type) -> Any:
     return value
 
 
+def _coerce_list(key: str, value: Any) -> tuple[float, ...]:
+    """A list of numbers: a TOML array, or ``--set`` text such as ``0.01,-0.02`` or ``[0.01, -0.02]``."""
+    if isinstance(value, str):
+        text = value.strip().removeprefix("[").removesuffix("]")
+        value = [t for t in text.split(",") if t.strip()]
+    if not isinstance(value, (list, tuple)):
+        raise InputError(key, f"{value!r} is not a list; allowed: a list of numbers, e.g. [0.01, -0.02]")
+    return tuple(_coerce(key, v, float) for v in value)
+
+
 def _allowed(key: str, typ: type) -> str:
     rule = _RULES.get(key)
     return rule[1] if rule else typ.__name__
+
+
+def parse_value(text: str) -> Any:
+    """A ``--set`` value: a TOML value (``8500``, ``1e-4``, ``"explicit"``, ``[4, 6]``, ``true``), else the bare word.
+
+    >>> parse_value('"explicit"'), parse_value("explicit"), parse_value("1e-4"), parse_value("[4, 6]")
+    ('explicit', 'explicit', 0.0001, [4, 6])
+    """
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text          # bare words are strings
 
 
 def unknown_key(key: str, known: list[str]) -> InputError:
@@ -259,6 +336,8 @@ class Parameters:
     time: Time = field(default_factory=Time)
     reduced: Reduced = field(default_factory=Reduced)
     fe: FE = field(default_factory=FE)
+    shell: Shell = field(default_factory=Shell)
+    ring: Ring = field(default_factory=Ring)
 
     # --- construction -----------------------------------------------------
     @classmethod
@@ -275,13 +354,17 @@ class Parameters:
         return (base or cls()).updated(flat)
 
     def with_overrides(self, assignments: list[str]) -> "Parameters":
-        """Apply ``--set key=value`` strings."""
+        """Apply ``--set key=value`` strings (values read as TOML, bare words as strings).
+
+        >>> Parameters().with_overrides(['time.contact="explicit"', "reduced.shroud=rigid"]).time.contact
+        'explicit'
+        """
         flat = {}
         for text in assignments:
             key, sep, value = text.partition("=")
             if not sep:
                 raise InputError(text, "--set needs key=value, e.g. --set speed.rpm=8500")
-            flat[key.strip()] = value
+            flat[key.strip()] = parse_value(value.strip())
         return self.updated(flat)
 
     def updated(self, flat: Mapping[str, Any]) -> "Parameters":
@@ -310,6 +393,8 @@ class Parameters:
             contact["N0"] = -contact["kn"] * contact["gap"]
         new = Parameters(**{s: SECTIONS[s](**sections[s]) for s in SECTIONS})
         new._check_geometry()
+        new._check_speed()
+        new._check_ring()
         return new
 
     def _check_geometry(self) -> None:
@@ -320,6 +405,45 @@ class Parameters:
                              "allowed: a shroud at least as wide as the blade is thick")
         if s.thickness > 0 and s.length <= 0:
             raise InputError("shroud.length", "must be > 0 m when shroud.thickness > 0")
+
+    def root_strain(self, rpm: float) -> float:
+        """Centrifugal strain at the blade root at ``rpm``: (rho Omega^2 (R L + L^2/2) + m_s Omega^2 (R + L) / A) / E.
+
+        >>> round(100 * Parameters().root_strain(30000), 2)      # the paper's highest speed, per cent
+        1.53
+        """
+        b, omega = self.blade, 2.0 * math.pi * rpm / 60.0
+        stress = (self.material.rho * (b.disk_radius * b.length + 0.5 * b.length**2)
+                  + self.shroud_mass * (b.disk_radius + b.length) / b.area) * omega**2
+        return stress / self.material.E
+
+    @property
+    def max_rpm(self) -> float:
+        """The speed at which the root strain reaches MAX_ROOT_STRAIN, r/min (strain grows as rpm^2)."""
+        return 1000.0 * math.sqrt(MAX_ROOT_STRAIN / self.root_strain(1000.0))
+
+    def _check_speed(self) -> None:
+        rpm = max(self.speed.rpm, 0.0)
+        if rpm > self.max_rpm:
+            raise InputError("speed.rpm", f"{rpm:g} r/min strains the blade root by {100 * self.root_strain(rpm):.3g} % "
+                             "under its own centrifugal load; the beam and the solid are linear, small-strain "
+                             f"models, meaningless past {100 * MAX_ROOT_STRAIN:g} % (steel yields near 0.2 %); "
+                             f"allowed: a speed <= {self.max_rpm:.0f} r/min for this blade")
+    def _check_ring(self) -> None:
+        r = self.ring
+        if r.blades == 0:
+            if r.mistuning or r.mistuning_std > 0:
+                raise InputError("ring.mistuning", "mistunes the blades of a ring; allowed: with ring.blades >= 2")
+            return
+        if r.mistuning and r.mistuning_std > 0:
+            raise InputError("ring.mistuning", "give ring.mistuning or ring.mistuning_std, not both")
+        if r.mistuning and len(r.mistuning) != r.blades:
+            raise InputError("ring.mistuning", f"has {len(r.mistuning)} values for {r.blades} blades; "
+                                               "allowed: one d_j per blade (ring.blades values)")
+        worst = min(r.deviations)
+        if worst <= -1.0:
+            raise InputError("ring.mistuning_std", f"{r.mistuning_std!r} with seed {r.seed} draws d = {worst:.3g}, "
+                                                   "a blade with E <= 0; allowed: a scatter whose draws keep d_j > -1")
 
     # --- views -------------------------------------------------------------
     def flat(self) -> dict[str, Any]:

@@ -1,51 +1,68 @@
 """Campaigns: every listed scene is checked first, then all run (spread over
 worker processes), each into its own folder, and one report links them all.
 
-The study here is a probe registered as ``comparisons.probe``: it records
+The study here is a probe, ``comparisons.probe``: it records
 which process ran it and can be told to fail, so the campaign's bookkeeping
 is tested on its own; test_mpi.py runs a real campaign under mpirun.
 """
 
-import importlib.machinery
 import json
 import os
 import re
 import sys
-import time
-import types
 from pathlib import Path
 
 import pytest
 
 from workbench.campaign import load_campaign, run_campaign
 from shroud.base.errors import InputError
+
+
+PROBE = """
+import os
+import time
+
 from shroud.base.parallel import map_parallel
+
+OPTIONS = {"fail": False}
 
 
 def _pid(_):
     return os.getpid()
 
 
-def _probe_run(scene, out):
+def run(scene, out):
     if scene.options["fail"]:
         raise RuntimeError("told to fail")
     inner = map_parallel(_pid, range(4))          # a sweep inside a campaign item
     time.sleep(0.3)                               # long enough that both workers take a scene
-    (out / "curve.png").write_bytes(b"\x89PNG")
-    (out / "values.csv").write_text("rpm,amplitude\n8500,1e-4\n")
+    (out / "curve.png").write_bytes(b"\\x89PNG")
+    (out / "values.csv").write_text("rpm,amplitude\\n8500,1e-4\\n")
     (out / "report.md").write_text(
-        f"# Probe {scene.title}\n\n![curve](curve.png)\n\n[values](values.csv)\n\n"
-        f"## Detail\n\nrpm = {scene.params.speed.rpm:g}\n")
+        f"# Probe {scene.title}\\n\\n![curve](curve.png)\\n\\n[values](values.csv)\\n\\n"
+        f"## Detail\\n\\nrpm = {scene.params.speed.rpm:g}\\n")
     return {"pid": os.getpid(), "inner_pids": inner, "rpm": scene.params.speed.rpm}
+"""
 
 
 @pytest.fixture
 def probe(monkeypatch, tmp_path):
-    module = types.ModuleType("comparisons.probe")
-    module.__spec__ = importlib.machinery.ModuleSpec("comparisons.probe", None)
-    module.OPTIONS = {"fail": False}
-    module.run = _probe_run
-    monkeypatch.setitem(sys.modules, "comparisons.probe", module)
+    """The probe study as ``comparisons.probe``, importable by the campaign's worker processes too.
+
+    Workers start fresh (shroud.base.parallel: not forked from this process) with this process's
+    sys.path, so the probe lives in a package ``comparisons`` put first on it, whose ``__path__``
+    also holds the real studies.
+    """
+    import comparisons
+    real = Path(comparisons.__file__).parent
+    shadow = tmp_path / "studies" / "comparisons"
+    shadow.mkdir(parents=True)
+    (shadow / "__init__.py").write_text(f"__path__.append({str(real)!r})\n"
+                                        f"exec(open({str(real / '__init__.py')!r}).read())\n")
+    (shadow / "probe.py").write_text(PROBE)
+    for name in [m for m in sys.modules if m == "comparisons" or m.startswith("comparisons.")]:
+        monkeypatch.delitem(sys.modules, name)
+    monkeypatch.syspath_prepend(str(shadow.parent))
     monkeypatch.setenv("SHROUD_WORKERS", "2")
     for name, rpm in (("first", 8000), ("second", 9000), ("third", 10000)):
         (tmp_path / f"{name}.toml").write_text(

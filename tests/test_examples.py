@@ -28,7 +28,7 @@ def _param(path: Path):
 
 def test_the_examples_are_there():
     assert {"impact_oscillator.py", "table1_modal.py", "fig8_reduced.py", "api_tour.py",
-            "hb_friction_oscillator.py"} | FE <= {p.name for p in EXAMPLES}
+            "hb_friction_oscillator.py", "ring_tuned.py"} | FE <= {p.name for p in EXAMPLES}
 
 
 @pytest.mark.parametrize("path", [_param(p) for p in EXAMPLES])

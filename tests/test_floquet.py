@@ -118,3 +118,56 @@ def test_monodromy_of_runs_is_the_product_of_their_exponentials_in_time_order():
                 @ scipy.linalg.expm(30 * dt * _first_order(M, C, K + Kc))
                 @ scipy.linalg.expm(10 * dt * _first_order(M, C, K)))
     assert _relative_error(floquet.monodromy(M, C, K, W, law, state, F, omega), expected) <= 1e-12
+
+
+# --- the verdict with the multipliers' own error ---------------------------------------------------------
+
+@pytest.mark.parametrize("largest, error, expected", [
+    (0.97, 0.02, True), (1.03, 0.02, False),          # beyond the error either side: decided
+    (0.99, 0.02, None), (1.01, 0.02, None),           # within it: undecided, whichever side |mu| falls
+    (0.99, 0.005, True), (1.01, 0.005, False),        # the same |mu|, a smaller error: decided again
+])
+def test_a_multiplier_within_its_error_of_the_unit_circle_is_undecided(largest, error, expected):
+    assert floquet.verdict(largest, error) is expected
+
+
+def test_the_sampling_error_is_the_change_from_half_the_samples_and_never_below_the_floor():
+    """A separated-then-slipping orbit sampled at 64 and at 32 instants (the slip starting at the same time):
+    its error is the change of the largest |multiplier| between them, at least MULTIPLIER_FLOOR; at 4096
+    samples the largest |multiplier| lies within the error estimated at 64 of the 64-sample one."""
+    M, C, K, W = _blade()
+    law, omega = _law(), 300.0
+
+    def largest(samples):
+        state = np.full((1, samples), SEPARATE)
+        state[0, int(0.17 * samples):int(0.61 * samples)] = SLIP
+        mu = floquet.orbit_multipliers(M, C, K, W, law, state, np.ones((1, samples)), omega)
+        return float(np.abs(mu).max())
+
+    error = floquet.sampling_error(largest(64), largest(32))
+    assert error == max(floquet.MULTIPLIER_FLOOR, abs(largest(64) - largest(32)))
+    assert abs(largest(4096) - largest(64)) <= error
+
+
+def test_a_grazing_touch_is_left_out_of_the_onset_capture_and_counted_not_divided_by():
+    """An element separated, then stuck from the touch, then separated again, touching at a normal speed
+    of exactly zero (a grazing touch: the touch time's shift -dv / v' is unbounded): the monodromy stays
+    finite and equals the one without the capture term; the touch is counted as grazing, so the point's
+    stability is undecided. At a clear normal speed the capture term is taken (the monodromy differs)."""
+    M, C, K, W = _blade()
+    law, omega, samples = _law(), 300.0, 64
+    state = np.full((1, samples), SEPARATE)
+    state[0, 20:40] = STICK
+    F = np.ones((1, samples))
+    rates = np.zeros((samples, 2))
+    rates[:, 0] = np.cos(np.linspace(0, 2 * np.pi, samples, endpoint=False))     # the normal speed
+    rates[:, 1] = 0.7                                                            # the tangential speed
+    rates[20, 0] = 0.0                                                           # grazing at the touch
+    Phi, grazing = floquet._monodromy_grazing(M, C, K, W, law, state, F, omega, rates)
+    assert np.all(np.isfinite(Phi)) and grazing == 1
+    assert _relative_error(Phi, floquet.monodromy(M, C, K, W, law, state, F, omega)) <= 1e-14
+    st = floquet.Stability(multipliers=floquet.multipliers(Phi), error=0.01, grazing=grazing)
+    assert st.stable is None
+    rates[20, 0] = 0.5
+    Phi_clear, grazing = floquet._monodromy_grazing(M, C, K, W, law, state, F, omega, rates)
+    assert grazing == 0 and _relative_error(Phi_clear, Phi) > 1e-6

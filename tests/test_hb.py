@@ -9,7 +9,7 @@ import pytest
 import scipy.optimize
 
 from comparisons._hb import crossings
-from shroud.analysis.hb import run_hb, solve_at
+from shroud.analysis.hb import checkpoint, run_hb
 from shroud.analysis.transient import contact_law_for
 from shroud.analysis.api import build_system
 from shroud.core import floquet
@@ -256,10 +256,12 @@ def test_a_time_run_leaves_an_unstable_hb_state_and_stays_on_a_stable_one():
     stable_amplitudes = crossings(branch, rpm, stable=True)
     assert len(stable_amplitudes) == 2 and len(crossings(branch, rpm, stable=False)) == 1
     for stable_wanted in (True, False):
-        sol, info = _hb_state_at(p, rpm, branch, stable_wanted)
-        assert info["stable"] == stable_wanted
+        point = _hb_state_at(p, rpm, branch, stable_wanted)
+        assert point.stable is stable_wanted
         system = build_system(p.updated({"speed.rpm": rpm}), "reduced")
-        q0, v0, _ = hb.state_vector(system, sol, hb.linear_harmonics(system, 12))
+        lin = hb.linear_harmonics(system, 12)
+        sol = hb.solve(system, contact_law_for(system, p.contact), 12, 512, X0=point.X, lin=lin)   # its forces
+        q0, v0, _ = hb.state_vector(system, sol, lin)
         tr, spp = _time_domain(p, "reduced", rpm, periods=200, q0=q0, v0=v0)
         a_end = amplitude(tr.tip[:, 0], spp)
         if stable_wanted:
@@ -273,11 +275,11 @@ def _hb_state_at(p, rpm, branch, stable):
     """An HB solution at ``rpm`` on a stretch of the branch with the wanted stability (Newton from it)."""
     for i in range(len(branch.rpm) - 1):
         r0, r1 = branch.rpm[i], branch.rpm[i + 1]
-        if (min(r0, r1) <= rpm <= max(r0, r1) and r0 != r1 and branch.stable[i] == stable
-                and branch.stable[i + 1] == stable):
+        if (min(r0, r1) <= rpm <= max(r0, r1) and r0 != r1 and branch.stable[i] is stable
+                and branch.stable[i + 1] is stable):
             t = (rpm - r0) / (r1 - r0)
             X0 = (1 - t) * branch.X[i] + t * branch.X[i + 1]
-            return solve_at(p, "reduced", rpm, harmonics=12, samples=512, X0=X0)
+            return checkpoint(p, "reduced", rpm, harmonics=12, samples=512, start=X0, retry=False)
     raise AssertionError(f"no {'stable' if stable else 'unstable'} stretch at {rpm}")
 
 
@@ -290,15 +292,15 @@ def test_an_orbit_that_sticks_from_the_touch_is_as_stable_as_the_time_domain_say
     p = Parameters().updated({"contact.gap": 1e-4})
     rpm = 12300.0
     branch = run_hb(p, "full", 6000.0, rpm, harmonics=10, samples=512)     # up the resonance to 12300
-    sol, info = solve_at(p, "full", rpm, harmonics=10, samples=512, X0=branch.X[-1])
+    sol = checkpoint(p, "full", rpm, harmonics=10, samples=512, start=branch.X[-1], retry=False)
     system = build_system(p.updated({"speed.rpm": rpm}), "full")
     law = contact_law_for(system, p.contact)
     lin = hb.linear_harmonics(system, 10)
     state = hb.balance(sol.X, lin, law, sol.basis, jacobian=False).contact.state[0]
     touch = np.flatnonzero((state != SEPARATE) & (np.roll(state, 1) == SEPARATE))
     assert touch.size == 1 and state[touch[0]] == STICK          # the case in point: stuck from the touch
-    assert info["stable"] and np.abs(info["multipliers"]).max() < 0.99
-    q0, v0, _ = hb.state_vector(system, sol, lin)
+    assert sol.stable and sol.largest_multiplier[sol.dofs] < 0.99
+    q0, v0, _ = hb.state_vector(system, hb.solve(system, law, 10, 512, X0=sol.X, lin=lin), lin)   # its forces
     tr, spp = _time_domain(p, "full", rpm, periods=400, q0=q0, v0=v0)
     assert amplitude(tr.tip[:, 0], spp) == pytest.approx(sol.amplitude_v_L, rel=0.01)
 
@@ -326,12 +328,117 @@ def test_a_small_gap_whose_first_point_folds_in_the_load_runs_the_whole_range():
         # Newton at the point's speed, on the system built afresh there, barely moves it: a corrector stops
         # within continuation.CONVERGED = 1e-8 (scaled) of the branch (measured at 1e-7: at most 2e-5 of the state,
         # beside a fold, where a fixed-speed correction is amplified); a point off the branch moves by its size
-        X, _, _, ok = hb.newton(branch.X[k], hb.linear_harmonics(s, 10), contact_law_for(s, at.contact), basis)
+        X, _, _, ok, _, _ = hb.newton(branch.X[k], hb.linear_harmonics(s, 10), contact_law_for(s, at.contact), basis)
         assert ok and np.linalg.norm(X - branch.X[k]) <= 1e-4 * np.linalg.norm(branch.X[k])
     from shroud.core.signals import detect_period
     for rpm in (8000.0, 30000.0):
         tr, spp = _time_domain(p, "reduced", rpm)
         assert detect_period(tr.tip[:, 0], spp) == 1
         a = amplitude(tr.tip[:, 0], spp)
-        near = crossings(branch, rpm, stable=True) + crossings(branch, rpm, stable=False)
+        near = [np.interp(rpm, branch.rpm[i:i + 2], branch.amplitude_v_L[i:i + 2]) for i in range(len(branch.rpm) - 1)
+                if branch.rpm[i] <= rpm <= branch.rpm[i + 1]]               # every crossing, whatever its stability
         assert near and min(abs(x / a - 1) for x in near) < 0.01, (rpm, a, near)
+
+
+# --- solvers that never overstate ---------------------------------------------------------------
+
+def test_newton_that_stops_short_of_its_tolerance_says_so():
+    """Asked for |R| / |F| <= 1e-30 (below round-off) Newton stalls: it is still accepted (within hb.ACCEPT)
+    but says it stopped short, with the residual it reached; asked for 1e-6 it is not short."""
+    system, law = friction_oscillator(70.0)
+    lin = hb.linear_harmonics(system, 5)
+    basis = hb.fourier(5, 256)
+    tight = hb.newton(hb.linear_solution(lin), lin, law, basis, tol=1e-30)
+    assert tight.converged and tight.short and 1e-30 < tight.residual <= hb.ACCEPT
+    loose = hb.newton(hb.linear_solution(lin), lin, law, basis, tol=1e-6)
+    assert loose.converged and not loose.short
+
+
+def test_the_continuation_records_the_kink_it_steps_over():
+    """x = |p - 1|: the tangent turns by 90 degrees at p = 1, more than any step resolves; the branch is
+    followed through it (every point on x = |p - 1|) and the kink recorded there."""
+    from shroud.core.continuation import continue_branch
+
+    def residual(x, p):
+        return x - abs(p - 1.0), np.eye(1), lambda: np.array([-np.sign(p - 1.0)])
+    branch = continue_branch(residual, np.array([0.5]), 0.5, 1.5, 1.0, ds=0.05, ds_max=0.1)
+    assert branch.complete and branch.p[-1] == 1.5
+    assert np.allclose([x[0] for x in branch.x], np.abs(np.array(branch.p) - 1.0), atol=1e-9)
+    assert len(branch.kinks) == 1 and branch.kinks[0]["p"] == pytest.approx(1.0, abs=0.01)
+    assert branch.kinks[0]["turn_rad"] > 0.5
+
+
+def test_a_tail_target_never_met_is_flagged_in_the_result_and_its_json():
+    """A tail of 1e-9 of the contact forces' spectrum is beyond H = 2 and 4 (the most allowed): the branch at
+    H = 4 comes back with tail_met False, its tail above the target, and a note saying so."""
+    from shroud.analysis.hb import run_hb_to_tail
+    p = Parameters().updated({"contact.gap": 1e-4})
+    br = run_hb_to_tail(p, "reduced", 8000.0, 10000.0, tail=1e-9, first=2, most=4, min_points=5)
+    assert br.harmonics == 4 and br.tail_met is False and br.spectral_tail > 1e-9
+    out = br.to_json()
+    assert out["tail_met"] is False and out["tail_target"] == 1e-9
+    assert any("spectral tail" in n for n in out["notes"])
+
+
+def test_points_within_the_multipliers_error_are_undecided_and_the_resonance_is_never_an_unstable_point():
+    """1 um gap (alpha 30 deg, kt 5e6 N/m, mu 0.3), 5000-9000 r/min: the branch has stable, unstable and
+    undecided points; every undecided one has its largest |multiplier| within its error of 1 (or no state at
+    2 H), every decided one beyond it, on its side; the JSON says null for them. The resonance is the largest
+    amplitude over the points not shown unstable, and where an unstable point is larger it is reported
+    beside it, never as the headline."""
+    p = Parameters().updated({"contact.alpha_deg": 30.0, "contact.kt": 5e6, "contact.mu": 0.3, "contact.gap": 1e-6})
+    br = run_hb(p, "reduced", 5000.0, 9000.0, harmonics=10, samples=512, min_points=30)
+    verdicts = list(br.stable)
+    assert True in verdicts and False in verdicts and None in verdicts
+    for s, m, e in zip(br.stable, br.max_multiplier, br.multiplier_error):
+        assert e >= floquet.MULTIPLIER_FLOOR
+        if s is None:
+            assert abs(m - 1) <= e or not np.isfinite(e)
+        else:
+            assert (m < 1 - e) if s else (m > 1 + e)
+    assert br.to_json()["stable"] == [None if s is None else bool(s) for s in br.stable]
+    res = br.resonance
+    kept = [a for a, s in zip(br.amplitude_v_L, br.stable) if s is not False]
+    assert res["amplitude"] == max(kept) and res["stable"] is not False
+    unstable = [a for a, s in zip(br.amplitude_v_L, br.stable) if s is False]
+    if max(unstable) > max(kept):
+        assert res["unstable_peak"]["amplitude"] == max(unstable) and res["unstable_peak"]["stable"] is False
+    else:
+        assert res["unstable_peak"] is None
+
+
+def test_an_unstable_peak_is_reported_beside_the_resonance_never_as_it():
+    """Amplitudes 1, 3, 2, 1.5 mm with the 3 mm point unstable and the 2 mm one undecided: the resonance is
+    2 mm (undecided, said so) with the 3 mm unstable peak beside it; all unstable: no resonance (nan)."""
+    from shroud.core.results import HBResult
+
+    def branch(stable):
+        return HBResult(model="m", harmonics=1, samples=3, rpm=np.array([1.0, 2.0, 3.0, 4.0]),
+                        amplitude_v_L=np.array([1.0, 3.0, 2.0, 1.5]), amplitude_w_L=np.zeros(4), stable=stable,
+                        max_multiplier=np.array([0.5, 1.5, 1.0, 0.5]), bifurcations=(), spectral_tail=0.0,
+                        iterations=0, complete=True, stopped=None, dofs=1, condensed=False, elapsed_s=0.0)
+    res = branch([True, False, None, True]).resonance
+    assert (res["rpm"], res["amplitude"], res["stable"]) == (3.0, 2.0, None)
+    assert res["unstable_peak"]["rpm"] == 2.0 and res["unstable_peak"]["amplitude"] == 3.0
+    res = branch([False] * 4).resonance
+    assert np.isnan(res["amplitude"]) and res["unstable_peak"]["amplitude"] == 3.0
+    assert branch([True] * 4).resonance["unstable_peak"] is None
+
+
+def test_a_closed_loop_stops_where_it_comes_back_onto_itself():
+    """R(x, p) = x^2 + (p - 10)^2 - 1: the solutions are the unit circle about p = 10, an isolated loop that
+    never reaches p_end = 100 nor turns back below p0 (the check for a branch leaving its range). The
+    continuation goes round once, covering the circle (p from 9 to 11, x from -1 to 1, every point on it),
+    and stops where it comes back onto its path, saying so, instead of circling up to max_points."""
+    def residual(x, p):
+        return np.array([x[0] ** 2 + (p - 10.0) ** 2 - 1.0]), np.array([[2 * x[0]]]), lambda: np.array([2 * (p - 10.0)])
+    from shroud.core.continuation import continue_branch
+    branch = continue_branch(residual, np.array([math.sqrt(0.75)]), 9.5, 100.0, 1.0, ds=0.02, ds_max=0.05)
+    x, p = np.array(branch.x)[:, 0], np.array(branch.p)
+    assert not branch.complete and "came back onto its own path" in branch.stopped
+    assert np.allclose(x ** 2 + (p - 10.0) ** 2, 1.0, atol=1e-8)
+    assert p.min() == pytest.approx(9.0, abs=1e-3) and p.max() == pytest.approx(11.0, abs=1e-3)
+    assert x.min() == pytest.approx(-1.0, abs=1e-3) and x.max() == pytest.approx(1.0, abs=1e-3)
+    turned = np.unwrap(np.arctan2(x, p - 10.0))
+    assert 2 * math.pi - 0.2 <= abs(turned[-1] - turned[0]) < 2 * math.pi + 0.5    # once round (to a step), not twice
+    assert len(branch.p) < 2000

@@ -1,5 +1,6 @@
 """Hostile input a new user tried, each through the command: one line naming the key or file
-and what is allowed, exit status 2, no output folder (and for a damaged cache: the run succeeds)."""
+and what is allowed, exit status 2, no output folder (and for a damaged cache: the run succeeds);
+a run that diverged or failed: one line, exit status 1, whatever the command."""
 
 from __future__ import annotations
 
@@ -120,3 +121,147 @@ def test_a_truncated_cache_entry_is_rebuilt_and_the_run_succeeds(tmp_path):
     assert second.stderr.count("cannot be read") == 2, second.stderr
     a, b = (json.loads(run.stdout) for run in (first, second))
     assert b["amplitude"]["v_L"] == pytest.approx(a["amplitude"]["v_L"], rel=1e-9)
+
+
+# --- the environment, the output, the speed, the section: one line, exit 2, before the work -----------
+def _shell(argv: list[str], env: dict | None = None, timeout: float = 300) -> subprocess.CompletedProcess:
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "PYTHONPATH": str(ROOT), **(env or {})}
+    return subprocess.run([sys.executable, "-m", "workbench.cli", *argv], capture_output=True, text=True,
+                          env=env, timeout=timeout)
+
+
+def _one_line(proc: subprocess.CompletedProcess, status: int, key: str) -> str:
+    lines = [l for l in proc.stderr.splitlines() if not l.startswith("[shroud]")]
+    assert proc.returncode == status, proc.stderr
+    assert len(lines) == 1 and lines[0].startswith(f"error: {key}:"), proc.stderr
+    return lines[0]
+
+
+@pytest.mark.parametrize("command", [["modal"], ["run", str(ROOT / "scenes/fig3.toml"), "--quick"]])
+def test_a_cache_folder_below_a_file(tmp_path, command):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x")
+    out = tmp_path / "out"
+    proc = _shell(command + (["--out", str(out)] if command[0] == "run" else []),
+                  env={"SHROUD_CACHE": str(blocker / "cache")})
+    line = _one_line(proc, 2, "SHROUD_CACHE")
+    assert "is a file" in line and "allowed:" in line
+    assert not out.exists() and blocker.read_text() == "x"
+
+
+def test_transient_into_an_existing_file(tmp_path, capsys):
+    target = tmp_path / "taken"
+    target.write_text("mine")
+    assert main(["transient", "--out", str(target)]) == 2
+    assert capsys.readouterr().err.strip().startswith("error: --out:")
+    assert target.read_text() == "mine"
+
+
+@pytest.mark.parametrize("argv", [
+    ["modal", "--rpm", "1e9"],                                   # the beam: tens of MHz, said nothing
+    ["modal", "--rpm", "1e9", "--model", "fe"],                  # the solid: SLEPc failed
+    ["transient", "--rpm", "2e5"],
+    ["sweep", "--rpm-from", "8000", "--rpm-to", "1e6", "--rpm-count", "3"],
+    ["sweep", "--method", "hb", "--rpm-from", "8000", "--rpm-to", "1e6"],
+    ["sweep", "--method", "hb", "--checkpoints", "9000", "1e6"],
+])
+def test_a_speed_beyond_where_the_models_mean_anything(tmp_path, capsys, argv):
+    """Past 10 % centrifugal strain at the root (76 696 r/min for this blade) the linear, small-strain
+    beam and solid describe nothing: refused with the strain, the reason and the bound."""
+    out = tmp_path / "out"
+    line = _refused(capsys, argv + (["--out", str(out)] if argv[0] == "transient" else []), "speed.rpm", out)
+    assert "strains the blade root" in line and "small-strain" in line and "76696 r/min" in line
+
+
+def test_the_speed_bound_is_the_root_strain_of_a_uniform_bar_with_a_tip_mass():
+    """sigma(R) = rho Omega^2 (R L + L^2/2) + m_s Omega^2 (R + L) / A, by hand at 30000 r/min."""
+    from shroud.params import MAX_ROOT_STRAIN, Parameters
+    p = Parameters()
+    omega = 30000 * 2 * 3.141592653589793 / 60
+    bar = 7800 * (0.15 * 0.15 + 0.15**2 / 2) * omega**2
+    tip = 7800 * 0.04 * 0.02 * 0.007 * omega**2 * 0.30 / (0.04 * 0.007)
+    assert p.root_strain(30000) == pytest.approx((bar + tip) / 200e9, rel=1e-12)
+    assert p.root_strain(p.max_rpm) == pytest.approx(MAX_ROOT_STRAIN, rel=1e-12)
+    p.updated({"speed.rpm": 70000})                     # the HB studies' highest speed: inside
+
+
+@pytest.mark.parametrize("model, key, words", [
+    ("reduced", "blade.thickness", "torsion grid"),        # the beam's section solve: 105 GiB, was a MemoryError
+    ("fe", "blade.thickness", "times longer than thick"),  # the solid's cells: MUMPS FACTOR_OUTMEMORY
+])
+def test_a_blade_one_micrometre_thick_is_refused_before_it_is_built(tmp_path, capsys, monkeypatch, model, key, words):
+    monkeypatch.setenv("SHROUD_CACHE", str(tmp_path / "cache"))
+    line = _refused(capsys, ["modal", "--model", model, "--rpm", "1000", "--set", "blade.thickness=1e-6"],
+                    key, tmp_path / "out")
+    assert words in line
+    assert not list((tmp_path / "cache").rglob("*.msh"))
+
+
+def test_a_blade_one_micrometre_thick_at_speed_is_torn_by_its_shroud(tmp_path, capsys):
+    line = _refused(capsys, ["modal", "--set", "blade.thickness=1e-6"], "speed.rpm", tmp_path / "out")
+    assert "180 %" in line
+
+
+@pytest.mark.fe
+@pytest.mark.parametrize("setting, key, words", [
+    ("fe.cms_modes=100000", "fe.cms_modes", "DOF"),               # was a ValueError of the eigensolver
+    ("fe.interface_modes=5000", "fe.interface_modes", "contact-face patterns"),   # was silently "all"
+])
+def test_kept_counts_the_solid_does_not_have(tmp_path, setting, key, words):
+    out = tmp_path / "out"
+    proc = _shell(["transient", "--model", "fe-reduced", "--set", "time.periods=2", "--set", setting,
+                   "--out", str(out)])
+    assert words in _one_line(proc, 2, key)
+    assert not out.exists()
+
+
+# --- a run that diverged: exit 1, whatever the command -------------------------------------------------
+def test_a_scene_whose_only_model_diverges_exits_1(tmp_path):
+    out = tmp_path / "out"
+    proc = _shell(["run", str(ROOT / "scenes/fig8.toml"), "--quick", "--set", 'options.models=["reduced"]',
+                   "--set", "options.reference=reduced", "--set", "time.contact=explicit",
+                   "--set", "contact.kn=1e9", "--out", str(out)])
+    assert "report.md" in _one_line(proc, 1, "run diverged (reduced)")
+    record = json.loads((out / "results.json").read_text())
+    assert record["status"] == "diverged (reduced)" and "reduced" in record["results"]["diverged"]
+    assert (out / "transient_reduced.csv").read_text().startswith("# status: incomplete")
+
+
+def test_a_sweep_whose_points_diverge_exits_1(tmp_path):
+    proc = _shell(["sweep", "--rpm-from", "9000", "--rpm-to", "10000", "--rpm-count", "2", "--json",
+                   "--set", "time.contact=explicit", "--set", "contact.kn=1e9", "--set", "time.periods=20"])
+    assert "amplitudes are null" in _one_line(proc, 1, "run diverged at 2 of 2 speeds (9000, 10000 r/min)")
+    assert json.loads(proc.stdout)["amplitude_v_L"] == [None, None]
+
+
+def test_an_incomplete_harmonic_balance_branch_exits_1(capsys, monkeypatch):
+    from shroud.core import continuation
+    original = continuation._corrector
+    calls = {"n": 0}
+
+    def failing(*a, **k):
+        calls["n"] += 1
+        u, it, ok, R, J, Rp = original(*a, **k)
+        return u, it, ok and calls["n"] <= 10, R, J, Rp
+    monkeypatch.setattr(continuation, "_corrector", failing)
+    code = main(["sweep", "--method", "hb", "--rpm-from", "9000", "--rpm-to", "16000", "--harmonics", "5",
+                 "--samples", "128", "--set", "contact.gap=1e-4", "--json"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert json.loads(captured.out)["complete"] is False
+    assert [l for l in captured.err.splitlines() if l.startswith("error:")] == \
+        [l for l in captured.err.splitlines() if l.startswith("error: the branch is incomplete:")]
+
+
+@pytest.mark.parametrize("argv, key, words", [
+    (["sweep", "--method", "hb", "--rpm-from", "8000", "--rpm-to", "9000", "--harmonics", "100000"],
+     "--harmonics", "Fourier basis"),                       # was a numpy MemoryError (1.53 TiB), exit 1
+    (["sweep", "--method", "hb", "--rpm-from", "8000", "--rpm-to", "9000", "--harmonics", "5",
+      "--samples", "100000000000"], "--samples", "Fourier basis"),
+    (["transient", "--set", "time.steps_per_period=100000000"], "time.steps_per_period",
+     "steps per period"),                                   # was "at most 0 periods" on time.periods
+])
+def test_more_resolution_than_the_machine_holds(tmp_path, capsys, argv, key, words):
+    out = tmp_path / "out"
+    line = _refused(capsys, argv + (["--out", str(out)] if argv[0] == "transient" else []), key, out)
+    assert words in line

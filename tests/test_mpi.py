@@ -130,6 +130,26 @@ def test_fig8_scene_with_both_solid_models_on_two_ranks_matches_serial(tmp_path)
             assert parallel["results"]["amplitude"][model][key] == pytest.approx(
                 serial["results"]["amplitude"][model][key], rel=1e-6)
         assert (tmp_path / "p" / f"contact_map_{model}.png").stat().st_size > 10_000
-    for side in ("side1", "side2"):        # a borderline step may flip: a few steps of the 1536 counted
-        for state, share in serial["results"]["state_fraction"]["fe"][side].items():
-            assert parallel["results"]["state_fraction"]["fe"][side][state] == pytest.approx(share, abs=2e-3)
+    # The contact elements come in one order whatever the ranks (reference_fe.contact_faces.face_nodes):
+    # the maps' shares once differed by up to 0.37 % under mpirun, their weights in the partition's order.
+    # The reduced solid runs the same arithmetic on every rank count; the distributed solid's factor
+    # rounds differently (amplitudes 1e-11 apart), within shroud compare's default tolerance (1e-6).
+    for model, rel in (("fe-reduced", 0.0), ("fe", 1e-6)):
+        for side in ("side1", "side2"):
+            for state, share in serial["results"]["contact_map"][model][side]["area_weighted_share"].items():
+                got = parallel["results"]["contact_map"][model][side]["area_weighted_share"][state]
+                assert got == pytest.approx(share, rel=rel, abs=1e-12), (model, side, state)
+            for state, share in serial["results"]["state_fraction"][model][side].items():
+                assert parallel["results"]["state_fraction"][model][side][state] == pytest.approx(share, rel=rel)
+
+
+def test_shell_modal_and_static_on_two_ranks_give_the_serial_answers():
+    """The shell model (mixed P2/CR space, T-joint mesh) distributed over two ranks."""
+    args = ["modal", "--model", "shell", "--rpm", "10000", "--modes", "5", "--json"]
+    serial, parallel = (json.loads(shroud(args, ranks=r)[0]) for r in (1, 2))
+    for a, b in zip(serial["modes"], parallel["modes"]):
+        assert a["label"] == b["label"] and b["f_hz"] == pytest.approx(a["f_hz"], rel=1e-7)
+    args = ["static", "--model", "shell", "--tip-force", "0", "100", "0", "--rpm", "10000", "--json"]
+    serial, parallel = (json.loads(shroud(args, ranks=r)[0]) for r in (1, 2))
+    for key in ("X", "Y", "Z", "v_L", "w_L"):
+        assert parallel["tip"][key] == pytest.approx(serial["tip"][key], rel=1e-8, abs=1e-15)

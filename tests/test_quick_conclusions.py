@@ -216,7 +216,7 @@ def test_fig8_quick_agrees_with_full(tmp_path):
     full = full_conclusions("fig8")
     same_where_shared(got, full, FIG8_VERDICTS)
     assert got["settled"] and all(answer_of(v) is True for v in got["settled"].values())
-    assert {"reduced", "full"} <= got["amplitude_vs_reference"].keys()
+    assert {"reduced", "full", "extended"} <= got["amplitude_vs_reference"].keys()     # the extended beam held too
 
 
 @pytest.mark.fe
@@ -293,3 +293,25 @@ def test_hb_family_quick_agrees_with_full(tmp_path, study):
         assert (q is None) == (f is None), v
         if f is not None:
             assert abs(q - f) <= tracked_step(options), v
+
+
+@pytest.mark.fe
+@pytest.mark.slow
+def test_fig10_quick_agrees_with_full(tmp_path):
+    """Fig. 10 (the fig8 study with the shell): the quick run's beam and reduced shell against the
+    reduced solid, as the full scene's."""
+    got, _ = quick("fig10", tmp_path)
+    full = full_conclusions("fig10")
+    same_where_shared(got, full, FIG8_VERDICTS)
+    assert {"reduced", "shell-reduced"} <= got["amplitude_vs_reference"].keys()
+
+
+@pytest.mark.fe
+def test_shell_benchmarks_quick_agree_with_full(tmp_path):
+    """Every published benchmark the full scene finds within its tolerance the quick one does not find
+    outside it (and the other way round)."""
+    got, _ = quick("shell_benchmarks", tmp_path)
+    full = full_conclusions("shell_benchmarks")
+    for group in ("macneal_harder", "fv16"):
+        assert got[group].keys() == full[group].keys(), group
+        assert agrees(got[group], full[group]), group

@@ -34,10 +34,11 @@ from shroud.base.log import info, warn
 from shroud.params import unknown_key
 from shroud.base.parallel import map_parallel, mpi_rank, mpi_size, workers
 from shroud.base.markdown import seconds
+from shroud.base.outputs import write_text
 from workbench import junit
 from workbench.gates import Gate, from_table, hold, merged
 from workbench.report import SceneOutcome, campaign_gate_summary, stitch
-from workbench.runner import jsonable, output_folder, run_scene, versions
+from workbench.runner import holding, jsonable, output_folder, run_scene, versions
 from workbench.scene import load_scene, read_toml
 
 _TOP_KEYS = ("campaign", "title", "description", "quick", "overrides", "gates")
@@ -141,7 +142,7 @@ def _run_entry(task: tuple[str, str, tuple[str, ...], bool, tuple[Gate, ...]]) -
     except Exception as exc:      # noqa: BLE001 - one scene's failure must not stop the others
         warn(f"scene {path} failed: {type(exc).__name__}: {exc}")
         Path(out).mkdir(parents=True, exist_ok=True)
-        (Path(out) / "error.txt").write_text(traceback.format_exc())
+        write_text(Path(out) / "error.txt", traceback.format_exc())
         return {"status": f"failed ({type(exc).__name__}: {exc})", "out": out,
                 "elapsed_s": round(time.perf_counter() - t0, 3)}
 
@@ -156,8 +157,11 @@ def run_campaign(path: str | Path, out: str | Path | None = None, overrides=(), 
     campaign = load_campaign(path, overrides, quick, gates)
     out = output_folder(path, out)
     writer = mpi_rank() == 0
-    if writer:
-        out.mkdir(parents=True, exist_ok=True)
+    with holding(out, writer):
+        return _run_entries(campaign, path, out, writer)
+
+
+def _run_entries(campaign: Campaign, path, out: Path, writer: bool) -> dict:
     size = mpi_size()
     spread = f"{size} MPI ranks" if size > 1 else f"{min(workers(), len(campaign.entries))} local process(es)"
     info(f"campaign {path}: {len(campaign.entries)} scenes{' (quick)' if campaign.quick else ''} "
@@ -210,7 +214,7 @@ def _write_campaign(out: Path, campaign: Campaign, outcomes: list[SceneOutcome],
                            "gates": {"held": sum(r["passed"] for r in o.gates),
                                      "failed": sum(not r["passed"] for r in o.gates)}}
                           for o in outcomes]}
-    (out / "results.json").write_text(json.dumps(jsonable(payload), indent=1))
+    write_text(out / "results.json", json.dumps(jsonable(payload), indent=1))
     gated = [(o.name, junit.gate_cases(o.gates)) for o in outcomes if o.gates]
     if gated:
         junit.write(out / "junit.xml", f"shroud gates: {campaign.title}", gated)

@@ -29,9 +29,10 @@ class _Parser(argparse.ArgumentParser):
 
 def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="override a parameter (repeatable), e.g. --set speed.rpm=8500")
-    p.add_argument("--scene", help="TOML scene whose values the --set options override")
-    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+                   help="override a parameter (repeatable; SI units unless the key says, values read as TOML), "
+                        "e.g. --set speed.rpm=8500 --set contact.gap=1e-4; keys: docs/interface.md")
+    p.add_argument("--scene", metavar="FILE", help="TOML scene whose values the --set options override")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout (logs stay on stderr)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -41,50 +42,68 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("modal", help="natural frequencies and mode labels at one speed")
     _common(p)
-    p.add_argument("--model", choices=registry.names("modal"), default="reduced")
-    p.add_argument("--rpm", type=float)
-    p.add_argument("--modes", type=int, default=6)
-    p.add_argument("--coriolis", action=argparse.BooleanOptionalAction, default=True)
+    p.add_argument("--model", choices=registry.names("modal"), default="reduced",
+                   help="model to analyse (default reduced)")
+    p.add_argument("--rpm", type=float, metavar="RPM", help="rotation speed, r/min (default speed.rpm: 10000)")
+    p.add_argument("--modes", type=int, default=6, metavar="K", help="number of modes, lowest first (default 6)")
+    p.add_argument("--coriolis", action=argparse.BooleanOptionalAction, default=True,
+                   help="with the Coriolis (gyroscopic) coupling: frequencies of the damped rotating "
+                        "system (default), or without it")
+    p.add_argument("--interface", choices=("free", "stuck"),
+                   help="the contact's linear limit: no springs, or every contact as springs kn, kt "
+                        "(with ring.blades = N: per nodal diameter)")
+
+    p = sub.add_parser("static", help="tip displacement under a force at the blade tip")
+    _common(p)
+    p.add_argument("--model", choices=registry.names(), default="reduced",
+                   help=f"models with a static solve: {', '.join(registry.names('static'))}")
+    p.add_argument("--tip-force", type=float, nargs=3, required=True, metavar=("FX", "FY", "FZ"),
+                   help="force at the blade tip, N, global X, Y, Z")
+    p.add_argument("--rpm", type=float, metavar="RPM", help="rotation speed, r/min (default speed.rpm: 10000)")
 
     p = sub.add_parser("transient", help="time response with impact and friction")
     _common(p)
-    p.add_argument("--model", choices=registry.names("transient"), default="reduced")
-    p.add_argument("--rpm", type=float)
-    p.add_argument("--out", default="out/transient", help="folder for the time-series CSV")
+    p.add_argument("--model", choices=registry.names("transient"), default="reduced",
+                   help="model to integrate (default reduced)")
+    p.add_argument("--rpm", type=float, metavar="RPM", help="rotation speed, r/min (default speed.rpm: 10000)")
+    p.add_argument("--out", default="out/transient", metavar="DIR",
+                   help="folder for the time-series CSV transient_<model>.csv (default out/transient)")
 
     p = sub.add_parser("sweep", help="steady-state amplitude over a speed range")
     _common(p)
     p.add_argument("--model", choices=registry.names(), default="reduced",
                    help=f"time domain: {', '.join(registry.names('sweep'))}; hb: any, the full solid (fe) "
                         "at --checkpoints only")
-    p.add_argument("--rpm-from", type=float, help="first speed, r/min (required but with --checkpoints)")
-    p.add_argument("--rpm-to", type=float, help="last speed, r/min (required but with --checkpoints)")
-    p.add_argument("--rpm-count", type=int,
+    p.add_argument("--rpm-from", type=float, metavar="RPM", help="first speed, r/min (required except with --checkpoints)")
+    p.add_argument("--rpm-to", type=float, metavar="RPM", help="last speed, r/min (required except with --checkpoints)")
+    p.add_argument("--rpm-count", type=int, metavar="K",
                    help="speeds of the time-domain sweep (required there); with --method hb the least "
                         "number of points on the branch")
-    p.add_argument("--method", default="time",
+    p.add_argument("--method", default="time", metavar="{time,hb}",
                    help="time: run from rest at each speed (default); hb: harmonic balance with continuation")
-    p.add_argument("--harmonics", type=int, default=None,
-                   help="harmonics kept by --method hb (default 10)")
-    p.add_argument("--tail", type=float, default=None,
+    p.add_argument("--harmonics", type=int, default=None, metavar="H",
+                   help="harmonics H of the excitation frequency kept by --method hb (default 10)")
+    p.add_argument("--tail", type=float, default=None, metavar="SHARE",
                    help="--method hb without --harmonics: choose H (5, 10, 20, 40) until the contact forces' "
-                        "spectral tail above H is at most this share")
-    p.add_argument("--samples", type=int, default=None,
+                        "spectral tail above H is at most this share (a number in (0, 1))")
+    p.add_argument("--samples", type=int, default=None, metavar="S",
                    help="time samples per period of --method hb's contact evaluation (default 8 H as a power of 2, >= 512)")
     p.add_argument("--checkpoints", type=float, nargs="+", metavar="RPM",
-                   help="--method hb at these speeds only, no continuation (the full solid: condensed exactly "
-                        "on its contact coordinates, Newton started from the fe-reduced state)")
+                   help="--method hb at these speeds only, r/min, no continuation (the full solid: condensed "
+                        "exactly on its contact coordinates, Newton started from the fe-reduced state)")
 
     p = sub.add_parser("run", help="run a whole scene (a study), or a campaign of scenes, into a folder")
     p.add_argument("scene", help="scene file, or campaign file (it has campaign = [...])")
-    p.add_argument("--out", help="output folder (default out/<file name>)")
-    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    p.add_argument("--quick", action="store_true", help="a coarse, minute-scale version")
+    p.add_argument("--out", metavar="DIR", help="output folder (default out/<file name>); one run at a time")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a parameter or a study option (repeatable; values read as TOML), e.g. "
+                        "--set speed.rpm=9000 --set 'options.models=[\"reduced\"]'")
+    p.add_argument("--quick", action="store_true", help="a coarse, minute-scale version (the scene's [quick] table)")
     p.add_argument("--gate", action="append", default=[], metavar="'PATH<=VALUE'",
                    help="bound a number of results.json, or require a value (repeatable; PATH<=VALUE, "
                         "PATH>=VALUE or PATH==VALUE, VALUE a number, true, false or a word); exit 3 if it "
                         "does not hold")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print the run's summary as one JSON object on stdout")
 
     p = sub.add_parser("compare", help="hold every number, yes/no and word (verdict) of NEW/results.json "
                                        "against BASE/results.json (run times skipped)")
@@ -99,7 +118,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "ignored always: run times (keys ending in _s or _time_ratio, verdicts drawn from "
                         "run times) and " + " ".join(DEFAULT_IGNORE))
     p.add_argument("--junit", metavar="FILE", help="write the comparison as JUnit XML")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print the comparison as one JSON object on stdout")
+
     p = sub.add_parser("record", help="make again the records of full scenes that the quick-against-full tests "
                                       "hold (tests/data/records), on a clean tree")
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names (default: every recorded scene)")
@@ -133,6 +153,14 @@ def cmd_modal(args) -> None:
     if args.modes < 1:
         raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
     params = _params(args)
+    if args.interface is not None:
+        from shroud.analysis.limits import interface_modal
+        limit = interface_modal(params, args.model, params.speed.rpm, args.modes, args.coriolis, args.interface)
+        diameters = "".join(f"\n  nd {d['nd']:3d}: " + " ".join(f"{m['f_hz']:.2f}" for m in d["modes"])
+                            for d in limit.nodal_diameters or [])
+        rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in limit.blade.modes)
+        return _emit(args, limit.to_json(), f"{args.model} model, {params.speed.rpm:g} r/min, interface "
+                                            f"{args.interface}\n{rows}{diameters}")
     result = modal(params, args.model, rpm=params.speed.rpm, n_modes=args.modes, coriolis=args.coriolis)
     rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in result.modes)
     _emit(args, result.to_json(),
@@ -140,18 +168,31 @@ def cmd_modal(args) -> None:
           f"Coriolis {'on' if result.coriolis else 'off'}, {result.elapsed_s:.3f} s\n{rows}")
 
 
+def cmd_static(args) -> None:
+    from shroud.analysis.api import static
+    params = _params(args)
+    result = static(params, args.model, args.tip_force, rpm=params.speed.rpm)
+    tip = result.tip
+    _emit(args, result.to_json(),
+          f"{result.model} model, {result.rpm:g} r/min, {result.dofs} DOF, {result.elapsed_s:.3f} s\n"
+          + "\n".join(f"  {k:4s} {'-' if v is None else f'{v:.6e}'} m" for k, v in tip.items()))
+
+
 def cmd_transient(args) -> None:
     from shroud.analysis.api import transient
-    params = _params(args)
-    out = Path(args.out)             # made by simulate when there is a time series to write
+    from workbench.runner import holding, output_folder
     from shroud.base.parallel import mpi_rank
-    csv_path = out / f"transient_{args.model}.csv" if mpi_rank() == 0 else None   # one rank writes
-    result = transient(params, args.model, csv_path=csv_path)
+    params = _params(args)
+    out = output_folder("transient", args.out)
+    writer = mpi_rank() == 0
+    csv_path = out / f"transient_{args.model}.csv" if writer else None   # one rank writes
+    with holding(out, writer):
+        result = transient(params, args.model, csv_path=csv_path)
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
 
 
-def cmd_sweep(args) -> None:
+def cmd_sweep(args) -> int | None:
     from shroud.core import registry
     if args.method not in ("time", "hb"):
         raise InputError("--method", f"{args.method!r} is unknown; allowed: time, hb")
@@ -183,9 +224,14 @@ def cmd_sweep(args) -> None:
     result = sweep(params, args.model, np.linspace(args.rpm_from, args.rpm_to, args.rpm_count))
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
+    diverged = result.rpm[~np.isfinite(result.amplitude_v_L)]
+    if diverged.size:
+        print(f"error: run diverged at {diverged.size} of {result.rpm.size} speeds "
+              f"({', '.join(f'{r:g}' for r in diverged)} r/min): their amplitudes are null", file=sys.stderr)
+        return EXIT_RUN_FAILED
 
 
-def _sweep_hb(args) -> None:
+def _sweep_hb(args) -> int:
     from shroud.analysis.hb import DEFAULT_HARMONICS, check_inputs, run_hb, run_hb_to_tail
     if args.tail is not None and args.harmonics is not None:
         raise InputError("--tail", "give --harmonics or --tail, not both")
@@ -200,7 +246,13 @@ def _sweep_hb(args) -> None:
     if params.speed.rpm_per_s != 0:
         raise InputError("speed.rpm_per_s", "harmonic balance seeks periodic states at constant speed; "
                                             "allowed: 0 with --method hb")
-    if args.tail is not None:
+    if params.ring.blades:
+        if args.tail is not None:
+            raise InputError("--tail", "a ring's branch is solved at one H; allowed: --harmonics with ring.blades")
+        from shroud.analysis.ring_hb import run_ring_hb
+        result = run_ring_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
+                             min_points=args.rpm_count)
+    elif args.tail is not None:
         result = run_hb_to_tail(params, args.model, args.rpm_from, args.rpm_to, args.tail,
                                 min_points=args.rpm_count)
     else:
@@ -209,8 +261,8 @@ def _sweep_hb(args) -> None:
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
     if not result.complete:
-        from shroud.base.log import warn
-        warn(f"the branch is incomplete: {result.stopped}")
+        print(f"error: the branch is incomplete: {result.stopped}", file=sys.stderr)
+        return EXIT_RUN_FAILED
 
 
 def _sweep_checkpoints(args) -> None:
@@ -250,6 +302,9 @@ def cmd_run(args) -> int:
     _emit(args, summary, "\n".join(lines))
     if summary["status"] == "complete with failures":     # a failed scene outranks a failed gate
         return EXIT_RUN_FAILED
+    if summary["status"].startswith("diverged"):
+        print(f"error: run {summary['status']}: see {summary['out']}/report.md", file=sys.stderr)
+        return EXIT_RUN_FAILED
     return EXIT_GATE_FAILED if failed else 0
 
 
@@ -283,9 +338,11 @@ def cmd_record(args) -> int:
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        return {"modal": cmd_modal, "transient": cmd_transient, "sweep": cmd_sweep,
-                "run": cmd_run, "compare": cmd_compare,
-                "record": cmd_record}[args.command](args) or 0
+        if args.command != "compare":
+            from shroud.base.cache import check_cache
+            check_cache()                # a cache that cannot be written stops the run before any work
+        return {"modal": cmd_modal, "static": cmd_static, "transient": cmd_transient, "sweep": cmd_sweep,
+                "run": cmd_run, "compare": cmd_compare, "record": cmd_record}[args.command](args) or 0
     except InputError as exc:
         print(exc.line(), file=sys.stderr)
         return EXIT_BAD_INPUT

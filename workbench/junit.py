@@ -9,12 +9,13 @@ its details in the element text (passing cases carry them in ``<system-out>``).
 from __future__ import annotations
 
 import datetime
-import os
 import socket
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
+
+from shroud.base.outputs import replacing
 
 
 @dataclass(frozen=True)
@@ -45,9 +46,8 @@ def write(path: Path, title: str, suites: Sequence[tuple[str, Sequence[Case]]]) 
             else:
                 ET.SubElement(element, "failure", message=case.failure, type=case.kind).text = case.detail
     ET.indent(root)
-    tmp = path.with_suffix(".xml.tmp")
-    ET.ElementTree(root).write(tmp, encoding="UTF-8", xml_declaration=True)
-    os.replace(tmp, path)
+    with replacing(path) as tmp:
+        ET.ElementTree(root).write(tmp, encoding="UTF-8", xml_declaration=True)
     return path
 
 

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Sequence
 
 from shroud.base.markdown import demote, markdown_table, relink, seconds
+from shroud.base.outputs import write_text
 
 @dataclass(frozen=True)
 class SceneOutcome:
@@ -41,7 +42,7 @@ def stitch(out: Path, title: str, outcomes: Sequence[SceneOutcome], preamble: st
         else:
             parts.append("(no report written)\n\n")
     path = out / "report.md"
-    path.write_text("".join(parts))
+    write_text(path, "".join(parts))
     return path
 
 
@@ -65,7 +66,7 @@ def open_with_gates(report: Path, records: Sequence[dict]) -> None:
     text = report.read_text() if report.exists() else ""
     title = re.match(r"\A# [^\n]*\n+", text)
     head, body = (title.group(0), text[title.end():]) if title else ("# Gates\n\n", text)
-    report.write_text(head + section + body)
+    write_text(report, head + section + body)
 
 
 def campaign_gate_summary(outcomes: Sequence[SceneOutcome]) -> str:

@@ -4,7 +4,8 @@ Each study module (``comparisons/<study>.py``) has ``OPTIONS`` (defaults of
 its own options) and ``run(scene, out) -> dict`` returning every number its
 figures show; it writes its figures, CSVs and ``report.md`` into ``out``.
 The runner adds ``results.json``: those numbers plus the parameters, options,
-versions, cost and status (``complete``, ``partial`` or ``failed``).
+versions, cost and status (``complete``, ``diverged (<models>)`` when a study reports runs that
+left the bounded regime in its ``diverged`` entry, ``partial`` or ``failed``).
 
 Gates (the scene's ``[gates]`` table merged with those of the command line
 or campaign; workbench.gates) are held against that results.json once it is
@@ -40,7 +41,8 @@ import numpy as np
 
 from shroud.base.errors import InputError
 from shroud.base.log import info, warn
-from shroud.base.parallel import mpi_rank, mpi_size
+from shroud.base.outputs import FolderLock, check_writable, write_text
+from shroud.base.parallel import mpi_rank, mpi_size, on_rank_zero
 from workbench import junit
 from workbench.compare import check_timings
 from workbench.gates import Gate, hold, merged
@@ -119,9 +121,7 @@ def write_results(out: Path, scene: Scene, status: str, elapsed: float, results:
     records = hold(gates, payload)
     if gates:
         payload["gates"] = records
-    tmp = path.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(payload, indent=1))
-    os.replace(tmp, path)            # never a half-written results.json
+    write_text(path, json.dumps(payload, indent=1))
     _report_gates(out, scene.path.stem if scene.path else scene.study, records)
     return records
 
@@ -143,23 +143,8 @@ def output_folder(scene_path: str | Path, out: str | Path | None) -> Path:
     folder = Path(out) if out else Path("out") / Path(scene_path).stem
     if folder.exists() and not folder.is_dir():
         raise InputError("--out", f"{str(folder)!r} is an existing file; allowed: a folder path")
-    _check_writable(folder)
+    check_writable(folder, "--out")
     return folder
-
-
-def _check_writable(folder: Path) -> None:
-    """Refuse ``folder`` if it cannot be made or written into (probed in its nearest existing folder)."""
-    existing = folder.absolute()
-    while not existing.exists():
-        existing = existing.parent
-    allowed = "allowed: a folder that exists or can be made, in a place this user may write"
-    if not existing.is_dir():
-        raise InputError("--out", f"{str(folder)!r} cannot be made: {str(existing)!r} is a file; {allowed}")
-    try:
-        tempfile.TemporaryDirectory(dir=existing, prefix=".shroud-probe-").cleanup()
-    except OSError as exc:
-        raise InputError("--out", f"{str(folder)!r} cannot be written: {exc.strerror} in "
-                         f"{str(existing)!r}; {allowed}") from None
 
 
 @contextlib.contextmanager
@@ -199,8 +184,34 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
         check(scene)                 # a study's own cross-checks of its options, before any write
     out = output_folder(path, out)
     writer = mpi_rank() == 0 if writer is None else writer
+    with holding(out, writer):
+        return _run_study(scene, module, path, out, writer, quick, overrides, gates)
+
+
+@contextlib.contextmanager
+def holding(out: Path, writer: bool):
+    """``out`` held by this run's writer (shroud.base.outputs.FolderLock) for the block.
+
+    Another run's hold is refused (InputError) on every MPI rank, before
+    anything is written; a folder the block made is removed again when its
+    input turns out bad (InputError) after all.
+    """
+    fresh = not out.exists()
+    lock = FolderLock(out)
+    on_rank_zero(lambda: lock.acquire() if writer else None)
+    try:
+        yield
+    except InputError:
+        if fresh and writer:
+            shutil.rmtree(out, ignore_errors=True)   # bad input found late: leave nothing behind
+        raise
+    finally:
+        lock.release()
+
+
+def _run_study(scene: Scene, module, path, out: Path, writer: bool, quick: bool, overrides,
+               gates: tuple[Gate, ...]) -> dict:
     target = out if writer else Path(tempfile.mkdtemp(prefix=f"shroud-rank{mpi_rank()}-"))
-    fresh = not target.exists()
     target.mkdir(parents=True, exist_ok=True)
     info(f"scene {path}: study {scene.study}{' (quick)' if quick else ''} -> {out}")
     started = time.time()
@@ -219,8 +230,6 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
              f"{len(marked)} file(s) marked incomplete)")
         raise
     except InputError:
-        if fresh:
-            shutil.rmtree(target, ignore_errors=True)   # bad input found late: leave nothing behind
         raise
     except Exception as exc:
         elapsed = time.perf_counter() - t0
@@ -232,6 +241,10 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
         if not writer:
             shutil.rmtree(target, ignore_errors=True)
     elapsed = time.perf_counter() - t0
+    diverged = results.get("diverged") or {}        # a study's runs that left the bounded regime, by model
+    if diverged:
+        status = f"diverged ({', '.join(diverged)})"
+        warn(f"{', '.join(diverged)} diverged: the run failed (results.json says {status!r})")
     records = write_results(target, scene, status, elapsed, results, overrides, gates=gates) if writer else []
     info(f"scene {scene.study} done in {elapsed:.1f} s")
     return {"study": scene.study, "title": scene.title, "out": str(out),
@@ -252,13 +265,13 @@ def mark_incomplete(folder: Path, since: float, why: str) -> list[Path]:
             first, _, rest = csv.read_text().partition("\n")
             if not first.startswith(INCOMPLETE_MARK):
                 body = rest if first.startswith("# status:") else f"{first}\n{rest}"
-                csv.write_text(f"{mark}\n{body}")
+                write_text(csv, f"{mark}\n{body}")
             marked.append(csv)
     report = folder / "report.md"
     note = f"> **Partial result** ({why}): figures and tables below may be missing or cut short.\n\n"
     if report.exists() and report.stat().st_mtime >= since - 1.0:
-        report.write_text(note + report.read_text())
+        write_text(report, note + report.read_text())
     else:
-        report.write_text(f"# Partial result\n\n{note}")
+        write_text(report, f"# Partial result\n\n{note}")
     marked.append(report)
     return marked

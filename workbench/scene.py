@@ -31,7 +31,7 @@ from typing import Any, Mapping
 
 from workbench.gates import Gate, from_table
 from shroud.base.errors import InputError
-from shroud.params import SECTIONS, Parameters, unknown_key
+from shroud.params import SECTIONS, Parameters, parse_value, unknown_key
 
 _TOP_KEYS = {"study", "title", "description", "options", "quick", "gates"}
 
@@ -83,13 +83,6 @@ def available_studies() -> list[str]:
     folder = Path(importlib.util.find_spec("comparisons").origin).parent
     return sorted(p.stem for p in folder.glob("*.py")
                   if not p.stem.startswith("_") and "OPTIONS" in p.read_text())
-
-
-def _parse_value(text: str) -> Any:
-    try:
-        return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
-        return text          # bare words are strings
 
 
 def _check_options(given: Mapping[str, Any], defaults: Mapping[str, Any],
@@ -156,7 +149,7 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
             raise InputError("--set", f"{text!r} is not key=value; allowed: e.g. --set speed.rpm=8500 "
                              "or --set options.periods=20")
         if key.strip().startswith("options."):
-            options_given[key.strip()[len("options."):]] = _parse_value(value.strip())
+            options_given[key.strip()[len("options."):]] = parse_value(value.strip())
         else:
             param_sets.append(text)
     params = params.with_overrides(param_sets)

@@ -11,7 +11,8 @@ import time
 from pathlib import Path
 
 from shroud.core import registry
-from shroud.core.results import ModalResult
+from shroud.base.errors import InputError
+from shroud.core.results import ModalResult, StaticResult
 from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
 
@@ -25,16 +26,30 @@ def modal(params: Parameters, model: str, rpm: float | None = None, n_modes: int
     return entry.modal(params, rpm, n_modes, coriolis)
 
 
+def static(params: Parameters, model: str, force, rpm: float | None = None) -> StaticResult:
+    """Tip displacement under ``force`` (N, global X, Y, Z) at the blade tip, on top of the centrifugal
+    state at ``rpm`` (default ``params.speed.rpm``): how stiff the model is, checked first."""
+    rpm = params.speed.rpm if rpm is None else rpm
+    entry = registry.model(model)
+    if entry.static is None:
+        raise InputError("--model", f"{model!r} has no static solve; allowed: {', '.join(registry.names('static'))}")
+    return entry.static(params, rpm, tuple(float(f) for f in force))
+
+
 def build_system(params: Parameters, model: str) -> StructuralSystem:
     """The linear structure plus contact points of ``model`` at ``params.speed.rpm``."""
     return registry.model(model).build_system(params)
 
 
 def transient(params: Parameters, model: str, csv_path: Path | None = None):
-    """One transient run (paper Sect. 2.1): returns a shroud.analysis.transient.TransientResult."""
+    """One transient run (paper Sect. 2.1): returns a shroud.analysis.transient.TransientResult, or with
+    ``ring.blades`` > 0 the whole ring's shroud.analysis.ring.RingTransientResult."""
     from shroud.analysis.checks import check_records
     from shroud.analysis.transient import simulate      # a modal scene loads no integrator
     check_records(params)                               # before a model that may take minutes to build
+    if params.ring.blades:
+        from shroud.analysis.ring import simulate_ring
+        return simulate_ring(params, model, csv_path=csv_path)
     return simulate(build_system(params, model), params, csv_path=csv_path)
 
 

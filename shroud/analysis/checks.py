@@ -57,6 +57,11 @@ def check_records(params: Parameters) -> None:
         return
     spp = params.time.steps_per_period
     most = int(limit // ((RECORD_BYTES_PER_STEP + CSV_BYTES_PER_STEP) * spp))
+    if most < 1:                    # not one period fits: the steps are what is too many
+        fits = int(limit // (RECORD_BYTES_PER_STEP + CSV_BYTES_PER_STEP))
+        raise InputError("time.steps_per_period", f"{spp} steps per period would record {in_words(need / params.time.periods)} "
+                         f"a period, more than {MEMORY_SHARE:.0%} of this machine's {in_words(physical_memory())}; "
+                         f"allowed: at most {fits} steps per period here")
     raise InputError("time.periods", f"{params.time.periods} periods of {spp} steps would record "
                      f"{in_words(need)} (one row of {RECORD_BYTES_PER_STEP + CSV_BYTES_PER_STEP} bytes per step, "
                      f"CSV included), more than {MEMORY_SHARE:.0%} of this machine's {in_words(physical_memory())}; "

@@ -21,12 +21,19 @@ from typing import Callable
 
 import numpy as np
 
+from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError
+from shroud.base.log import Progress
+from shroud.base.resources import in_words, physical_memory
+from shroud.analysis.checks import MEMORY_SHARE
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
 from shroud.core.continuation import continue_branch
+from shroud.core.linear_solvers import dense
+from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.core.results import HBResult
+from shroud.core.signals import detect_period
 from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
 
@@ -44,6 +51,12 @@ def check_inputs(H: int, samples: int | None, rpm_from: float, rpm_to: float) ->
                                       f"allowed: at least 2 H + 1 = {2 * H + 1}")
     if not 0 < rpm_from < rpm_to:
         raise InputError("--rpm-from", f"{rpm_from:g} .. {rpm_to:g}: allowed: 0 < rpm-from < rpm-to")
+    need, memory = 8.0 * n * (2 * H + 1), physical_memory()    # one sampled Fourier basis, samples x (2H + 1)
+    if need > MEMORY_SHARE * memory:
+        raise InputError("--harmonics" if samples is None else "--samples",
+                         f"{H} harmonics at {n} samples a period need a {in_words(need)} Fourier basis before any "
+                         f"point, more than {MEMORY_SHARE:.0%} of this machine's {in_words(memory)}; allowed: a basis "
+                         f"within {in_words(MEMORY_SHARE * memory)} (the default H is {DEFAULT_HARMONICS})")
     return n
 
 
@@ -76,6 +89,7 @@ class SpeedModel:
         self._linear: dict[float, tuple] = {}
         self._systems: dict[float, StructuralSystem] = {}
         self._derivative: tuple | None = None      # (rpm, dL/drpm, dF/drpm flat) taken last
+        self._refined: SpeedModel | None = None
 
     def system(self, rpm: float) -> StructuralSystem:
         return self._kept(self._systems, rpm, self.build)
@@ -112,6 +126,14 @@ class SpeedModel:
         """(system, LinearHarmonics, L, F flat) at ``rpm``."""
         return (self.system(rpm), *self.linear(rpm))
 
+    def refined(self) -> "SpeedModel":
+        """The same model with twice the harmonics (kept: a branch's truncation checks share it), its
+        systems shared with this one's."""
+        if self._refined is None:
+            self._refined = SpeedModel(self.build, 2 * self.H, self.condense, self.step, self.reuse)
+            self._refined._systems = self._systems
+        return self._refined
+
 
 def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier):
     """R(X, rpm), dR/dX (analytic through the law) and, on demand, dR/drpm = dL/drpm X - dF/drpm (the law
@@ -131,11 +153,20 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier):
 
 
 def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float,
-                  evaluated: tuple | None = None) -> dict:
-    """Amplitudes, spectral tail and Floquet multipliers of a converged point.
+                  evaluated: tuple | None = None, previous: dict | None = None) -> dict:
+    """Amplitudes, spectral tail and Floquet multipliers (with their error) of a converged point.
 
     ``evaluated``: (X, rpm, Balance) of the latest evaluation of the residual; used where it is of this
     very point (continuation returns the points its correctors evaluated last, not a step beyond).
+    ``previous``: the details of the branch's previous point (its 2 H state starts this point's where
+    Newton fails from this point's own harmonics, :func:`refined_point`).
+    ``stable`` is True, False or None (within the multipliers' error: floquet.Stability). The error of
+    the largest |multiplier| is the largest of its sampling error (floquet.sampling_error) and its change
+    when the point is solved again with twice the harmonics (:func:`refined_point`): the truncation can
+    decide a point's stability (1 um gap, alpha 30 deg, mu 0.3, 6000 r/min: |multiplier| 2.47 at H 10,
+    0.62 at H 20, 0.68 at H 30, where a run from rest settles on the state). ``amplitude_error``: the
+    v_L amplitude's change there (m). ``X``, ``refined_X``: the point's harmonics and its 2 H ones (None
+    where Newton found no 2 H state: the error is then infinite, the point undecided).
     """
     system, lin, L, F = speeds.at(rpm)
     if evaluated is not None and evaluated[1] == rpm and np.array_equal(evaluated[0], X):
@@ -144,20 +175,74 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
         b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx), jacobian=False)
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = hb.amplitude_over_period(tip)
-    mult = orbit_multipliers(system, law, b.contact, basis.rates(X.reshape(basis.nh, lin.nx) @ lin.Wx.T, lin.omega))
+    st = orbit_stability(system, law, X.reshape(basis.nh, lin.nx) @ lin.Wx.T, basis, b.contact)
+    near = None if previous is None or previous["refined_X"] is None else (previous["X"], previous["refined_X"])
+    refined = refined_point(speeds, law, basis, X, rpm, near)
+    if refined is None:
+        error, amplitude_error, refined_X = float("inf"), float("nan"), None   # no state at 2 H: undecided
+    else:
+        error, amplitude_error = max(st.error, abs(refined[1] - st.largest)), abs(refined[0] - float(amp[0]))
+        refined_X = refined[2]
+    st = dataclasses.replace(st, error=error)
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
-            "multipliers": mult,
-            "stable": floquet.is_stable(mult)}
+            "multipliers": st.multipliers, "multiplier_error": st.error, "grazing": st.grazing,
+            "stable": st.stable, "amplitude_error": amplitude_error, "X": X, "refined_X": refined_X}
 
 
-def orbit_multipliers(system: StructuralSystem, law, contact: hb.ContactHarmonics, y_rate: np.ndarray) -> np.ndarray:
-    """Floquet multipliers of ``system`` (its M, C, K, W; excitation frequency system.omega_e) linearized
-    about the orbit whose contact states and friction ``contact`` holds, ``y_rate`` its contact velocities
-    at the samples (floquet.orbit_multipliers)."""
+REFINED_ITERATIONS = 15    # Newton at 2 H from the point's own harmonics: at most this many iterations
+
+
+def refined_point(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float,
+                  near: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[float, float, np.ndarray] | None:
+    """The point ``X`` at ``rpm`` solved again with 2 H harmonics (the same samples where they resolve 2 H):
+    (v_L amplitude m, largest |multiplier|, its 2 H harmonics), or None where Newton does not converge.
+
+    Newton starts from the point's own harmonics (the higher ones zero), for at most REFINED_ITERATIONS
+    (1 um gap, alpha 30 deg, kt 5e6 N/m, mu 0.3, 5000-25000 r/min, 115 points: of the 104 that converge
+    all but one do so within 13 iterations, one in 31; the 11 others stall at |R|/|F| 9e-3 to 0.15 after
+    50). Where it fails and ``near`` = (X, X at 2 H) of the branch's previous point is given, from that
+    point's 2 H state moved by the step at H (the 2 H branch followed alongside): on that branch every
+    point then has its 2 H state, the branch at 0.74 of the CPU (docs/hb-stability.md).
+    """
+    fine = speeds.refined()
+    n = max(basis.samples, 4 * fine.H + 1)
+    fine_basis = hb.fourier(fine.H, n)
+    system, lin, _, _ = fine.at(rpm)
+    own = X.reshape(basis.nh, lin.nx)
+    X0 = np.zeros((fine_basis.nh, lin.nx))
+    X0[:basis.nh] = own
+    sol = hb.newton(X0.ravel(), lin, law, fine_basis, max_iterations=REFINED_ITERATIONS)
+    if not sol.converged and near is not None:
+        X0 = near[1].reshape(fine_basis.nh, lin.nx).copy()
+        X0[:basis.nh] += own - near[0].reshape(basis.nh, lin.nx)
+        sol = hb.newton(X0.ravel(), lin, law, fine_basis)
+    if not sol.converged:
+        return None
+    Xf = sol.X.reshape(fine_basis.nh, lin.nx)
+    amp = hb.amplitude_over_period(lin.tip(Xf, sol.balance.contact.Lam))
     W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))
-    return floquet.orbit_multipliers(system.M, system.C, system.K, W, law, contact.state, contact.F,
-                                     system.omega_e, y_rate)
+    c = sol.balance.contact
+    mult = floquet.orbit_multipliers(system.M, system.C, system.K, W, law, c.state, c.F, system.omega_e,
+                                     fine_basis.rates(Xf @ lin.Wx.T, system.omega_e))
+    return float(amp[0]), float(np.abs(mult).max(initial=0.0)), sol.X
+
+
+def orbit_stability(system: StructuralSystem, law, Y: np.ndarray, basis: hb.Fourier,
+                    contact: hb.ContactHarmonics | None = None) -> floquet.Stability:
+    """Floquet multipliers, with their error, of ``system`` (its M, C, K, W; excitation frequency
+    system.omega_e) linearized about the orbit whose contact coordinates have the harmonics ``Y`` (nh, m):
+    the law sampled on ``basis`` (``contact``: its evaluation there, if at hand) and on half its instants
+    (floquet.orbit_stability)."""
+    W = system.contact.W if system.contact is not None else np.zeros((0, system.dofs))
+    eye = np.eye(Y.shape[1])
+    if contact is None:
+        contact = hb.contact_harmonics(Y, eye, law, basis, jacobian=False)
+    half = hb.fourier(basis.H, max(basis.samples // 2, 2 * basis.H + 1))
+    coarse = hb.contact_harmonics(Y, eye, law, half, jacobian=False)
+    return floquet.orbit_stability(system.M, system.C, system.K, W, law, contact.state, contact.F,
+                                   system.omega_e, basis.rates(Y, system.omega_e),
+                                   (coarse.state, coarse.F, half.rates(Y, system.omega_e)))
 
 
 def model_at_speed(params: Parameters, model: str) -> Callable[[float], StructuralSystem]:
@@ -182,6 +267,7 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     """
     t0 = time.perf_counter()
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
+    params.updated({"speed.rpm": rpm_to})            # the models' speed bound (shroud.params) holds to the end
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(build or model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm_from)
@@ -192,14 +278,190 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     x_scale = max(float(np.abs(hb.linear_solution(lin) if start is None else start).max()), gap, 1e-7)
     count = max(min_points or MIN_POINTS, 2)
     details: list[dict] = []
+    progress = Progress(f"HB branch {model} {rpm_from:g}-{rpm_to:g} r/min", 1)
+
+    def on_point(X, rpm):
+        details.append(point_details(speeds, law, basis, X, rpm, residual.last, details[-1] if details else None))
+        progress.update((rpm - rpm_from) / (rpm_to - rpm_from),       # turning points step back: a share of the range
+                        f"{len(details)} points, at {rpm:.0f} r/min, amplitude {details[-1]['amplitude_v_L']:.3g} m")
+
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
-                             dp_max=(rpm_to - rpm_from) / (count - 1),
-                             on_point=lambda X, rpm: details.append(point_details(speeds, law, basis, X, rpm,
-                                                                                  residual.last)))
+                             dp_max=(rpm_to - rpm_from) / (count - 1), on_point=on_point)
+    progress.done()
     return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
                                 iterations=branch.iterations, complete=branch.complete,
                                 stopped=branch.stopped, dofs=system.dofs, condensed=lin.condensed,
-                                elapsed_s=time.perf_counter() - t0, X=branch.x)
+                                elapsed_s=time.perf_counter() - t0, X=branch.x,
+                                kinks=[{"rpm": k["p"], "turn_rad": k["turn_rad"]} for k in branch.kinks])
+
+
+def run_hb_through(params: Parameters, model: str, X: np.ndarray, rpm: float, rpm_from: float, rpm_to: float,
+                   harmonics: int = DEFAULT_HARMONICS, samples: int | None = None,
+                   min_points: int | None = None) -> HBResult:
+    """The branch through the state ``X`` (its harmonics, as HBResult.X holds them) at ``rpm``, continued
+    down to ``rpm_from`` and up to ``rpm_to`` (r/min), as one branch in increasing continuation order.
+
+    Downwards the continuation runs in p = -rpm (shroud.core.continuation follows a parameter upwards).
+    A branch that turns back (an isolated loop, or a fold back out of the range) stops there and says
+    so; ``min_points`` bounds the speed step over the whole range, as in :func:`run_hb`.
+    """
+    t0 = time.perf_counter()
+    n = check_inputs(harmonics, samples, rpm_from, rpm_to)
+    basis = hb.fourier(harmonics, n)
+    speeds = SpeedModel(model_at_speed(params, model), harmonics)
+    system, lin, _, _ = speeds.at(rpm)
+    law = contact_law_for(system, params.contact)
+    residual = residual_in_speed(speeds, law, basis)
+    gap = abs(params.contact.N0) / params.contact.kn if params.contact.enabled else 0.0
+    x_scale = max(float(np.abs(X).max()), gap, 1e-7)
+    dp_max = (rpm_to - rpm_from) / (max(min_points or MIN_POINTS, 2) - 1)
+    halves = []
+    for sign, end in ((-1.0, rpm_from), (1.0, rpm_to)):
+        details: list[dict] = []
+        if sign * (end - rpm) <= 0:
+            continue
+
+        def signed(Xc, p, sign=sign):
+            R, J, d_rpm = residual(Xc, sign * p)
+            return R, J, lambda: sign * d_rpm()
+        branch = continue_branch(signed, X, sign * rpm, sign * end, x_scale, ds=0.05, ds_max=0.5, dp_max=dp_max,
+                                 on_point=lambda Xc, p, sign=sign, details=details: details.append(
+                                     point_details(speeds, law, basis, Xc, sign * p, residual.last,
+                                                   details[-1] if details else None)))
+        halves.append((sign, branch, details))
+    rpms, xs, details, its, kinks, stops = [], [], [], [], [], []
+    for sign, branch, det in halves:
+        order = slice(None, None, -1) if sign < 0 else slice(None)
+        skip = 1 if sign > 0 and rpms else 0          # the seed point is the downward half's last
+        rpms += [sign * p for p in branch.p[order]][skip:]
+        xs += branch.x[order][skip:]
+        details += det[order][skip:]
+        its += branch.iterations
+        kinks += [{"rpm": sign * k["p"], "turn_rad": k["turn_rad"]} for k in branch.kinks]
+        if not branch.complete:
+            stops.append(("down: " if sign < 0 else "up: ") + str(branch.stopped))
+    return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=rpms, details=details,
+                                iterations=its, complete=not stops, stopped="; ".join(stops) or None,
+                                dofs=system.dofs, condensed=lin.condensed, elapsed_s=time.perf_counter() - t0,
+                                X=xs, kinks=kinks)
+
+
+def time_domain_state(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
+                      periods: int = 300) -> tuple[np.ndarray, int | None]:
+    """The harmonics of the contact coordinates y = W q over the last of ``periods`` excitation periods of
+    a run from rest at ``rpm`` (the time-domain sweep's run, longer), and the period the run settled on
+    (shroud.core.signals.detect_period, in excitation periods; None: none found).
+
+    The run records y as its tracked outputs (the system's tip rows replaced by W's, two at a time), so
+    the harmonics are those of the state a sweep from rest reaches: a start for Newton on a condensed
+    model (unknowns y) that lands on the P1 states a continuation from the linear solution may miss.
+    """
+    q = params.updated({"speed.rpm": float(rpm)})
+    system = build_system(q, model)
+    if system.contact is None:
+        raise InputError("--model", f"{model}: a time-domain seed needs a model with contact")
+    W = dense(system.contact.W)
+    law, spp = contact_law_for(system, q.contact), q.time.steps_per_period
+    columns, period = [], None
+    for r in range(0, W.shape[0], 2):
+        rows = W[r:r + 2] if r + 2 <= W.shape[0] else np.vstack([W[r], W[r]])
+        tr = integrate(dataclasses.replace(system, tip=rows), law, NewmarkScheme(q.time_step), spp * periods)
+        columns.append(tr.tip[-spp - 1:-1])       # tau = 2 pi i / spp, i = 0 .. spp - 1
+        if r == 0:
+            period = detect_period(tr.tip[:, 0], spp)
+    Y = np.hstack(columns)[:, :W.shape[0]]
+    return hb.fourier(harmonics, spp).A @ Y, period
+
+
+@dataclass(frozen=True)
+class Seed:
+    """A time-domain state at one speed read as a start for a branch: its run's period, the P1 state Newton
+    reached from it (amplitude m, stability), and what became of it: "new branch", "on a branch" (within
+    ``match`` of a computed one) or why it gave none (among them an unstable state: a disagreement of the
+    two methods, reported, not followed)."""
+
+    rpm: float
+    period: int | None
+    amplitude_v_L: float | None
+    stable: bool | None
+    outcome: str
+
+    def to_json(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+def on_branches(branches: list[HBResult], rpm: float, amplitude: float, match: float) -> bool:
+    """Whether a stable P1 state of amplitude ``amplitude`` (m) at ``rpm`` lies on one of ``branches`` within
+    ``match`` (relative), between two of its points not both shown unstable (linear interpolation of the
+    amplitude): a stable state beside an unstable stretch is another state (1 um gap, 11250 r/min: 0.5 %
+    beside a stretch with |multiplier| 2.4)."""
+    for br in branches:
+        for i in range(len(br.rpm) - 1):
+            r0, r1 = br.rpm[i], br.rpm[i + 1]
+            unstable = br.stable[i] is False and br.stable[i + 1] is False
+            if r0 == r1 or not min(r0, r1) <= rpm <= max(r0, r1) or unstable:
+                continue
+            t = (rpm - r0) / (r1 - r0)
+            if abs(((1 - t) * br.amplitude_v_L[i] + t * br.amplitude_v_L[i + 1]) / amplitude - 1) <= match:
+                return True
+    return False
+
+
+@dataclass(frozen=True)
+class HBFamily:
+    """Every branch of a model over a speed range: the one continued from ``rpm_from``, then those through
+    time-domain states it misses (:func:`run_hb_family`), with what each seed gave."""
+
+    branches: list[HBResult]
+    seeds: list[Seed]
+    elapsed_s: float
+
+    def to_json(self) -> dict:
+        return {"branches": [b.to_json() for b in self.branches], "seeds": [s.to_json() for s in self.seeds],
+                "elapsed_s": round(self.elapsed_s, 6)}
+
+
+def run_hb_family(params: Parameters, model: str, rpm_from: float, rpm_to: float, seed_rpms,
+                  harmonics: int = DEFAULT_HARMONICS, samples: int | None = None, min_points: int | None = None,
+                  periods: int = 300, match: float = 0.01, continued: HBResult | None = None) -> HBFamily:
+    """The branch from ``rpm_from`` (:func:`run_hb`) and every branch through a time-domain state it misses.
+
+    At each speed of ``seed_rpms`` a run from rest (:func:`time_domain_state`) gives a state; Newton from
+    its harmonics at that speed gives a P1 state; one not within ``match`` of a branch found so far is
+    continued both ways over the range (:func:`run_hb_through`). A continuation from the linear solution
+    follows one connected branch: states on isolated branches, or beyond a corner it stepped over, are
+    found only so (1 um gap, alpha 30 deg, kt 5e6 N/m, mu 0.3: P1 states at 8000 and 11250 r/min on
+    stable branches 0.7 % and 0.5 % from the continued one's unstable stretches, docs/hb-stability.md).
+    Needs a model condensed on its contact coordinates (the beams: unknowns y). ``continued``: the branch
+    from ``rpm_from`` where the caller has it already (the same options), so it is not computed again.
+    """
+    t0 = time.perf_counter()
+    check_inputs(harmonics, samples, rpm_from, rpm_to)
+    branches = [continued or run_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)]
+    if not branches[0].condensed:
+        raise InputError("--model", f"{model}: time-domain seeds need a model condensed on its contact "
+                                    "coordinates (its unknowns are y = W q)")
+    seeds = []
+    for rpm in seed_rpms:
+        rpm = float(rpm)
+        Y, period = time_domain_state(params, model, rpm, harmonics, periods)
+        if period != 1:
+            seeds.append(Seed(rpm, period, None, None, "no P1 run"))
+            continue
+        sol = checkpoint(params, model, rpm, harmonics, samples, start=Y.ravel(), retry=False)
+        if not sol.converged:
+            seeds.append(Seed(rpm, period, None, None, "Newton did not converge from it"))
+            continue
+        a = sol.amplitude_v_L
+        if sol.stable is False:       # the run stayed where HB says it cannot: not a branch to follow
+            seeds.append(Seed(rpm, period, a, False, "Newton reached an unstable state from it (not continued)"))
+            continue
+        if on_branches(branches, rpm, a, match):
+            seeds.append(Seed(rpm, period, a, sol.stable, "on a branch"))
+            continue
+        branches.append(run_hb_through(params, model, sol.X, rpm, rpm_from, rpm_to, harmonics, samples, min_points))
+        seeds.append(Seed(rpm, period, a, sol.stable, "new branch"))
+    return HBFamily(branches=branches, seeds=seeds, elapsed_s=time.perf_counter() - t0)
 
 
 def run_hb_to_tail(params: Parameters, model: str, rpm_from: float, rpm_to: float, tail: float,
@@ -207,7 +469,8 @@ def run_hb_to_tail(params: Parameters, model: str, rpm_from: float, rpm_to: floa
     """The branch with H chosen so that the contact forces' spectral tail above H is at most ``tail``.
 
     H = first, 2 first, ... up to ``most``: the first branch whose tail (at its largest contact forces)
-    is within ``tail`` is returned, with every H tried and its tail recorded; if none is, the last.
+    is within ``tail`` is returned, with every H tried and its tail recorded; if none is, the last, with
+    ``tail_met`` False (HBResult.tail_target holds ``tail``).
     """
     if not 0 < tail < 1:
         raise InputError("--tail", f"{tail!r} is out of range; allowed: a share in (0, 1)")
@@ -216,23 +479,8 @@ def run_hb_to_tail(params: Parameters, model: str, rpm_from: float, rpm_to: floa
         result = run_hb(params, model, rpm_from, rpm_to, harmonics=H, min_points=min_points)
         tried.append({"harmonics": H, "spectral_tail": result.spectral_tail})
         if result.spectral_tail <= tail or 2 * H > most:
-            return dataclasses.replace(result, harmonics_tried=tuple(tried))
+            return dataclasses.replace(result, harmonics_tried=tuple(tried), tail_target=float(tail))
         H *= 2
-
-
-def solve_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-             samples: int | None = None, X0: np.ndarray | None = None,
-             multipliers: bool = True) -> tuple[hb.HarmonicSolution, dict]:
-    """One speed: the harmonic-balance solution reached from ``X0`` (default: the linear one, then a load
-    homotopy if Newton fails from it) and its details (amplitudes, multipliers, stability; with
-    ``multipliers=False`` no stability, an empty dict)."""
-    n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
-    basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(model_at_speed(params, model), harmonics)
-    system, lin, _, _ = speeds.at(rpm)
-    law = contact_law_for(system, params.contact)
-    sol = hb.solve(system, law, harmonics, n, X0=X0, condense=lin.condensed)
-    return sol, point_details(speeds, law, basis, sol.X, rpm) if multipliers else {}
 
 
 NO_FLOQUET = ("not computed: the Floquet multipliers need the monodromy of the full M, C, K (2 n states), "
@@ -259,10 +507,9 @@ def projected_multipliers(params: Parameters, model: str, rpm: float, X: np.ndar
     for p in [params] + ([entry.refined(params)] if entry.refined is not None else []):
         system = entry.build_system(p.updated({"speed.rpm": float(rpm)}))
         law = contact_law_for(system, p.contact)
-        c = hb.contact_harmonics(X, np.eye(X.shape[1]), law, basis, jacobian=False)
-        mult = orbit_multipliers(system, law, c, basis.rates(X, system.omega_e))
-        largest[system.dofs] = float(np.abs(mult).max(initial=0.0))
-        stable = floquet.is_stable(mult)
+        st = orbit_stability(system, law, X, basis)
+        largest[system.dofs] = st.largest
+        stable = st.stable
     values = list(largest.values())
     return {"stable": stable, "largest": largest,
             "converged": len(values) < 2 or abs(values[-1] - values[0]) <= PROJECTED_TOLERANCE}
@@ -275,14 +522,17 @@ class Checkpoint:
     ``start``: where Newton began (the reduced model's state on the same
     contact coordinates, or the load homotopy); ``start_amplitude_v_L`` that
     state's amplitude, m. ``stable`` is None where the model offers no
-    Floquet multipliers (``stability`` says why, or how they were found);
+    Floquet multipliers or their largest modulus is within its error of 1
+    (``stability`` says why, or how they were found);
     ``largest_multiplier``: the largest |multiplier| per basis (DOF count)
     for a model whose perturbations are projected on the model reducing it
     (:func:`projected_multipliers`), or on its own DOFs. Times in s: ``linear_s``
     building the system and its linear part per harmonic (0 when an earlier
     point at the speed built them), ``start_s`` the reduced model's state,
     ``newton_s`` the model's own Newton, ``stability_s`` its multipliers
-    (with the bases they are projected on, where not cached).
+    (with the bases they are projected on, where not cached). ``X``: the
+    state's harmonics (its unknowns, as HBResult.X holds a branch's; not in
+    the JSON), e.g. to start a continuation through it (:func:`run_hb_through`).
     """
 
     model: str
@@ -293,6 +543,7 @@ class Checkpoint:
     amplitude_w_L: float
     converged: bool
     residual: float
+    short: bool              # Newton stopped short of the tolerance asked (residual above it, within hb.ACCEPT)
     iterations: int
     spectral_tail: float
     start: str
@@ -300,19 +551,27 @@ class Checkpoint:
     stable: bool | None
     stability: str
     largest_multiplier: dict[int, float]
+    multiplier_error: float | None      # the largest |multiplier|'s own error (own multipliers only)
     dofs: int
     condensed_on: int
     linear_s: float
     start_s: float
     newton_s: float
     stability_s: float
+    X: np.ndarray = dataclasses.field(repr=False, compare=False)
 
     @property
     def elapsed_s(self) -> float:
         return self.linear_s + self.start_s + self.newton_s + self.stability_s
 
+    @property
+    def basis(self) -> hb.Fourier:
+        """The harmonics and time samples the state was solved on."""
+        return hb.fourier(self.harmonics, self.samples)
+
     def to_json(self) -> dict:
-        return {**dataclasses.asdict(self), "elapsed_s": round(self.elapsed_s, 6)}
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "X"}
+        return {**out, "elapsed_s": round(self.elapsed_s, 6)}
 
 
 def _start_on_contact(params: Parameters, model: str, rpm: float, harmonics: int, samples: int,
@@ -325,9 +584,15 @@ def _start_on_contact(params: Parameters, model: str, rpm: float, harmonics: int
     return dataclasses.replace(sol, X=sol.X.reshape(2 * harmonics + 1, lin.nx) @ lin.Wx.T)
 
 
+NOT_ASKED = "not computed (not asked)"
+
+
 def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-               samples: int | None = None, start: np.ndarray | None = None) -> Checkpoint:
-    """The harmonic-balance state of ``model`` at ``rpm`` (r/min), one speed, no continuation.
+               samples: int | None = None, start: np.ndarray | None = None, retry: bool = True,
+               multipliers: bool = True) -> Checkpoint:
+    """The harmonic-balance state of ``model`` at ``rpm`` (r/min), one speed, no continuation: the one
+    way to harmonic balance at a speed (shroud.api.harmonic_balance, ``shroud sweep --checkpoints``, the
+    studies and the seeds of :func:`run_hb_family` all come here).
 
     A model with its own ``linear_harmonics`` (the full solid, condensed exactly
     on its contact coordinates by its own sparse solver) starts Newton from
@@ -338,6 +603,11 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     Its Floquet multipliers are those of its own orbit, the perturbations
     projected on that model (:func:`projected_multipliers`). Other models
     start from ``start`` or their linear solution and get their own.
+    ``retry``: where Newton fails from ``start``, start again from the
+    linear solution (False: report the failure, ``converged`` False; a state
+    sought near a given one, not any state at the speed).
+    ``multipliers=False``: no stability (``stable`` None), e.g. where the
+    caller takes it from the branch points around the state.
     """
     n = check_inputs(harmonics, samples, 0.5 * rpm, rpm)
     entry = registry.model(model)
@@ -358,28 +628,33 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     t2 = time.perf_counter()
     law = contact_law_for(system, params.contact)
     sol = hb.solve(system, law, harmonics, n, X0=X0, lin=lin)
-    if not sol.converged and X0 is not None:
+    if not sol.converged and X0 is not None and retry:
         sol, how = hb.solve(system, law, harmonics, n, lin=lin), f"linear solution, load homotopy ({how} failed)"
     t3 = time.perf_counter()
-    stable, stability, largest = None, NO_FLOQUET, {}
-    if speeds is not None:
+    stable, stability, largest, error = None, NO_FLOQUET, {}, None
+    if not multipliers:
+        stability = NOT_ASKED
+    elif speeds is not None:
         details = point_details(speeds, law, sol.basis, sol.X, rpm)
-        stable, stability = bool(details["stable"]), "Floquet multipliers"
+        stable, stability, error = details["stable"], "Floquet multipliers", details["multiplier_error"]
         largest = {system.dofs: float(np.abs(details["multipliers"]).max(initial=0.0))}
     elif entry.reduced_by is not None and sol.converged and lin.condensed:
         proj = projected_multipliers(params, entry.reduced_by, rpm, sol.X.reshape(sol.basis.nh, lin.nx), sol.basis)
-        stable, largest = bool(proj["stable"]), proj["largest"]
+        stable, largest = proj["stable"], proj["largest"]
         stability = (f"Floquet multipliers of this orbit, perturbations on {entry.reduced_by}'s basis ("
                      + ", ".join(f"{d} DOF: {m:.4f}" for d, m in largest.items()) + ")"
                      + ("" if proj["converged"] else f"; not converged within {PROJECTED_TOLERANCE:g}"))
     return Checkpoint(model=model, rpm=float(rpm), harmonics=harmonics, samples=n,
                       amplitude_v_L=float(sol.amplitude_v_L), amplitude_w_L=float(sol.amplitude_w_L),
-                      converged=bool(sol.converged), residual=float(sol.residual), iterations=int(sol.iterations),
+                      converged=bool(sol.converged), residual=float(sol.residual), short=sol.short,
+                      iterations=int(sol.iterations),
                       spectral_tail=float(sol.spectral_tail), start=how,
                       start_amplitude_v_L=None if start_amplitude is None else float(start_amplitude),
-                      stable=stable, stability=stability, largest_multiplier=largest, dofs=system.dofs,
+                      stable=stable, stability=stability, largest_multiplier=largest, multiplier_error=error,
+                      dofs=system.dofs,
                       condensed_on=lin.nx if lin.condensed else 0,
-                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=t3 - t2, stability_s=time.perf_counter() - t3)
+                      linear_s=t1 - t0, start_s=t2 - t1, newton_s=t3 - t2, stability_s=time.perf_counter() - t3,
+                      X=sol.X)
 
 
 def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAULT_HARMONICS,
@@ -388,6 +663,7 @@ def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAU
     t0 = time.perf_counter()
     for rpm in rpms:
         check_inputs(harmonics, samples, 0.5 * rpm, rpm)
+        params.updated({"speed.rpm": float(rpm)})     # the models' speed bound (shroud.params)
     points = [checkpoint(params, model, float(rpm), harmonics, samples) for rpm in rpms]
     return {"model": model, "method": "hb", "harmonics": harmonics, "samples": points[0].samples,
             "rpm": [p.rpm for p in points], "amplitude_v_L": [p.amplitude_v_L for p in points],

@@ -65,21 +65,41 @@ class PeakCurve:
     n0: np.ndarray
     rpm: np.ndarray
     amplitude_v_L: np.ndarray
-    stable: np.ndarray
+    stable: np.ndarray          # object: True, False or None (within the multipliers' error) per point
     complete: bool
     stopped: str | None
     elapsed_s: float
     X: np.ndarray
+    amplitude_error: np.ndarray | None = None   # per point: the amplitude's change at 2 H, m (nan: not taken)
+
+    def __post_init__(self):      # one spelling of the three verdicts: True, False, None (undecided)
+        object.__setattr__(self, "stable", np.array([None if v is None else bool(v) for v in self.stable], object))
 
     @property
     def optimum(self) -> dict:
-        """The optimal preload: the curve's point of the smallest resonant amplitude, {"N0" (N), "rpm",
-        "amplitude" (m), "bracket" (its neighbours' N0, N), "at_end" (the smallest is the curve's first or
-        last point: the optimum is there or beyond)}."""
-        i = int(np.argmin(self.amplitude_v_L))
+        """The optimal preload: the smallest resonant amplitude over the curve's points not shown unstable,
+        {"N0" (N), "rpm", "amplitude" (m), "stable" (True, or None: undecided), "bracket" (its neighbours' N0,
+        N), "at_end" (the smallest is the curve's first or last point: the optimum is there or beyond),
+        "unstable_minimum" (the smallest on unstable points where smaller, {"N0", "rpm", "amplitude"}; else
+        None)}. Where every point is unstable, N0, rpm and amplitude are nan."""
+        shown_unstable = np.array([v is False for v in self.stable], bool)
+        kept, other = np.flatnonzero(~shown_unstable), np.flatnonzero(shown_unstable)
+        lowest = None
+        if other.size:
+            j = int(other[np.argmin(self.amplitude_v_L[other])])
+            lowest = {"N0": float(self.n0[j]), "rpm": float(self.rpm[j]), "amplitude": float(self.amplitude_v_L[j])}
+        if not kept.size:
+            nan = float("nan")
+            return {"N0": nan, "rpm": nan, "amplitude": nan, "amplitude_error": nan, "stable": None,
+                    "bracket": [nan, nan], "at_end": True,
+                    "unstable_minimum": lowest}
+        i = int(kept[np.argmin(self.amplitude_v_L[kept])])
+        smaller = lowest is not None and lowest["amplitude"] < float(self.amplitude_v_L[i])
+        error = float("inf") if self.amplitude_error is None else float(self.amplitude_error[i])
         return {"N0": float(self.n0[i]), "rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]),
+                "amplitude_error": error if np.isfinite(error) else float("inf"), "stable": self.stable[i],
                 "bracket": [float(self.n0[max(i - 1, 0)]), float(self.n0[min(i + 1, len(self.n0) - 1)])],
-                "at_end": bool(i in (0, len(self.n0) - 1))}
+                "at_end": bool(i in (0, len(self.n0) - 1)), "unstable_minimum": lowest if smaller else None}
 
     def index(self, n0: float) -> int | None:
         """Index of the curve's point at exactly ``n0`` (one of the ``at`` preloads of :func:`track_peak`),
@@ -93,12 +113,12 @@ class PeakCurve:
         if i is None:
             return None
         return {"N0": float(self.n0[i]), "rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]),
-                "stable": bool(self.stable[i])}
+                "stable": self.stable[i]}
 
     def to_json(self) -> dict:
         return {"model": self.model, "method": "hb peak tracking", "harmonics": self.harmonics,
                 "samples": self.samples, "N0": [float(x) for x in self.n0], "rpm": [float(r) for r in self.rpm],
-                "amplitude_v_L": [float(a) for a in self.amplitude_v_L], "stable": [bool(s) for s in self.stable],
+                "amplitude_v_L": [float(a) for a in self.amplitude_v_L], "stable": list(self.stable),
                 "optimum": self.optimum, "complete": self.complete, "stopped": self.stopped,
                 "elapsed_s": round(self.elapsed_s, 6)}
 
@@ -125,7 +145,7 @@ class PeakSystem:
         lin = self.speeds.linear(rpm)[0]
         for start in (self._ends.get(end), X0):
             if start is not None:
-                X, b, _, ok = hb.newton(start, lin, law, self.basis)
+                X, b, _, ok, _, _ = hb.newton(start, lin, law, self.basis)
                 if ok:
                     self._ends[end] = X
                     return float(hb.amplitude_over_period(lin.tip(X.reshape(self.basis.nh, lin.nx),
@@ -225,5 +245,6 @@ def track_peak(params: Parameters, model: str, n0_from: float, n0_to: float, rpm
     ys = np.array([pt[0] for pt in points])
     return PeakCurve(model=model, harmonics=harmonics, samples=n, n0=np.array([pt[1] for pt in points]),
                      rpm=ys[:, -1] / extended.c, amplitude_v_L=np.array([pt[2]["amplitude_v_L"] for pt in points]),
-                     stable=np.array([pt[2]["stable"] for pt in points], bool), complete=stopped is None,
-                     stopped=stopped, elapsed_s=time.perf_counter() - t0, X=ys[:, :-1])
+                     stable=np.array([pt[2]["stable"] for pt in points], object), complete=stopped is None,
+                     stopped=stopped, elapsed_s=time.perf_counter() - t0, X=ys[:, :-1],
+                     amplitude_error=np.array([pt[2]["amplitude_error"] for pt in points]))

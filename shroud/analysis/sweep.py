@@ -136,9 +136,10 @@ def run_sweeps(cases: Sequence[Parameters], model: str, rpms: Sequence[float],
     tasks = [(p, model, float(r), build, settling) for p in cases for r in rpms]
     progress = Progress(f"sweep {model} ({len(cases)} x {len(rpms)} speeds)", len(tasks))
     t0 = time.perf_counter()
-    # The first point in this process compiles (or loads) the kernel, which
-    # the forked workers then inherit instead of loading it each.
-    points = [steady_point(tasks[0])] + map_parallel(steady_point, tasks[1:]) if tasks else []
+    # The first point in this process compiles (or loads) the kernel into numba's on-disk cache,
+    # which the workers then load instead of compiling it each.
+    points = ([steady_point(tasks[0])] + map_parallel(steady_point, tasks[1:], preload=registry.packages())
+              if tasks else [])
     elapsed = time.perf_counter() - t0
     progress.update(len(tasks))
     progress.done()

@@ -27,6 +27,18 @@ from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
 
 from shroud.base.log import info, warn
+from shroud.base.outputs import check_writable, replacing
+
+
+def cache_folder() -> Path:
+    """``$SHROUD_CACHE`` or the project's ``.cache/`` folder (not made)."""
+    env = os.environ.get("SHROUD_CACHE")
+    return Path(env) if env else Path(__file__).resolve().parents[2] / ".cache"
+
+
+def check_cache() -> None:
+    """Refuse (InputError on SHROUD_CACHE) a cache folder that cannot be made or written, before any work."""
+    check_writable(cache_folder(), "SHROUD_CACHE" if os.environ.get("SHROUD_CACHE") else "cache folder")
 
 
 _LISTENERS: list[list[tuple[str, float]]] = []
@@ -48,10 +60,13 @@ def builds():
 
 
 def cache_root() -> Path:
-    """``$SHROUD_CACHE`` or the project's ``.cache/`` folder."""
-    env = os.environ.get("SHROUD_CACHE")
-    root = Path(env) if env else Path(__file__).resolve().parents[2] / ".cache"
-    root.mkdir(parents=True, exist_ok=True)
+    """The cache folder, made if missing (InputError if it cannot be)."""
+    root = cache_folder()
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        check_cache()                   # names the cause in one line
+        raise
     return root
 
 
@@ -128,12 +143,8 @@ def _unreadable(path: Path, check: Callable[[Path], None] | None) -> str | None:
 
 def _write_atomic(path: Path, write: Callable[[Path], None]) -> None:
     """``write(tmp)`` to a temporary name beside ``path``, then rename it into place."""
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
-    try:
+    with replacing(path) as tmp:
         write(tmp)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def _short(inputs: Mapping[str, Any]) -> str:

@@ -43,15 +43,16 @@ class Progress:
         self.every_s, self.after_s = every_s, after_s
         self.t0 = self.last = time.perf_counter()
 
-    def update(self, done: int) -> None:
+    def update(self, done: float, detail: str = "") -> None:
+        """``done`` of ``total``; ``detail`` (where the work is, in its own terms) replaces the count."""
         now = time.perf_counter()
         if now - self.t0 < self.after_s or now - self.last < self.every_s:
             return
         self.last = now
-        frac = done / self.total
-        eta = (now - self.t0) * (1 - frac) / frac if frac > 0 else float("nan")
-        _say(f"[shroud] {self.label}: {done}/{self.total} ({100 * frac:.0f} %), "
-             f"{now - self.t0:.1f} s, ~{eta:.0f} s left")
+        frac = min(max(done / self.total, 0.0), 1.0)
+        left = f", ~{(now - self.t0) * (1 - frac) / frac:.0f} s left" if frac > 0 else ""
+        where = detail or f"{done:g}/{self.total}"
+        _say(f"[shroud] {self.label}: {where} ({100 * frac:.0f} %), {now - self.t0:.1f} s{left}")
 
     def done(self) -> float:
         elapsed = time.perf_counter() - self.t0

@@ -7,6 +7,7 @@ imported when the process was started by an MPI launcher.
 
 from __future__ import annotations
 
+import importlib
 import os
 import signal
 from multiprocessing import get_context
@@ -57,13 +58,19 @@ def workers() -> int:
     return max(1, int(env)) if env else max(1, len(os.sched_getaffinity(0)))
 
 
-def map_parallel(func: Callable[[T], R], items: Iterable[T], processes: int | None = None) -> list[R]:
+def map_parallel(func: Callable[[T], R], items: Iterable[T], processes: int | None = None,
+                 preload: Iterable[str] = ()) -> list[R]:
     """``[func(x) for x in items]``, spread over MPI ranks or local processes.
 
     Under mpirun each rank takes every size-th item and the results are
-    gathered on all ranks. Otherwise a fork-based process pool is used when
-    more than one worker and more than one item are available. ``func`` must
-    be a module-level function (it is pickled). Inside an item of an outer
+    gathered on all ranks. Otherwise a process pool is used when more than
+    one worker and more than one item are available; its workers are forked
+    from a fresh single-threaded server (``forkserver``, ``func``'s module
+    preloaded there), never from this process, whose BLAS and numba threads
+    a fork would copy half-held (the deadlock Python warns of). ``func`` must
+    be a module-level function (it is pickled); ``preload`` names modules a
+    fresh worker imports first (e.g. the packages that register the models
+    ``func`` looks up: shroud.core.registry.packages()). Inside an item of an outer
     map (a sweep within a campaign) the map runs serially in place.
     """
     items = list(items)
@@ -82,7 +89,10 @@ def map_parallel(func: Callable[[T], R], items: Iterable[T], processes: int | No
     chunk = max(1, len(items) // (4 * n))
     # Leaving the block terminates the workers: an interrupted map stops at
     # once instead of finishing every queued item first.
-    with get_context("fork").Pool(n, initializer=_enter_worker) as pool:
+    preload = [func.__module__, *preload]
+    context = get_context("forkserver")
+    context.set_forkserver_preload(preload)                # takes effect when the server first starts
+    with context.Pool(n, initializer=_enter_worker, initargs=(tuple(preload),)) as pool:
         return pool.map(func, items, chunksize=chunk)
 
 
@@ -119,10 +129,12 @@ def _as_task(func: Callable[[T], R], item: T) -> R:
         _IN_TASK = False
 
 
-def _enter_worker() -> None:
+def _enter_worker(preload: tuple[str, ...] = ()) -> None:
     # A worker runs its items on its own (no nested pools, FE on COMM_SELF);
     # Ctrl-C is the parent's to handle, and a terminate ends the worker.
     global _IN_TASK
     _IN_TASK = True
+    for module in preload:              # imported in the server already, unless it started earlier
+        importlib.import_module(module)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)

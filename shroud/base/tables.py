@@ -5,6 +5,8 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
+from shroud.base.outputs import open_replacing
+
 
 def write_records(path: Path, rows: list[dict]) -> Path | None:
     """``rows`` as a CSV at ``path`` (nothing is written for no rows); returns the path written.
@@ -16,7 +18,7 @@ def write_records(path: Path, rows: list[dict]) -> Path | None:
     """
     if not rows:
         return None
-    with open(path, "w", newline="") as fh:
+    with open_replacing(path) as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)

@@ -39,6 +39,7 @@ class Branch:
     iterations: list[int] = field(default_factory=list)
     complete: bool = True
     stopped: str | None = None          # where and why an incomplete branch stopped
+    kinks: list[dict] = field(default_factory=list)   # {"p", "turn_rad"}: corners stepped over, not resolved
 
 
 def _tangent(J: np.ndarray, Rp: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
@@ -68,9 +69,13 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     ``dp_max`` bounds the parameter's advance per step. A step whose tangent
     turns by more than ``max_turn`` (rad) is retried shorter, down to
     ``ds_kink``: below it the turn is a kink of the branch (the contact law
-    is piecewise linear: grazing, the onset of stick) and is stepped over.
-    The last point is
+    is piecewise linear: grazing, the onset of stick) and is stepped over,
+    recorded in ``Branch.kinks`` (its parameter value and the turn). The last point is
     put exactly at p_end. ``on_point(x, p)`` is called for every accepted point.
+    A branch that comes back onto its own path, going the same way (a closed
+    loop, or a cycle between kinks), stops there, incomplete, saying so
+    (:func:`_retraced`): past that point it would only repeat itself up to
+    ``max_points``.
     ``p_scale`` scales the parameter in the arclength (default |p0|; give it
     where p0 may be 0, e.g. a preload continued from N0 = 0).
     """
@@ -101,11 +106,14 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     if t[-1] < 0:
         t = -t
     u = scaled(x, p0)
+    path, count = np.empty((64, u.size)), 1       # the accepted points, scaled (the first count rows)
+    path[0] = u
     while len(branch.p) < max_points:
         if dp_max is not None and abs(t[-1]) * ds * p_scale > dp_max:
             ds = dp_max / (abs(t[-1]) * p_scale)
         u_pred = u + ds * t
         u_new, it, ok, R, J, Rp = _corrector(residual, u_pred, t, x_scale, p_scale)
+        turn = 0.0
         if ok:
             t_new = _tangent(J * x_scale, Rp() * p_scale, t)
             turn = math.acos(min(1.0, max(-1.0, float(t_new @ t))))
@@ -134,7 +142,19 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
                 branch.complete = False
                 branch.stopped = f"no solution found at the last parameter value p = {p_end:g}"
             return branch
+        if turn > max_turn:
+            branch.kinks.append({"p": float(p_new), "turn_rad": float(turn)})
+        back = _retraced(path[:count], u_new, u_new - u)
+        if back is not None:
+            branch.complete = False
+            branch.stopped = (f"the branch came back onto its own path at p = {p_new:g} (its point {back}, "
+                              f"p = {path[back][-1] * p_scale:g}): a closed loop or a cycle between kinks")
+            return branch
         u, t = u_new, t_new
+        if count == len(path):
+            path = np.vstack([path, np.empty_like(path)])
+        path[count] = u
+        count += 1
         x = u[:-1] * x_scale
         branch.x.append(x), branch.p.append(p_new), branch.iterations.append(it)
         if on_point:
@@ -144,6 +164,32 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     branch.complete = False
     branch.stopped = f"{max_points} points reached at p = {branch.p[-1]:g} before p = {p_end:g}"
     return branch
+
+
+RETRACE = 0.1    # a new point this close to an earlier chord (share of the longer of it and the step): above
+                 # the sag of a chord whose tangent turns by max_turn = 0.5 rad (0.06 of its length)
+
+
+def _retraced(path: np.ndarray, u: np.ndarray, step: np.ndarray) -> int | None:
+    """The index of the earlier point whose segment the new point ``u`` lies on, going the same way, or None.
+
+    ``path``: the accepted points (scaled), the last the one ``step`` leads from. A point of a branch
+    that retraces itself lies on an earlier chord (within RETRACE of the chord's and the step's length,
+    the chords' sag where the path curves) and moves along it, not across: a fold's two sides or a
+    crossing of two stretches (a figure eight) come close only across each other. The last two
+    segments, the step's own neighbours, are left out.
+    """
+    if len(path) < 4:
+        return None
+    P = path[:-2]
+    seg = P[1:] - P[:-1]
+    length = np.linalg.norm(seg, axis=1)
+    s = np.clip(np.einsum("ij,ij->i", u - P[:-1], seg) / np.maximum(length, 1e-300) ** 2, 0.0, 1.0)
+    dist = np.linalg.norm(u - (P[:-1] + s[:, None] * seg), axis=1)
+    h = float(np.linalg.norm(step))
+    along = seg @ step > 0.5 * length * h            # within 60 degrees of the earlier chord's direction
+    near = (dist <= RETRACE * np.maximum(length, h)) & along
+    return int(np.flatnonzero(near)[0]) if near.any() else None
 
 
 def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: float, p_scale: float,

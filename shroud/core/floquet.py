@@ -28,14 +28,25 @@ all DOFs, Delta_1 = I (x) C + 2 D (x) M, Delta_2 = I (x) M (D the time
 derivative on the coefficients); the exponents with |Im s| <= omega / 2
 are the Floquet exponents, multipliers exp(s T).
 
-A point is stable when every multiplier lies inside the unit circle. Along
-a branch, a multiplier leaving through +1 marks a fold, through -1 a
-period doubling, a complex pair a Neimark-Sacker bifurcation.
+A point is stable when every multiplier lies inside the unit circle by
+more than the multipliers' own error, unstable when one lies outside by
+more than it, and undecided (None) within it (:func:`verdict`). The error
+(:func:`sampling_error`) is the change of the largest modulus when the law
+is sampled at half the instants (the states are piecewise constant over a
+sample: a first-order error, so the change estimates the error at the
+finer sampling), never taken below MULTIPLIER_FLOOR, how far the monodromy
+and Hill's method are measured apart (tests/test_hb.py). A touch whose
+normal speed is within GRAZING of zero (a grazing touch: the touch time's
+shift -dv / v' is unbounded there) is left out of the onset capture and
+marks the point undecided: its linearization is singular. Along a branch,
+a multiplier leaving through +1 marks a fold, through -1 a period
+doubling, a complex pair a Neimark-Sacker bifurcation.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
@@ -44,7 +55,13 @@ from numba import njit
 from shroud.core.contact import SEPARATE, SIGN, SLIP, STICK, ContactLaw, tangents
 from shroud.core.linear_solvers import dense
 
-UNIT_CIRCLE_TOL = 1e-6
+UNIT_CIRCLE_TOL = 1e-6    # |mu| = 1 within round-off: where a branch's nominal stability changes (bifurcation)
+# The least error of the largest |multiplier|: the monodromy and Hill's method on the same orbits (reduced beam,
+# gap 0.1 mm, H 12, 1024 samples) differ by 0.0046 (9000 r/min, mu 0), 0.020 (8000, mu 0.3), < 1e-4 (12000,
+# mu 0.3; 10000, mu 0.1): Hill takes the sliders' history at s = 0 (docs/hb-stability.md). The sampling and
+# truncation errors are taken instead where larger.
+MULTIPLIER_FLOOR = 0.02
+GRAZING = 1e-3            # a touch at a normal speed below this share of the element's largest: grazing
 
 
 def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float,
@@ -66,6 +83,11 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
     perturbation holds the shift of t_c itself (``onset_capture``);
     without it that term is left out.
     """
+    return _monodromy_grazing(M, C, K, W, law, state, F, omega, y_rate)[0]
+
+
+def _monodromy_grazing(M, C, K, W, law: ContactLaw, state, F, omega: float, y_rate) -> tuple[np.ndarray, int]:
+    """(:func:`monodromy`, the number of grazing touches left out of the onset capture)."""
     M, C, K, W = (np.ascontiguousarray(dense(A)) for A in (M, C, K, W))
     rates = np.zeros((0, W.shape[0])) if y_rate is None else np.ascontiguousarray(y_rate, dtype=float)
     return _monodromy(M, C, K, W, law.rows, law.props, np.ascontiguousarray(state),
@@ -77,7 +99,8 @@ def onset_capture(y_rate, rows):
     """d z / d v at the touch of elements that stick from it: -w' / v' (1), per element.
 
     ``y_rate`` (m,): the projected velocities at the touch, ``rows``
-    (elements, 2): the elements' [normal, tangent] rows. A separated slider
+    (elements, 2): the elements' [normal, tangent] rows. The caller asks
+    only at touches whose normal speed v' is clear of zero (GRAZING). A separated slider
     follows the blade, z = w; an element that sticks from the instant t_c
     it touches keeps z = w(t_c). Perturbed by dv, dw the touch moves by
     dt_c = -dv / v' (the normal force N0 + s kn v is zero at it), so
@@ -173,7 +196,9 @@ def _steady_flow_matrix(M, C, K, W, rows, props, state, F):
 
 @njit(cache=True)
 def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate):
-    """:func:`monodromy`'s run loop; ``y_rate`` with no rows: without the onset capture.
+    """:func:`monodromy`'s run loop; ``y_rate`` with no rows: without the onset capture. Returns the
+    monodromy and the number of grazing touches (normal speed below GRAZING of the element's largest over
+    the period), whose onset capture -w'/v' is left out (unbounded; the caller marks the point undecided).
 
     In one run's states the law's tangent ``tan`` (elements, 7;
     shroud.core.contact.tangent) makes the contact force on the projected
@@ -227,6 +252,7 @@ def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate):
     left = uses.copy()
     powers = [np.empty((0, 0, 0)) for _ in range(starts.size)]   # exp(A dt)^(2^j) of recurring states
     Phi = np.eye(m + nz)
+    grazing = 0
     for r in range(starts.size):
         i, last, key = starts[r], starts[r] + lengths[r] - 1, first[r]
         tan = tangents(state[:, i], F[:, i], props)   # dN/dv, dF/dv, dF/dw, dF/dz, dz/dv, dz/dw, dz/dz
@@ -273,9 +299,12 @@ def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate):
             for slot in range(nz):               # stuck from the touch at the run's end
                 j = hist[slot]
                 if state[j, last] == SEPARATE and state[j, after] == STICK:
-                    Phi[m + slot] += onset_capture(y_rate[after], rows[j:j + 1])[0] * (Wn[j] @ top[:n])
+                    if abs(y_rate[after, rows[j, 0]]) <= GRAZING * np.abs(y_rate[:, rows[j, 0]]).max():
+                        grazing += 1
+                    else:
+                        Phi[m + slot] += onset_capture(y_rate[after], rows[j:j + 1])[0] * (Wn[j] @ top[:n])
         Phi[:m] = top
-    return Phi
+    return Phi, grazing
 
 
 # Pade approximants r_m of exp, m = 3, 5, 7, 9, 13: their numerators' coefficients b_0 .. b_m, the
@@ -420,12 +449,74 @@ def orbit_multipliers(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndar
     largest multiplier within 1e-14). Otherwise the eigenvalues of the
     monodromy matrix.
     """
+    return _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate)[0]
+
+
+def _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate) -> tuple[np.ndarray, int]:
+    """(:func:`orbit_multipliers`, the number of grazing touches left out)."""
     state, F = np.ascontiguousarray(state), np.ascontiguousarray(F, dtype=float)
     if state.shape[0] and _runs(state, F)[0].size == 1:
         M, C, K, W = (np.ascontiguousarray(dense(A)) for A in (M, C, K, W))
         A = _steady_flow_matrix(M, C, K, W, law.rows, law.props, state[:, 0].copy(), F[:, 0].copy())
-        return _largest_first(np.exp(np.linalg.eigvals(A) * (2 * np.pi / omega)))
-    return multipliers(monodromy(M, C, K, W, law, state, F, omega, y_rate))
+        return _largest_first(np.exp(np.linalg.eigvals(A) * (2 * np.pi / omega))), 0
+    Phi, grazing = _monodromy_grazing(M, C, K, W, law, state, F, omega, y_rate)
+    return multipliers(Phi), grazing
+
+
+@dataclass(frozen=True)
+class Stability:
+    """The Floquet multipliers of an orbit with their own error.
+
+    ``multipliers`` largest modulus first; ``error``: that of the largest
+    modulus (:func:`sampling_error`, at least MULTIPLIER_FLOOR); ``grazing``:
+    touches at a normal speed within GRAZING of zero, left out of the onset
+    capture; ``stable``: :func:`verdict` (None: undecided).
+    """
+
+    multipliers: np.ndarray
+    error: float
+    grazing: int = 0
+
+    @property
+    def largest(self) -> float:
+        return float(np.abs(self.multipliers).max(initial=0.0))
+
+    @property
+    def stable(self) -> bool | None:
+        return None if self.grazing else verdict(self.largest, self.error)
+
+
+def verdict(largest: float, error: float) -> bool | None:
+    """Stable (True) when the largest |multiplier| is below 1 by more than its ``error``, unstable (False)
+    when above by more, None (undecided) within it.
+
+    >>> verdict(0.95, 0.01), verdict(1.02, 0.01), verdict(1.005, 0.01)
+    (True, False, None)
+    """
+    if largest < 1.0 - error:
+        return True
+    if largest > 1.0 + error:
+        return False
+    return None
+
+
+def sampling_error(largest: float, coarse: float) -> float:
+    """The error of the largest |multiplier| ``largest`` of an orbit whose law is sampled at n instants,
+    from ``coarse``, the same at n / 2: the states hold over a sample, an error of first order in the
+    sample interval, so the change from n / 2 to n estimates the error at n; at least MULTIPLIER_FLOOR."""
+    return max(MULTIPLIER_FLOOR, abs(largest - coarse))
+
+
+def orbit_stability(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float,
+                    y_rate: np.ndarray | None, coarse: tuple[np.ndarray, np.ndarray, np.ndarray | None]
+                    ) -> Stability:
+    """:func:`orbit_multipliers` of the orbit with their error: ``coarse`` (state, F, y_rate) is the same
+    orbit's law sampled at half the instants (:func:`sampling_error`)."""
+    mult, grazing = _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate)
+    coarse_mult, _ = _orbit_multipliers(M, C, K, W, law, *coarse[:2], omega, coarse[2])
+    largest = float(np.abs(mult).max(initial=0.0))
+    return Stability(multipliers=mult, error=sampling_error(largest, float(np.abs(coarse_mult).max(initial=0.0))),
+                     grazing=grazing)
 
 
 def hill_exponents(J: np.ndarray, M, C, omega: float, H: int) -> np.ndarray:

@@ -42,6 +42,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -529,15 +530,46 @@ class HarmonicSolution:
     amplitude_w_L: float
     residual: float             # |R| / |F| at the solution
     iterations: int
-    converged: bool
+    converged: bool             # |R| / |F| within ACCEPT (usable), not necessarily within ``tolerance``
     spectral_tail: float        # share of the contact forces' spectrum above H
     contact: ContactHarmonics
     basis: Fourier
+    tolerance: float = 1e-10    # the |R| / |F| Newton was asked for
+
+    @property
+    def short(self) -> bool:
+        """Newton stopped short of the tolerance asked (converged only within ACCEPT, or not at all)."""
+        return bool(self.residual > self.tolerance)
+
+
+ACCEPT = 1e-6    # |R| / |F| a Newton that stalls short of its tolerance is still accepted at (and says so)
+
+
+class NewtonResult(NamedTuple):
+    """hb.newton's answer: X, its Balance, iterations, ``converged`` (|R| / |F| <= ACCEPT), the relative
+    residual reached and the tolerance asked; ``short`` when the residual is above the tolerance."""
+
+    X: np.ndarray
+    balance: Balance
+    iterations: int
+    converged: bool
+    residual: float
+    tolerance: float
+
+    @property
+    def short(self) -> bool:
+        return bool(self.residual > self.tolerance)
 
 
 def newton(X0: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier, tol: float = 1e-10,
-           max_iterations: int = 50) -> tuple[np.ndarray, Balance, int, bool]:
-    """Newton on R(X) = 0 at one speed, halving a step that does not lower |R|."""
+           max_iterations: int = 50) -> NewtonResult:
+    """Newton on R(X) = 0 at one speed, halving a step that does not lower |R|.
+
+    Ends when |R| / |F| <= ``tol``, or when the steps stall (below 1e-12 of
+    |X|: the sampled law's kinks can hold |R| above a tight ``tol``) or the
+    iterations run out; ``converged`` then says whether |R| / |F| <= ACCEPT,
+    and the residual reached is returned with ``tol``, so a Newton that
+    stopped short of it says so (``short``)."""
     L, Fr = lin.L, lin.Fr
     scale = np.linalg.norm(Fr) + 1e-300
     X = X0.copy()
@@ -556,8 +588,8 @@ def newton(X0: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier
         X, r = Xt, rt
         b = balance(X, lin, law, basis, L, Fr)
         if r <= tol * scale or np.linalg.norm(t * dX) <= 1e-12 * (np.linalg.norm(X) + 1e-300):
-            return X, b, it, r <= 1e-6 * scale
-    return X, b, max_iterations, False
+            return NewtonResult(X, b, it, bool(r <= ACCEPT * scale), float(r / scale), tol)
+    return NewtonResult(X, b, max_iterations, False, float(r / scale), tol)
 
 
 def spectral_tail(lam: np.ndarray, H: int) -> float:
@@ -576,7 +608,7 @@ def amplitude_over_period(coefficients: np.ndarray, samples: int = 512) -> np.nd
 
 
 def solution(X: np.ndarray, b: Balance, lin: LinearHarmonics, basis: Fourier, iterations: int,
-             converged: bool) -> HarmonicSolution:
+             converged: bool, tolerance: float = 1e-10) -> HarmonicSolution:
     """Package a converged point with its tip amplitudes and the contact forces' tail."""
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = amplitude_over_period(tip)
@@ -584,7 +616,7 @@ def solution(X: np.ndarray, b: Balance, lin: LinearHarmonics, basis: Fourier, it
                             residual=float(np.linalg.norm(b.R) / (np.linalg.norm(lin.Fr) + 1e-300)),
                             iterations=iterations, converged=converged,
                             spectral_tail=spectral_tail(b.contact.lam, basis.H), contact=b.contact,
-                            basis=basis)
+                            basis=basis, tolerance=tolerance)
 
 
 def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None = None,
@@ -604,7 +636,7 @@ def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None
     basis = fourier(H, samples or default_samples(H))
     lin = linear_harmonics(system, H, condense) if lin is None else lin
     start = linear_solution(lin) if X0 is None else X0
-    X, b, it, ok = newton(start, lin, law, basis)
+    X, b, it, ok, _, tol = newton(start, lin, law, basis)
     if not ok and X0 is None:
         # the load factor by pseudo-arclength: the solution can fold back in the load
         L, Fr = lin.L, lin.Fr
@@ -617,12 +649,12 @@ def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None
                                p_scale=1.0)
         ok = path.complete and bool(path.p) and path.p[-1] == 1.0
         if ok:      # the path's end lies within continuation.CONVERGED of the solution: Newton finishes it
-            X, b, it, ok = newton(path.x[-1], lin, law, basis)
+            X, b, it, ok, _, _ = newton(path.x[-1], lin, law, basis)
             it += sum(path.iterations)
         else:
             X, it = (path.x[-1] if path.x else start), sum(path.iterations)
             b = balance(X, lin, law, basis, L, Fr)
-    return solution(X, b, lin, basis, it, ok)
+    return solution(X, b, lin, basis, it, ok, tol)
 
 
 def state_vector(system: StructuralSystem, sol: HarmonicSolution, lin: LinearHarmonics) -> tuple:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.metadata
+import sys
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -48,11 +49,15 @@ class ModelEntry:
     reduced_by: str | None = None
     # params -> the parameters of this model on a larger basis (a reduction's convergence check)
     refined: Callable[[Any], Any] | None = None
+    # (params, rpm, force (3,) N along X, Y, Z) -> shroud.core.results.StaticResult: the static response
+    # to a force at the blade tip on top of the centrifugal state; None: the model has no static solve.
+    static: Callable[..., Any] | None = None
 
 
 ENTRY_POINTS = "shroud.models"          # the metadata group where builders declare their models
 
 _MODELS: dict[str, ModelEntry] = {}          # registered at run time (they win over declared ones)
+_REGISTERED_BY: dict[str, str] = {}           # model name -> the module whose import registered it
 _DECLARED: dict[str, ModelEntry] | None = None   # read from the installed builders' metadata, once
 
 
@@ -84,6 +89,17 @@ def lazy(module: str, function: str, **fixed) -> Callable:
 def register(entry: ModelEntry) -> None:
     """Make ``entry`` known by its name (it replaces a declared or earlier model of that name)."""
     _MODELS[entry.name] = entry
+    frame = sys._getframe(1)
+    while frame is not None and frame.f_globals.get("__name__") == "shroud.api":   # api.register_model's caller
+        frame = frame.f_back
+    _REGISTERED_BY[entry.name] = frame.f_globals.get("__name__", "") if frame is not None else ""
+
+
+def packages() -> tuple[str, ...]:
+    """The modules whose import registered models at run time: what a fresh worker process imports to
+    know the same models (shroud.base.parallel.map_parallel's ``preload``); the declared ones it reads
+    from the installed metadata itself."""
+    return tuple(sorted({m for m in _REGISTERED_BY.values() if m and m != "__main__"}))
 
 
 def model(name: str) -> ModelEntry:
@@ -97,10 +113,12 @@ def model(name: str) -> ModelEntry:
 
 
 def names(capability: str = "transient") -> tuple[str, ...]:
-    """Registered model names that offer ``capability``: "transient", "modal" or "sweep"."""
+    """Registered model names that offer ``capability``: "transient", "modal", "static" or "sweep"."""
     models = _all()
     if capability == "modal":
         return tuple(n for n, e in models.items() if e.modal is not None)
+    if capability == "static":
+        return tuple(n for n, e in models.items() if e.static is not None)
     if capability == "sweep":
         return tuple(n for n, e in models.items() if e.sweepable)
     return tuple(models)

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from shroud.base.outputs import open_replacing, replacing
 from shroud.core import signals
 from shroud.core.plotting import MODEL_COLOURS, figure
 
@@ -44,7 +45,7 @@ def _finite_or_none(values) -> list[float | None]:
 
 def _write_rows(path: Path, header: list[str], rows, comment: str | None = None) -> Path:
     path = Path(path)
-    with path.open("w", newline="") as fh:
+    with open_replacing(path) as fh:
         if comment:
             fh.write(f"# {comment}\n")
         writer = csv.writer(fh)
@@ -122,6 +123,35 @@ CSV_COLUMNS = ("t", "v_L", "w_L", "w_s1", "w_s2", "N1", "N2", "Ff1", "Ff2", "sta
 CSV_UNITS = "s, m, m, m, m, N, N, N, N, 0 separate / 1 stick / 2 slip"
 
 
+@dataclass(frozen=True)
+class StaticResult:
+    """The static response to a force at the blade tip, on top of the centrifugal state at ``rpm``.
+
+    ``tip``: the tip-centre displacement caused by the force, m: global X, Y,
+    Z and v_L, w_L along e_v(L), e_w(L); X is None for a model that has no
+    radial motion at its tip.
+    """
+
+    model: str
+    rpm: float
+    dofs: int
+    force: tuple[float, float, float]    # N, global X, Y, Z
+    tip: dict[str, float | None]
+    elapsed_s: float
+
+    def to_json(self) -> dict[str, Any]:
+        return {"model": self.model, "rpm": self.rpm, "dofs": self.dofs, "force": list(self.force),
+                "tip": dict(self.tip), "elapsed_s": self.elapsed_s}
+
+
+def tip_displacement(xyz, beta_tip: float) -> dict[str, float | None]:
+    """``{"X", "Y", "Z", "v_L", "w_L"}`` of a tip displacement (X may be None), m (geometry.md frames)."""
+    X, Y, Z = xyz
+    c, s = math.cos(beta_tip), math.sin(beta_tip)
+    return {"X": None if X is None else float(X), "Y": float(Y), "Z": float(Z),
+            "v_L": float(c * Y + s * Z), "w_L": float(-s * Y + c * Z)}
+
+
 def steady_state(trajectory: Trajectory, steps_per_period: int) -> dict[str, Any]:
     """Amplitudes, peaks, state fractions and period of a finished trajectory."""
     tr, spp = trajectory, steps_per_period
@@ -140,7 +170,8 @@ def write_trajectory_csv(path: Path, tr: Trajectory, status: str) -> Path:
     data = np.column_stack([tr.t, tr.tip, tr.tangential, tr.normal, tr.friction, tr.state])
     fmt = ["%.9e"] * 9 + ["%d", "%d"]
     header = f"status: {status}\nunits: {CSV_UNITS}\n" + ",".join(CSV_COLUMNS)
-    np.savetxt(path, data, delimiter=",", fmt=fmt, header=header)
+    with replacing(Path(path)) as tmp:
+        np.savetxt(tmp, data, delimiter=",", fmt=fmt, header=header)
     return Path(path)
 
 
@@ -317,14 +348,20 @@ class CampbellResult:
 class HBResult:
     """A steady-state branch over speed by harmonic balance, points in continuation order.
 
-    rpm may go back at a fold; ``stable`` from the Floquet multipliers,
+    rpm may go back at a fold; ``stable`` from the Floquet multipliers: True,
+    False, or None where the largest |multiplier| lies within its own error
+    ``multiplier_error`` of 1 (or a touch grazes: shroud.core.floquet.Stability);
     ``critical`` how each point's largest one lies (shroud.core.floquet.crossing:
     kind, and n = 2 pi / |arg mu| of a complex pair); amplitudes are
-    (max - min)/2 over one period, m. ``bifurcations``: where
-    stability changes ({"rpm", "amplitude", "kind"}: fold, period-doubling,
-    Neimark-Sacker). ``spectral_tail``: the share (RMS) of the contact
-    forces' spectrum above H at the point of the largest contact forces
-    (grazing points, whose brief touches are all tail, would say nothing).
+    (max - min)/2 over one period, m. ``bifurcations``: where the nominal
+    stability (|mu| against 1) changes ({"rpm", "amplitude", "kind"}: fold,
+    period-doubling, Neimark-Sacker). ``spectral_tail``: the share (RMS) of
+    the contact forces' spectrum above H at the point of the largest contact
+    forces (grazing points, whose brief touches are all tail, would say
+    nothing). ``kinks``: where the continuation stepped over a corner of the
+    branch ({"rpm", "turn_rad"}: the tangent turned by more than it resolves);
+    ``tail_target``: the tail H was chosen for (None: H given), met or not
+    (``tail_met``).
     """
 
     model: str
@@ -333,7 +370,7 @@ class HBResult:
     rpm: np.ndarray
     amplitude_v_L: np.ndarray
     amplitude_w_L: np.ndarray
-    stable: np.ndarray
+    stable: np.ndarray                 # object: True, False or None (undecided) per point
     max_multiplier: np.ndarray
     bifurcations: tuple[dict, ...]
     spectral_tail: float
@@ -346,10 +383,17 @@ class HBResult:
     X: np.ndarray | None = None        # (points, nh nx) harmonic coefficients of the unknowns, per point
     harmonics_tried: tuple[dict, ...] = ()   # {"harmonics", "spectral_tail"} when H was chosen to a tail
     critical: tuple[tuple[str, float | None], ...] = ()   # per point: floquet.crossing of its multipliers
+    multiplier_error: np.ndarray | None = None   # per point: the error of the largest |multiplier|
+    amplitude_error: np.ndarray | None = None    # per point: the v_L amplitude's change at 2 H, m (nan: not taken)
+    kinks: tuple[dict, ...] = ()
+    tail_target: float | None = None
+
+    def __post_init__(self):      # one spelling of the three verdicts: True, False, None
+        object.__setattr__(self, "stable", np.array([None if s is None else bool(s) for s in self.stable], object))
 
     @classmethod
     def from_points(cls, model, harmonics, samples, rpm, details, iterations, complete, stopped, dofs,
-                    condensed, elapsed_s, X=None) -> "HBResult":
+                    condensed, elapsed_s, X=None, kinks=()) -> "HBResult":
         from shroud.core.floquet import bifurcation, crossing
         amp = np.array([d["amplitude_v_L"] for d in details])
         bif = []
@@ -360,60 +404,130 @@ class HBResult:
                             "kind": kind})
         return cls(model=model, harmonics=harmonics, samples=samples, rpm=np.asarray(rpm, float),
                    amplitude_v_L=amp, amplitude_w_L=np.array([d["amplitude_w_L"] for d in details]),
-                   stable=np.array([d["stable"] for d in details], bool),
+                   stable=np.array([d["stable"] for d in details], object),
                    max_multiplier=np.array([float(np.abs(d["multipliers"]).max(initial=0.0)) for d in details]),
                    bifurcations=tuple(bif),
                    spectral_tail=max(details, key=lambda d: d["force_rms"])["tail"] if details else 0.0,
                    iterations=int(sum(iterations)), complete=complete, stopped=stopped, dofs=dofs,
                    condensed=condensed, elapsed_s=elapsed_s, X=None if X is None else np.array(X),
-                   critical=tuple(crossing(d["multipliers"]) for d in details))
+                   critical=tuple(crossing(d["multipliers"]) for d in details),
+                   multiplier_error=np.array([d["multiplier_error"] for d in details], float),
+                   amplitude_error=np.array([d.get("amplitude_error", np.nan) for d in details], float),
+                   kinks=tuple(kinks))
 
     @property
-    def resonance(self) -> dict[str, float]:
-        """Speed and amplitude of the largest v_L amplitude on the branch."""
-        if self.amplitude_v_L.size == 0:
-            return {"rpm": float("nan"), "amplitude": float("nan")}
-        i = int(np.argmax(self.amplitude_v_L))
-        return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i])}
+    def uncertain(self) -> np.ndarray:
+        """Per point: stability undecided (within the multipliers' error)."""
+        return np.array([s is None for s in self.stable], bool)
+
+    @property
+    def tail_met(self) -> bool | None:
+        """Whether the spectral tail is within ``tail_target`` (None: no target)."""
+        return None if self.tail_target is None else bool(self.spectral_tail <= self.tail_target)
+
+    def _peak(self, points: np.ndarray) -> dict | None:
+        """The largest amplitude among ``points`` (mask) with its errors: ``rpm_error`` half the larger step
+        to its neighbours (r/min: the peak lies between them); ``amplitude_error`` (m) its change at 2 H
+        plus how far the top may rise between the points: for a parabolic top a quarter of its drop to the
+        lower neighbour (the top at d from the point, |d| <= h / 2: rise c d^2 <= c h^2 / 4, drop to the
+        far neighbour c (h^2 + 2 h |d|) >= c h^2). inf where the change at 2 H was not taken, or where the
+        point has fewer than two neighbours (a peak at the branch's end: the top may lie beyond it)."""
+        if not points.any():
+            return None
+        i = int(np.flatnonzero(points)[np.argmax(self.amplitude_v_L[points])])
+        around = [j for j in (i - 1, i + 1) if 0 <= j < len(self.rpm)]
+        rpm_error = max((abs(self.rpm[j] - self.rpm[i]) / 2 for j in around), default=0.0)
+        truncation = np.inf if self.amplitude_error is None else self.amplitude_error[i]
+        error = float("inf")
+        if len(around) == 2 and np.isfinite(truncation):
+            rise = 0.25 * (self.amplitude_v_L[i] - min(self.amplitude_v_L[j] for j in around))
+            error = float(truncation + max(rise, 0.0))
+        return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]), "stable": self.stable[i],
+                "max_multiplier": float(self.max_multiplier[i]), "rpm_error": float(rpm_error),
+                "amplitude_error": error}
+
+    @property
+    def resonance(self) -> dict:
+        """The largest v_L amplitude on the points not shown unstable: {"rpm", "amplitude" (m), "stable"
+        (True, or None where undecided), "max_multiplier", "rpm_error", "amplitude_error" (:meth:`_peak`),
+        "unstable_peak"}: ``unstable_peak`` the largest on unstable points where larger (else None). rpm and
+        amplitude are nan where every point is unstable."""
+        shown_unstable = np.array([s is False for s in self.stable], bool)
+        kept = self._peak(~shown_unstable)
+        other = self._peak(shown_unstable)
+        if kept is None:
+            nan = float("nan")
+            kept = {"rpm": nan, "amplitude": nan, "stable": None, "max_multiplier": nan, "rpm_error": nan,
+                    "amplitude_error": nan}
+        larger = other is not None and not other["amplitude"] <= kept["amplitude"]
+        return {**kept, "unstable_peak": other if larger else None}
+
+    def notes(self) -> list[str]:
+        """What a reader must know about how far the branch can be trusted (one sentence each)."""
+        out = []
+        if not self.complete:
+            out.append(f"incomplete: {self.stopped}")
+        if self.kinks:
+            out.append(f"{len(self.kinks)} kink(s) stepped over at " + ", ".join(f"{k['rpm']:.0f}" for k in self.kinks)
+                       + " r/min (the tangent turned by more than the step resolves)")
+        if self.tail_met is False:
+            out.append(f"spectral tail {self.spectral_tail:.3g} above the target {self.tail_target:g} at the most "
+                       f"harmonics tried (H = {self.harmonics})")
+        undecided = int(self.uncertain.sum())
+        if undecided:
+            out.append(f"{undecided} of {len(self.rpm)} points of undecided stability (|multiplier| within its "
+                       "error of 1)")
+        return out
 
     def to_json(self) -> dict[str, Any]:
+        err = self.multiplier_error if self.multiplier_error is not None else np.full(len(self.rpm), np.nan)
         return {"model": self.model, "method": "hb", "harmonics": self.harmonics, "samples": self.samples,
                 "rpm": [float(r) for r in self.rpm], "amplitude_v_L": [float(a) for a in self.amplitude_v_L],
                 "amplitude_w_L": [float(a) for a in self.amplitude_w_L],
-                "stable": [bool(s) for s in self.stable],
+                "stable": [None if s is None else bool(s) for s in self.stable],
                 "max_multiplier": [float(m) for m in self.max_multiplier],
+                "multiplier_error": [float(e) for e in err],
                 "bifurcations": list(self.bifurcations), "resonance": self.resonance,
                 "spectral_tail": self.spectral_tail, "harmonics_tried": list(self.harmonics_tried),
-                "complete": self.complete, "stopped": self.stopped,
+                "tail_target": self.tail_target, "tail_met": self.tail_met, "kinks": list(self.kinks),
+                "complete": self.complete, "stopped": self.stopped, "notes": self.notes(),
                 "dofs": self.dofs, "condensed": self.condensed, "newton_iterations": self.iterations,
                 "elapsed_s": round(self.elapsed_s, 6)}
 
     def to_csv(self, path: Path) -> Path:
-        """One row per branch point: rpm, amplitudes (m), stable (0/1), largest |multiplier|."""
-        rows = [(f"{r:.6f}", f"{a:.9e}", f"{b:.9e}", int(s), f"{m:.6f}") for r, a, b, s, m in
-                zip(self.rpm, self.amplitude_v_L, self.amplitude_w_L, self.stable, self.max_multiplier)]
-        return _write_rows(path, ["rpm", "amplitude_v_L_m", "amplitude_w_L_m", "stable", "max_multiplier"],
+        """One row per branch point: rpm, amplitudes (m), stable (1, 0, or empty: undecided), largest
+        |multiplier| and its error."""
+        err = self.multiplier_error if self.multiplier_error is not None else np.full(len(self.rpm), np.nan)
+        rows = [(f"{r:.6f}", f"{a:.9e}", f"{b:.9e}", "" if s is None else int(s), f"{m:.6f}", f"{e:.6f}")
+                for r, a, b, s, m, e in zip(self.rpm, self.amplitude_v_L, self.amplitude_w_L, self.stable,
+                                            self.max_multiplier, err)]
+        return _write_rows(path, ["rpm", "amplitude_v_L_m", "amplitude_w_L_m", "stable", "max_multiplier",
+                                  "multiplier_error"],
                            rows, f"model {self.model}, harmonic balance H = {self.harmonics}")
 
     def plot(self, ax=None, label: str | None = None, colour=None, scale: float = 1e3, **line):
-        """v_L amplitude (mm) over speed: stable stretches solid, unstable dashed; bifurcations marked.
+        """v_L amplitude (mm) over speed: stable stretches solid, unstable dashed, undecided dotted with
+        small crosses; bifurcations marked.
 
         ``line``: further matplotlib line properties (e.g. linewidth).
         """
         ax = _axes(ax)
         drawn = None
         start = 0
+        styles = {True: {"linestyle": "-"}, False: {"linestyle": "--"},
+                  None: {"linestyle": ":", "marker": "x", "ms": 3.0}}
         for i in range(1, len(self.rpm) + 1):
-            if i == len(self.rpm) or self.stable[i] != self.stable[start]:
+            if i == len(self.rpm) or self.stable[i] is not self.stable[start]:
                 sl = slice(start, min(i + 1, len(self.rpm)))
-                drawn, = ax.plot(self.rpm[sl], self.amplitude_v_L[sl] * scale,
-                                "-" if self.stable[start] else "--",
-                                color=colour if colour is not None else (drawn.get_color() if drawn else None),
-                                label=label if start == 0 else None, **line)
+                drawn, = ax.plot(self.rpm[sl], self.amplitude_v_L[sl] * scale, **styles[self.stable[start]],
+                                 color=colour if colour is not None else (drawn.get_color() if drawn else None),
+                                 label=label if start == 0 else None, **line)
                 start = i
         marks = {"fold": "o", "period-doubling": "s", "Neimark-Sacker": "^"}
-        for b in self.bifurcations:
-            ax.plot(b["rpm"], b["amplitude"] * scale, marks[b["kind"]], color="k", ms=4, mfc="none")
+        for b in self.bifurcations:       # each kind in the legend once per panel
+            named = b["kind"] in ax.get_legend_handles_labels()[1]
+            ax.plot(b["rpm"], b["amplitude"] * scale, marks[b["kind"]], color="k", ms=4, mfc="none",
+                    label=None if named else b["kind"], zorder=4)
         ax.set_xlabel("speed (r/min)")
         ax.set_ylabel("amplitude of v_L (mm)")
         return ax

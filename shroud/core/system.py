@@ -66,6 +66,9 @@ class StructuralSystem:
     # K are row-distributed (a RowShare; the matrices' ``row_block`` holds
     # this rank's rows); None: one process holds every row.
     layout: RowShare | None = None
+    # Rayleigh's (alpha 1/s, beta s) in C = alpha M + beta K (+ G), where the model builds its damping so;
+    # a ring gives every blade the tuned blade's (shroud.core.ring). None: not known.
+    rayleigh: tuple[float, float] | None = None
 
     @property
     def dofs(self) -> int:

@@ -1,0 +1,92 @@
+"""Speed of the whole ring in time (issue 26; figures go in docs/ring.md).
+
+Goals: a 24-blade ring of the reduced beam (nr 6), 400 excitation periods
+(102,400 steps, every interface's contact solved at once each step), in
+under 2 s after compilation; a tuned sector HB curve at most 2x the single
+blade's (``--hb``: the same speed range and H, the sector's with and
+without the whole ring's multipliers at each point). Times are medians of
+CPU time over repeated runs (other processes share the cores; the wall
+time is printed too).
+
+    python benchmarks/bench_ring.py [--repeat 5] [--blades 24] [--periods 400] [--models reduced extended]
+                                    [--hb --rpm-from 6000 --rpm-to 14000]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+import reduced_model  # noqa: F401  (registers the beams)
+from shroud.analysis.hb import SpeedModel, model_at_speed, run_hb
+from shroud.analysis.ring import build_ring, run_ring
+from shroud.analysis.ring_hb import ring_multipliers, run_ring_hb, sector_of
+from shroud.core import harmonic_balance as hb
+from shroud.core import signals
+from shroud.params import Parameters
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--blades", type=int, default=24)
+    ap.add_argument("--periods", type=int, default=400)
+    ap.add_argument("--models", nargs="+", default=["reduced", "extended"])
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--hb", action="store_true", help="time the sector HB curve against the single blade's")
+    ap.add_argument("--rpm-from", type=float, default=6000.0)
+    ap.add_argument("--rpm-to", type=float, default=14000.0)
+    args = ap.parse_args()
+    p = Parameters().with_overrides([f"ring.blades={args.blades}", f"time.periods={args.periods}", *args.set])
+    for model in args.models:
+        ring = build_ring(p, model)
+        run_ring(ring, p.updated({"time.periods": 1}))          # compile (or load numba's cache)
+        wall, cpu, tr = [], [], None
+        for _ in range(args.repeat):
+            w0, c0 = time.perf_counter(), time.process_time()
+            tr = run_ring(ring, p)
+            wall.append(time.perf_counter() - w0)
+            cpu.append(time.process_time() - c0)
+        spp = p.time.steps_per_period
+        amps = [signals.amplitude(tr.tip[:, j, 0], spp) for j in range(ring.count)]
+        print(f"{model}: {ring.count} blades x {ring.blade_dofs} DOF, {tr.steps} steps: "
+              f"CPU {statistics.median(cpu):.3f} s, wall {statistics.median(wall):.3f} s (median of {args.repeat}); "
+              f"v_L amplitude {1e6 * min(amps):.3f} .. {1e6 * max(amps):.3f} um, "
+              f"energy balance {tr.energy.relative_error:.2e}, most contact iterations {tr.contact_iterations}")
+    if args.hb:
+        a, b = args.rpm_from, args.rpm_to
+        curves = {"single blade": lambda: run_hb(p, "reduced", a, b),
+                  "sector, no stability": lambda: run_ring_hb(p, "reduced", a, b, stability=False).branch}
+        for name, curve in curves.items():
+            curve()                                               # compile
+            cpu, wall = [], []
+            for _ in range(args.repeat):
+                w0, c0 = time.perf_counter(), time.process_time()
+                r = curve()
+                wall.append(time.perf_counter() - w0)
+                cpu.append(time.process_time() - c0)
+            print(f"HB {name}: {len(r.rpm)} points, complete {r.complete}, CPU {statistics.median(cpu):.3f} s "
+                  f"({1e3 * statistics.median(cpu) / len(r.rpm):.2f} ms a point), "
+                  f"wall {statistics.median(wall):.3f} s; "
+                  f"resonance {r.resonance['rpm']:.0f} r/min {1e6 * r.resonance['amplitude']:.3f} um")
+        # the whole ring's multipliers at a few points of the sector's branch (compiled by the first)
+        H = r.harmonics
+        speeds = SpeedModel(model_at_speed(p, "reduced"), H)
+        basis = hb.fourier(H, r.samples)
+        picks = np.linspace(0, len(r.rpm) - 1, 6).astype(int)
+        cpu = []
+        for i in picks:
+            system, lin, _, _ = speeds.at(float(r.rpm[i]))
+            sector = sector_of(system, p, H)
+            c0 = time.process_time()
+            mu = np.abs(ring_multipliers(system, sector, lin, r.X[i], basis)).max()
+            cpu.append(time.process_time() - c0)
+            print(f"  ring monodromy at {r.rpm[i]:.0f} r/min: |mu| {mu:.4f}, CPU {cpu[-1]:.3f} s")
+        print(f"HB sector + ring monodromy: {statistics.median(cpu[1:]):.3f} s CPU a point (median after the first)")
+
+
+if __name__ == "__main__":
+    main()

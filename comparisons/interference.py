@@ -1,0 +1,144 @@
+"""Interference diagram and Campbell per nodal diameter of the ring's linear limits (issue 26; docs/ring.md).
+
+The tuned ring of ``ring.blades`` = N blades with its interfaces free or
+stuck (shroud.analysis.limits: one Bloch sector per nodal diameter n =
+0 .. N/2). (a) The interference diagram at the scene's speed: frequency
+against n, with the engine orders' excitation f = k rpm / 60, which meets
+nodal diameter k mod N (folded to N - (k mod N) above N/2); the engine order
+load.ke is the study's. (b) Campbell per nodal diameter: the stuck ring's
+lowest family at n = ke mod N over speed, the fixed-neighbour blade stuck
+and the free blade, with the line ke rpm / 60: the linear resonances the
+ring's travelling wave passes through, against the paper's blade.
+
+Conclusion: where the engine order's nodal diameter puts the stuck ring's
+flap family against the blade stuck to fixed neighbours, which has
+relative motion factor 1 against the ring's 2 |sin(pi n / N)|.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+
+from shroud.analysis.limits import interface_modal
+from shroud.base.errors import InputError
+from shroud.base.markdown import markdown_table
+from shroud.core.plotting import figure, save
+from shroud.core.verdict import Verdict
+
+OPTIONS = {"rpm_from": 2000.0, "rpm_to": 16000.0, "speeds": 29, "n_modes": 3, "engine_orders": 12,
+           "model": "reduced"}
+
+
+def check(scene) -> None:
+    o, N = scene.options, scene.params.ring.blades
+    if N < 2:
+        raise InputError("ring.blades", "the interference diagram is a ring's; allowed: ring.blades >= 2")
+    if not scene.params.ring.tuned:
+        raise InputError("ring.mistuning", "nodal diameters belong to a tuned ring; allowed: all d_j = 0")
+    if not 0 < o["rpm_from"] < o["rpm_to"] or o["speeds"] < 2:
+        raise InputError("options.rpm_from", "allowed: 0 < rpm_from < rpm_to and speeds >= 2")
+
+
+def folded(k: int, N: int) -> int:
+    """The nodal diameter engine order k excites: k mod N, folded into 0 .. N/2."""
+    n = k % N
+    return min(n, N - n)
+
+
+def _flap(params, model, rpm, n_modes, interface, coriolis=False):
+    """The blade's modes and the ring's per nodal diameter at ``rpm`` (Hz)."""
+    limit = interface_modal(params, model, rpm, n_modes, coriolis, interface)
+    return ([m.f_hz for m in limit.blade.modes],
+            {d["nd"]: [m["f_hz"] for m in d["modes"]] for d in limit.nodal_diameters})
+
+
+def crossing(rpm: np.ndarray, f: np.ndarray, ke: int) -> float | None:
+    """The speed (r/min) where f(rpm) meets ke rpm / 60, linearly interpolated; None if it does not."""
+    g = f - ke * rpm / 60.0
+    idx = np.flatnonzero(np.sign(g[:-1]) != np.sign(g[1:]))
+    if not idx.size:
+        return None
+    i = idx[0]
+    return float(rpm[i] - g[i] * (rpm[i + 1] - rpm[i]) / (g[i + 1] - g[i]))
+
+
+def run(scene, out: Path) -> dict:
+    params, o = scene.params, scene.options
+    N, ke, model, k = params.ring.blades, params.load.ke, o["model"], o["n_modes"]
+    nd_ke = folded(ke, N)
+    rpm0 = params.speed.rpm
+    diagram = {iface: _flap(params, model, rpm0, k, iface) for iface in ("free", "stuck")}
+    fixed_stuck = interface_modal(params.updated({"ring.blades": 0}), model, rpm0, k, False, "stuck")
+    rpms = np.linspace(o["rpm_from"], o["rpm_to"], o["speeds"])
+    ring_nd, blade_free, blade_fixed = [], [], []
+    for r in rpms:
+        free, _ = _flap(params, model, r, 1, "free")
+        _, stuck = _flap(params, model, r, 1, "stuck")
+        fixed = interface_modal(params.updated({"ring.blades": 0}), model, r, 1, False, "stuck")
+        ring_nd.append(stuck[nd_ke][0])
+        blade_free.append(free[0])
+        blade_fixed.append(fixed.blade.modes[0].f_hz)
+    ring_nd, blade_free, blade_fixed = map(np.array, (ring_nd, blade_free, blade_fixed))
+    cross = {"ring_stuck": crossing(rpms, ring_nd, ke), "fixed_neighbours_stuck": crossing(rpms, blade_fixed, ke),
+             "free": crossing(rpms, blade_free, ke)}
+
+    fig, axes = figure(1, 2, width=9.0, height=3.6)
+    ax = axes[0][0]
+    nds = sorted(diagram["stuck"][1])
+    for iface, style in (("free", ":"), ("stuck", "-")):
+        per_nd = diagram[iface][1]
+        for i in range(k):
+            ax.plot(nds, [per_nd[n][i] for n in nds], style + "o", ms=3, color=f"C{i}",
+                    label=f"mode {i + 1}, {iface}")
+    orders = np.arange(0, o["engine_orders"] + 1)
+    ax.plot([folded(int(q), N) for q in orders], orders * rpm0 / 60.0, "k--", lw=0.8, label="engine orders")
+    ax.plot([nd_ke], [ke * rpm0 / 60.0], "ks", ms=6, mfc="none", label=f"k_e = {ke}")
+    ax.set_xlabel("nodal diameter")
+    ax.set_ylabel("frequency (Hz)")
+    ax.set_title(f"(a) interference diagram, {N} blades, {rpm0:g} r/min")
+    ax.legend(fontsize=6, ncol=2)
+    ax = axes[0][1]
+    ax.plot(rpms, ring_nd, "-", label=f"ring stuck, nd {nd_ke}")
+    ax.plot(rpms, blade_fixed, "--", label="blade stuck to fixed neighbours")
+    ax.plot(rpms, blade_free, ":", label="free blade")
+    ax.plot(rpms, ke * rpms / 60.0, "k-", lw=0.8, label=f"{ke} x rotation")
+    ax.set_xlabel("speed (r/min)")
+    ax.set_ylabel("frequency (Hz)")
+    ax.set_title("(b) flap family at the engine order's nodal diameter")
+    ax.legend(fontsize=6)
+    save(fig, out / "interference.png")
+
+    with open(out / "interference.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["interface", "nd"] + [f"f{i + 1}_hz" for i in range(k)])
+        for iface in ("free", "stuck"):
+            for n in nds:
+                w.writerow([iface, n, *diagram[iface][1][n]])
+    factor = 2 * abs(math.sin(math.pi * nd_ke / N))
+    ratio = ring_nd[np.argmin(abs(rpms - rpm0))] / blade_fixed[np.argmin(abs(rpms - rpm0))]
+    verdict = Verdict.of(float(diagram["stuck"][1][nd_ke][0] / fixed_stuck.blade.modes[0].f_hz), threshold=1.0,
+                         margin=1e-6, below="ring softer", above="ring stiffer",
+                         reason=f"stuck flap1 of the ring at nd {nd_ke} over the blade stuck to fixed neighbours "
+                                f"at {rpm0:g} r/min (eigenvalues to 1e-8; relative-motion factor {factor:.3f} "
+                                "against 1)")
+    rows = [(name, "none in range" if c is None else f"{c:.0f}") for name, c in cross.items()]
+    lines = [f"# {scene.title}\n",
+             f"{N} blades, engine order {ke} (nodal diameter {nd_ke}, inter-blade phase "
+             f"{360.0 * ke / N:g} deg, relative-motion factor 2 |sin(pi n / N)| = {factor:.3f}), model {model}.\n",
+             f"At {rpm0:g} r/min the stuck ring's flap1 at nd {nd_ke} is "
+             f"{diagram['stuck'][1][nd_ke][0]:.1f} Hz against {fixed_stuck.blade.modes[0].f_hz:.1f} Hz for the "
+             f"blade stuck to fixed neighbours and {diagram['free'][0][0]:.1f} Hz free: {verdict.answer} "
+             f"(ratio {verdict.value:.4f}).\n",
+             markdown_table(["flap1 meets k_e x rotation", "r/min"], rows), "",
+             "![interference.png](interference.png)"]
+    (out / "report.md").write_text("\n".join(lines) + "\n")
+    return {"conclusions": {"ring_against_fixed_neighbours": verdict.answer},
+            "nd_engine_order": nd_ke, "relative_motion_factor": factor,
+            "flap1_hz": {"ring_stuck": diagram["stuck"][1][nd_ke][0],
+                         "fixed_neighbours_stuck": fixed_stuck.blade.modes[0].f_hz, "free": diagram["free"][0][0]},
+            "crossing_rpm": cross, "ratio_on_grid": float(ratio),
+            "nodal_diameters": {iface: {str(n): diagram[iface][1][n] for n in nds} for iface in ("free", "stuck")}}

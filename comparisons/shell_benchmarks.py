@@ -1,0 +1,167 @@
+"""Published benchmarks of the shell model (docs/shell.md): MacNeal-Harder's twisted beam, NAFEMS FV16.
+
+Each case is the shell model of a bare twisted strip clamped at X = 0 (the
+blade's mid-surface with other numbers: blade.disk_radius = 0, no shroud),
+run through the analysis layer as ``shroud static`` / ``shroud modal`` run it:
+
+* MacNeal & Harder (1985), twisted beam: L = 12, b = 1.1, 90 deg twist,
+  E = 29e6, nu = 0.22 (consistent units), unit tip forces along the root's
+  thickness (Y) and width (Z); thick case h = 0.32 (5.424e-3, 1.754e-3)
+  and thin case h = 0.0032 with forces 1e-6 (5.256e-3, 1.294e-3). The
+  beam model (``reduced``: its Galerkin Timoshenko beam) runs beside it.
+* NAFEMS FV16: cantilevered square plate 10 x 10 x 0.05 m, E = 200 GPa,
+  nu = 0.3, rho = 8000 kg/m^3 (a/h = 200): the first six frequencies
+  0.421, 1.029, 2.582, 3.306, 3.753, 6.555 Hz.
+
+Each number is measured on two meshes (``options``: a size and half of it).
+The shell converges as h^2 here (CR rotations are nonconforming; FV16's
+sixth frequency moves by 3.6 % from 1 to 0.5 m and by 0.96 % from 0.5 to
+0.25 m), so a third of the change between the two meshes is the error left
+in the finer one: the verdict "within" its tolerance (1.5 % for
+MacNeal-Harder, 1 % for FV16) is read on the finer mesh with that third as
+its margin, and the Richardson value (fine + (fine - coarse)/3) is reported.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from shroud.analysis import api
+from shroud.base.errors import InputError
+from shroud.base.markdown import markdown_table
+from shroud.base.tables import write_records
+from shroud.core.plotting import figure, save
+from shroud.core.verdict import Verdict
+from shroud.params import Parameters
+
+OPTIONS = {
+    "macneal_harder_size": 0.15,    # shell.mesh_size of the thick case (the thin one: 2/3 of it), and half of it
+    "fv16_size": 0.5,               # shell.mesh_size of FV16, and half of it
+}
+ORDER = 2.0                         # observed convergence order of the shell's numbers (above)
+LEFT = 1.0 / (2.0**ORDER - 1.0)     # share of the last change still in the finer mesh's number
+
+STRIP = {"blade.disk_radius": 0.0, "blade.stagger_deg": 0.0, "shroud.thickness": 0.0}
+MACNEAL_HARDER = {**STRIP, "blade.length": 12.0, "blade.width": 1.1, "blade.twist_deg": 90.0,
+                  "material.E": 29e6, "material.nu": 0.22}
+# (case, thickness, force (X, Y, Z), component, published tip deflection along the force, size factor)
+MACNEAL_HARDER_CASES = (("thick, load Y", 0.32, (0.0, 1.0, 0.0), "Y", 5.424e-3, 1.0),
+                        ("thick, load Z", 0.32, (0.0, 0.0, 1.0), "Z", 1.754e-3, 1.0),
+                        ("thin, load Y", 0.0032, (0.0, 1e-6, 0.0), "Y", 5.256e-3, 2 / 3),
+                        ("thin, load Z", 0.0032, (0.0, 0.0, 1e-6), "Z", 1.294e-3, 2 / 3))
+MACNEAL_HARDER_TOLERANCE = 0.015
+FV16 = {**STRIP, "blade.length": 10.0, "blade.width": 10.0, "blade.thickness": 0.05, "blade.twist_deg": 0.0,
+        "material.E": 200e9, "material.nu": 0.3, "material.rho": 8000.0}
+FV16_HZ = (0.421, 1.029, 2.582, 3.306, 3.753, 6.555)
+FV16_TOLERANCE = 0.01
+
+
+def check(scene) -> None:
+    for key in OPTIONS:
+        if not scene.options[key] > 0:
+            raise InputError(f"options.{key}", f"{scene.options[key]!r}; allowed: an element size > 0")
+
+
+def _within(error: float, change: float, tolerance: float, what: str) -> Verdict:
+    return Verdict.of(abs(error), threshold=tolerance, margin=LEFT * abs(change), below="within",
+                      above="outside", reason=f"{what}: the tolerance of issue 25; margin: the discretization "
+                                             "error left, a third of the change from the mesh twice as coarse")
+
+
+def macneal_harder(size: float) -> list[dict]:
+    rows = []
+    for case, h, force, axis, published, factor in MACNEAL_HARDER_CASES:
+        values = []
+        for s in (size * factor, 0.5 * size * factor):
+            params = Parameters().updated({**MACNEAL_HARDER, "blade.thickness": h, "shell.mesh_size": s})
+            values.append(api.static(params, "shell", force, rpm=0.0))
+        beam = api.static(Parameters().updated({**MACNEAL_HARDER, "blade.thickness": h}), "reduced", force, rpm=0.0)
+        coarse, fine = (v.tip[axis] for v in values)
+        error = fine / published - 1.0
+        verdict = _within(error, fine / coarse - 1.0, MACNEAL_HARDER_TOLERANCE, "MacNeal-Harder tip deflection")
+        rows.append({"case": case, "thickness": h, "size": 0.5 * size * factor, "dofs": values[1].dofs,
+                     "published": published, "shell": fine, "shell_coarse": coarse, "error": error,
+                     "extrapolated": fine + LEFT * (fine - coarse),
+                     "beam": beam.tip[axis], "beam_error": beam.tip[axis] / published - 1.0,
+                     "verdict": verdict.to_json()})
+    return rows
+
+
+def fv16(size: float) -> dict:
+    runs = {}
+    for s in (size, 0.5 * size):
+        params = Parameters().updated({**FV16, "shell.mesh_size": s})
+        result = api.modal(params, "shell", rpm=0.0, n_modes=6, coriolis=False)
+        runs[s] = (result.dofs, [m.f_hz for m in result.modes])
+    (_, coarse), (dofs, fine) = runs[size], runs[0.5 * size]
+    modes = [{"mode": i + 1, "published_hz": p, "shell_hz": f, "coarse_hz": c, "error": f / p - 1.0,
+              "extrapolated_hz": f + LEFT * (f - c),
+              "verdict": _within(f / p - 1.0, f / c - 1.0, FV16_TOLERANCE, "FV16 frequency").to_json()}
+             for i, (p, f, c) in enumerate(zip(FV16_HZ, fine, coarse))]
+    return {"size": 0.5 * size, "dofs": dofs, "modes": modes}
+
+
+def run(scene, out: Path) -> dict:
+    check(scene)
+    o = scene.options
+    t0 = time.perf_counter()
+    mh = macneal_harder(o["macneal_harder_size"])
+    plate = fv16(o["fv16_size"])
+    write_records(out / "macneal_harder.csv", [{k: v for k, v in r.items() if k != "verdict"} for r in mh])
+    write_records(out / "fv16.csv", [{k: v for k, v in m.items() if k != "verdict"} for m in plate["modes"]])
+    png = _figure(mh, plate, out)
+    conclusions = {"macneal_harder": {r["case"]: r["verdict"] for r in mh},
+                   "fv16": {f"mode {m['mode']}": m["verdict"] for m in plate["modes"]}}
+    results = {"macneal_harder": mh, "fv16": plate, "figures": [png.name],
+               "all_within": all(r["verdict"]["answer"] == "within" for r in mh + plate["modes"]),
+               "conclusions": conclusions, "elapsed_s": time.perf_counter() - t0}
+    _report(results, scene, out)
+    return results
+
+
+def _figure(mh: list[dict], plate: dict, out: Path) -> Path:
+    fig, axes = figure(1, 2, width=9.0, height=3.4)
+    ax = axes[0, 0]
+    x = range(len(mh))
+    ax.bar([i - 0.2 for i in x], [100 * r["error"] for r in mh], width=0.4, label="shell", color="tab:orange")
+    ax.bar([i + 0.2 for i in x], [100 * r["beam_error"] for r in mh], width=0.4, label="beam (Galerkin)",
+           color="tab:red")
+    for sign in (-1, 1):
+        ax.axhline(sign * 100 * MACNEAL_HARDER_TOLERANCE, color="gray", ls=":", lw=1)
+    ax.set_xticks(list(x), [r["case"] for r in mh], rotation=20, fontsize=7)
+    ax.set_ylabel("tip deflection error (%)")
+    ax.set_title("MacNeal-Harder twisted beam")
+    ax.legend(fontsize=7)
+    ax = axes[0, 1]
+    modes = plate["modes"]
+    ax.plot([m["mode"] for m in modes], [100 * m["error"] for m in modes], "o-", color="tab:orange",
+            label=f"shell, {plate['size']:g} m")
+    ax.plot([m["mode"] for m in modes], [100 * (m["coarse_hz"] / m["published_hz"] - 1) for m in modes], "s--",
+            color="tab:brown", label=f"shell, {2 * plate['size']:g} m")
+    for sign in (-1, 1):
+        ax.axhline(sign * 100 * FV16_TOLERANCE, color="gray", ls=":", lw=1)
+    ax.set_xlabel("mode")
+    ax.set_ylabel("frequency error (%)")
+    ax.set_title("NAFEMS FV16 (a/h = 200)")
+    ax.legend(fontsize=7)
+    return save(fig, out / "shell_benchmarks.png")
+
+
+def _report(results: dict, scene, out: Path) -> None:
+    mh, plate = results["macneal_harder"], results["fv16"]
+    lines = [f"# {scene.title}\n", scene.description.strip() + "\n", "## MacNeal-Harder twisted beam\n",
+             markdown_table(["case", "size", "DOF", "published", "shell", "error", "extrapolated", "beam",
+                             "beam error", "verdict"],
+                            [(r["case"], r["size"], r["dofs"], r["published"], r["shell"],
+                              f"{100 * r['error']:+.2f} %", f"{100 * (r['extrapolated'] / r['published'] - 1):+.2f} %",
+                              r["beam"], f"{100 * r['beam_error']:+.2f} %", r["verdict"]["answer"]) for r in mh]),
+             f"\n## NAFEMS FV16, {plate['size']:g} m ({plate['dofs']} DOF)\n",
+             markdown_table(["mode", "published (Hz)", "shell (Hz)", "error", f"at {2 * plate['size']:g} m",
+                             "extrapolated", "verdict"],
+                            [(m["mode"], m["published_hz"], m["shell_hz"], f"{100 * m['error']:+.2f} %",
+                              m["coarse_hz"], f"{100 * (m['extrapolated_hz'] / m['published_hz'] - 1):+.2f} %",
+                              m["verdict"]["answer"]) for m in plate["modes"]]),
+             f"\nEvery number within its tolerance: {results['all_within']}.\n",
+             "\n![benchmarks](shell_benchmarks.png)\n"]
+    (out / "report.md").write_text("\n".join(lines))

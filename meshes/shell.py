@@ -1,0 +1,284 @@
+"""The blade's mid-surface for the shell model: a helicoid, and the shroud as a plate on its tip.
+
+The mid-surface is the surface swept by the chord line (length b along
+e_w(x), centred on the X axis) from X = R_d to X = R_d + L while it turns by
+beta(x) = beta_1 + beta_t x / L (docs/geometry.md, "Shell model"):
+
+    P(x, s) = (R_d + x) e_X + s e_w(x),   0 <= x <= L,  -b/2 <= s <= b/2,
+
+a right helicoid. (A loft of the root and tip lines alone would be the
+hyperbolic paraboloid through them, a different surface: its chord lines
+do not turn uniformly and are not of length b.) gmsh skins it through
+chord lines every <= 2 deg of twist; every mesh node is then put back on
+the exact helicoid (:func:`on_helicoid`), so the geometry does not depend
+on the skin.
+
+Cells: three-node (flat) triangles, because the rotation space of the shell
+(reference_fe.shell) is Crouzeix-Raviart, defined on simplices only, and a
+triangulation joins the blade and the shroud along the tip line without
+constraints; the displacement is P2 on these cells (Campello et al. 2003;
+J. Bleyer's linear shell tour).
+
+The shroud (shroud.thickness > 0) is a flat plate of thickness t_s in the
+tip plane X = R_d + L: the rectangle l_s (along e_ws) x b_s (along e_vs)
+of the solid's shroud box, centred on the X axis, with the blade's tip line
+embedded in it (a T-joint: a facet there has three cells). What it leaves
+out against the solid's box: the box's centre sits t_s/2 further out, and
+the box is stiffer in bending than a plate of its thickness; both are
+measured in docs/shell.md. Its two edges at v_s = -b_s/2 and +b_s/2 are the
+contact faces (side 1, side 2), each cut into ``contact_points`` equal
+segments whose midpoints are the contact points (there the P2 displacement
+and the Crouzeix-Raviart rotation both have a node).
+
+Physical groups: cells BLADE, SHROUD; facets (lines) ROOT, CONTACT_SIDE1,
+CONTACT_SIDE2 and TIP (the blade's tip line). The tip centre (R_d + L, 0, 0)
+is a node. Meshes are cached on disk like the solid's (meshes.blade).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from meshes.blade import check_msh_complete
+from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, section_frame
+from shroud.base.cache import cached
+from shroud.base.errors import InputError
+from shroud.base.resources import in_words, physical_memory
+from shroud.params import Parameters
+
+TIP = 4                 # facet tag of the blade's tip line
+MAX_TWIST_PER_SECTION = math.radians(2.0)
+EDGE_TOLERANCE = 1e-6     # relative to b/2: far above the skin's error, far below any cell
+
+
+@dataclass(frozen=True)
+class ShellSpec:
+    """Everything that shapes the mid-surface mesh, SI units (m, rad)."""
+
+    disk_radius: float
+    length: float
+    width: float
+    thickness: float
+    stagger: float            # beta_1, rad
+    twist: float              # beta_t, rad
+    shroud_length: float      # l_s (along e_ws)
+    shroud_width: float       # b_s (along e_vs)
+    shroud_thickness: float   # t_s: the plate's thickness; 0 = no shroud
+    alpha: float              # shroud inclination, rad
+    size: float               # target element size, m
+    contact_points: int = 11  # segments (their midpoints the contact points) per contact edge
+
+    @classmethod
+    def from_params(cls, params: Parameters) -> "ShellSpec":
+        b, s = params.blade, params.shroud
+        return cls(disk_radius=b.disk_radius, length=b.length, width=b.width, thickness=b.thickness,
+                   stagger=math.radians(b.stagger_deg), twist=math.radians(b.twist_deg),
+                   shroud_length=s.length, shroud_width=s.width, shroud_thickness=s.thickness,
+                   alpha=math.radians(params.contact.alpha_deg), size=params.shell.mesh_size,
+                   contact_points=params.shell.contact_points)
+
+    @classmethod
+    def strip(cls, length: float, width: float, thickness: float, twist: float, size: float,
+              stagger: float = 0.0) -> "ShellSpec":
+        """A bare twisted strip clamped at X = 0 (benchmarks: MacNeal-Harder's beam, NAFEMS FV16's plate)."""
+        return cls(disk_radius=0.0, length=length, width=width, thickness=thickness, stagger=stagger,
+                   twist=twist, shroud_length=0.0, shroud_width=0.0, shroud_thickness=0.0, alpha=0.0,
+                   size=size)
+
+    @property
+    def has_shroud(self) -> bool:
+        return self.shroud_thickness > 0
+
+    @property
+    def tip_x(self) -> float:
+        return self.disk_radius + self.length
+
+    @property
+    def beta_tip(self) -> float:
+        return self.stagger + self.twist
+
+    def beta(self, X):
+        """Section angle at global X (rad); numpy or UFL arguments."""
+        return self.stagger + self.twist * (X - self.disk_radius) / self.length
+
+    @property
+    def area(self) -> float:
+        """Mid-surface area of blade and shroud plate, m^2 (the helicoid's, to O(twist^2 b^2 / L^2))."""
+        return self.length * self.width + self.has_shroud * self.shroud_length * self.shroud_width
+
+
+# Measured here: Frontal-Delaunay triangles at size h cover the area with about 2.3 / h^2 cells
+# (default blade, h = 2-8 mm); P2 displacements (3 per node, ~2 nodes per cell) and CR rotations
+# (3 per edge, ~1.5 edges per cell) make about 10.5 DOF per cell. A 2D direct factor grows about as
+# DOF^1.3; 1 GB held 60 000 DOF (the measured bound used to refuse a mesh).
+CELLS_PER_SQUARE = 2.3
+DOFS_PER_CELL = 10.5
+REFERENCE_DOFS, REFERENCE_BYTES = 60_000, 1.0e9
+
+
+def estimated_dofs(spec: ShellSpec) -> float:
+    return DOFS_PER_CELL * CELLS_PER_SQUARE * spec.area / spec.size**2
+
+
+def check_geometry(spec: ShellSpec, memory: float | None = None) -> None:
+    """Raise InputError for a mid-surface the shell model cannot stand for or this machine cannot hold."""
+    if spec.thickness >= spec.width:
+        raise InputError("blade.thickness", f"{spec.thickness!r} is not below blade.width {spec.width!r}; "
+                         "allowed for the shell model: a thickness below the chord (a plate, not a bar)")
+    if spec.size > 0.5 * spec.width:
+        raise InputError("shell.mesh_size", f"{spec.size!r} leaves fewer than two cells across the chord "
+                         f"{spec.width!r}; allowed: a size <= {0.5 * spec.width:g} m")
+    if spec.has_shroud and spec.size > 0.5 * spec.shroud_width:
+        raise InputError("shell.mesh_size", f"{spec.size!r} leaves fewer than two cells across "
+                         f"shroud.width {spec.shroud_width!r}; allowed: a size <= {0.5 * spec.shroud_width:g} m")
+    memory = physical_memory() if memory is None else memory
+    dofs = estimated_dofs(spec)
+    need = REFERENCE_BYTES * (dofs / REFERENCE_DOFS) ** 1.3
+    if need > memory:
+        fits = spec.size * (need / memory) ** (1 / 2.6)
+        raise InputError("shell.mesh_size", f"{spec.size!r} m would make about {dofs:.2g} DOF, needing about "
+                         f"{in_words(need)} to solve; this machine has {in_words(memory)}; allowed: a size "
+                         f">= {fits:.3g} m here")
+
+
+def on_helicoid(points: np.ndarray, spec: ShellSpec) -> np.ndarray:
+    """``points`` (k, 3) moved onto the helicoid along their section plane X = const: (X, s e_w(x)).
+
+    s is the point's coordinate along e_w(x) of its own section; a point
+    within EDGE_TOLERANCE of a chord edge is put on it (the skin's edges
+    stray from the helix by ~1e-8 m between its sections). A point already
+    on the surface is returned unchanged.
+    """
+    beta = spec.beta(points[:, 0])
+    e_w = np.stack([np.zeros_like(beta), -np.sin(beta), np.cos(beta)], axis=1)
+    s = np.einsum("ij,ij->i", points, e_w)
+    edge = np.abs(s) > 0.5 * spec.width * (1.0 - EDGE_TOLERANCE)
+    s[edge] = np.sign(s[edge]) * 0.5 * spec.width
+    return np.column_stack([points[:, 0], s[:, None] * e_w[:, 1:]])
+
+
+def _chord_wire(occ, spec: ShellSpec, x: float) -> int:
+    """The chord line at blade coordinate x, as two segments meeting at the axis (so the axis is a mesh line)."""
+    _, e_w = section_frame(spec.beta(spec.disk_radius + x))
+    centre = np.array([spec.disk_radius + x, 0.0, 0.0])
+    ends = [occ.addPoint(*(centre + t * 0.5 * spec.width * e_w)) for t in (-1.0, 0.0, 1.0)]
+    return occ.addWire([occ.addLine(ends[0], ends[1]), occ.addLine(ends[1], ends[2])])
+
+
+def _shroud_plate(occ, spec: ShellSpec) -> int:
+    e_vs, e_ws = section_frame(spec.beta_tip + spec.alpha)
+    centre = np.array([spec.tip_x, 0.0, 0.0])
+    corners = [centre + a * 0.5 * spec.shroud_width * e_vs + c * 0.5 * spec.shroud_length * e_ws
+               for a, c in ((-1, -1), (-1, 1), (1, 1), (1, -1))]
+    points = [occ.addPoint(*p) for p in corners]
+    lines = [occ.addLine(points[i], points[(i + 1) % 4]) for i in range(4)]
+    return occ.addPlaneSurface([occ.addCurveLoop(lines)])
+
+
+def _build_model(gmsh, spec: ShellSpec) -> None:
+    occ = gmsh.model.occ
+    n_sections = 2 + int(math.ceil(abs(spec.twist) / MAX_TWIST_PER_SECTION))
+    wires = [_chord_wire(occ, spec, spec.length * i / (n_sections - 1)) for i in range(n_sections)]
+    surfaces = occ.addThruSections(wires, makeSolid=False, makeRuled=spec.twist == 0.0)
+    # The two halves of the skin come with their own copies of the axis line: fragmenting sews them
+    # (and the shroud plate to the tip line) into one conforming surface.
+    tools = [(2, _shroud_plate(occ, spec))] if spec.has_shroud else []
+    surfaces, _ = occ.fragment(surfaces, tools)
+    occ.synchronize()
+    model = gmsh.model
+    tol = 1e-6 * spec.length
+    blade, shroud = [], []
+    for _, tag in model.getEntities(2):
+        lo = model.getBoundingBox(2, tag)
+        (shroud if lo[0] > spec.tip_x - tol else blade).append(tag)
+    e_vs, _ = section_frame(spec.beta_tip + spec.alpha)
+    groups = {ROOT: [], TIP: [], CONTACT_SIDE1: [], CONTACT_SIDE2: []}
+    edges = {abs(t) for _, t in model.getBoundary([(2, t) for t in blade + shroud], combined=False, oriented=False)}
+    for _, tag in model.getEntities(1):
+        lo = model.getBoundingBox(1, tag)
+        if tag not in edges:     # a chord line of the skin's sections, not an edge of the surface
+            continue
+        if lo[3] < spec.disk_radius + tol:
+            groups[ROOT].append(tag)
+            continue
+        if lo[0] < spec.tip_x - tol:
+            continue
+        ends = np.array([model.getValue(0, p, []) for _, p in model.getBoundary([(1, tag)])])
+        v_s = ends @ e_vs
+        if spec.has_shroud and np.allclose(v_s, -0.5 * spec.shroud_width, atol=tol):
+            groups[CONTACT_SIDE1].append(tag)
+        elif spec.has_shroud and np.allclose(v_s, 0.5 * spec.shroud_width, atol=tol):
+            groups[CONTACT_SIDE2].append(tag)
+        elif np.allclose(np.linalg.norm(ends[:, 1:], axis=1).max(), 0.5 * spec.width, atol=tol) or \
+                np.isclose(np.linalg.norm(ends[:, 1:], axis=1).min(), 0.0, atol=tol):
+            groups[TIP].append(tag)       # a half of the blade's tip chord line
+    missing = [t for t, tags in groups.items() if not tags and (t in (ROOT, TIP) or spec.has_shroud)]
+    if missing:
+        raise RuntimeError(f"gmsh mid-surface lacks facet groups {missing}: {groups}")
+    for tag in groups[CONTACT_SIDE1] + groups[CONTACT_SIDE2]:
+        model.mesh.setTransfiniteCurve(tag, spec.contact_points + 1)
+    _structured(model, spec, blade, tol)
+    for tag, name in ((ROOT, "root"), (TIP, "tip"), (CONTACT_SIDE1, "contact_side1"),
+                      (CONTACT_SIDE2, "contact_side2")):
+        if groups[tag]:
+            model.addPhysicalGroup(1, groups[tag], tag, name=name)
+    model.addPhysicalGroup(2, blade, BLADE, name="blade")
+    if shroud:
+        model.addPhysicalGroup(2, shroud, SHROUD, name="shroud")
+    return blade
+
+
+def _structured(model, spec: ShellSpec, blade: list[int], tol: float) -> None:
+    """Each half of the helicoid as a structured grid of triangles (alternating diagonals).
+
+    Cells of one shape over the span and the chord: the torsion mode's
+    boundary layer along the free chord edges (width h / sqrt(10)) is then
+    resolved alike at every station, and its frequency converges smoothly
+    with the size (with free triangles it wandered by +/- 0.5 % between
+    sizes of 2 and 4 mm).
+    """
+    along_span = 1 + max(2, math.ceil(spec.length / spec.size))
+    along_chord = 1 + max(1, math.ceil(0.5 * spec.width / spec.size))
+    for surface in blade:
+        for _, curve in model.getBoundary([(2, surface)], oriented=False):
+            lo = model.getBoundingBox(1, abs(curve))
+            spans = lo[3] - lo[0] > 0.01 * spec.length      # (OCC pads boxes by 1e-7 m)
+            model.mesh.setTransfiniteCurve(abs(curve), along_span if spans else along_chord)
+        model.mesh.setTransfiniteSurface(surface, "Alternate")
+
+
+def write_mesh(spec: ShellSpec, path: Path) -> None:
+    """Mesh the mid-surface with flat triangles, put the blade's nodes on the helicoid, write ``path``."""
+    import gmsh
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("blade_mid_surface")
+        blade = _build_model(gmsh, spec)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", spec.size)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.option.setNumber("Mesh.Algorithm", 6)        # Frontal-Delaunay
+        gmsh.model.mesh.generate(2)
+        for tag in blade:
+            nodes, coords, _ = gmsh.model.mesh.getNodes(2, tag, includeBoundary=True)
+            moved = on_helicoid(coords.reshape(-1, 3), spec)
+            for node, xyz in zip(nodes, moved):
+                gmsh.model.mesh.setNode(int(node), list(xyz), [])
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+
+
+def mesh_file(spec: ShellSpec) -> Path:
+    """Path of the cached .msh of ``spec`` (built on this process if missing; call on one rank)."""
+    check_geometry(spec)
+    inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
+    return cached("shell_mesh", inputs, ".msh", lambda tmp: write_mesh(spec, tmp), what="shell mesh",
+                  sources=(__name__, "meshes.spec"), check=check_msh_complete)
