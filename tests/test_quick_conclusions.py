@@ -236,8 +236,9 @@ def test_default_quick_agrees_with_full(tmp_path):
 def test_convergence_quick_agrees_with_full(tmp_path):
     got, _ = quick("convergence", tmp_path)
     full = full_conclusions("convergence")
-    for key in ("default_mesh_meets_tolerance", "cheaper_at_equal_error"):
-        assert agrees(got[key], full[key]), (key, got[key], full[key])
+    assert agrees(got["default_mesh_meets_tolerance"], full["default_mesh_meets_tolerance"])
+    if None not in (got["cheaper_at_equal_error"], full["cheaper_at_equal_error"]):   # None: the meshes run cannot tell
+        assert got["cheaper_at_equal_error"] == full["cheaper_at_equal_error"]
     # the mesh chosen is the cheapest decided within the tolerance: where the full scene cannot decide the
     # default mesh (its error within the converged values' own uncertainty) it goes finer, so the two
     # scenes' choices are held against each other only where both decided the default
@@ -284,8 +285,8 @@ def test_hb_family_quick_agrees_with_full(tmp_path, study):
     full = full_conclusions(study)
     for key in ("optimal_preload_trend", "minimum_amplitude_nearly_same", "optimal_preload_unaffected",
                 "stuck_resonance_same", "peak_tracking_complete"):
-        assert got[key] == full[key], key
-    assert got["large_gaps"]["no_effect"] == full["large_gaps"]["no_effect"]
+        assert agrees(got[key], full[key]), (key, got[key], full[key])      # "not decided" contradicts nothing
+    assert agrees(got["large_gaps"]["no_effect"], full["large_gaps"]["no_effect"])
     cases = got["preload_cases"].keys() & full["preload_cases"].keys()
     assert len(cases) >= 2
     for case in cases:
