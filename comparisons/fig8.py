@@ -267,7 +267,9 @@ def conclusions(results: dict) -> dict:
       the artefacts built on disk in this run, within a factor CHEAPER).
     """
     ref = results["reference"]
+    # the default models' order first (the pairs' names), then any other the scene runs (fig10's shells)
     order = [m for m in OPTIONS["models"] if m in results["amplitude"]]
+    order += [m for m in results["amplitude"] if m not in order]
     worst = {m: v["worst_nrmse"] for m, v in results["versus_reference"].items()}
     total = {r["model"]: r.get("warm_total_s", r["total_s"]) for r in results["table3"] if r["status"] == "complete"}
     slip = {m: (st["side1"]["slip"] + st["side2"]["slip"]) / 2 for m, st in results["state_fraction"].items()}

@@ -20,6 +20,8 @@ the resonant speed rises as the gap closes.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -122,6 +124,9 @@ class Variant:
             elif value < 0:
                 out.append({**row, "rpm": br.resonance["rpm"], "amplitude_m": br.resonance["amplitude"],
                             "source": "branch", "covered": peak_covered(br)})
+            else:                      # a preload the tracked curve stopped short of: no resonance to hold
+                out.append({**row, "rpm": math.nan, "amplitude_m": math.nan, "source": "not tracked",
+                            "covered": False})
         return out
 
 

@@ -42,7 +42,8 @@ OPTIONS = {
 ORDER = 2.0                         # observed convergence order of the shell's numbers (above)
 LEFT = 1.0 / (2.0**ORDER - 1.0)     # share of the last change still in the finer mesh's number
 
-STRIP = {"blade.disk_radius": 0.0, "blade.stagger_deg": 0.0, "shroud.thickness": 0.0}
+STRIP = {"blade.disk_radius": 0.0, "blade.stagger_deg": 0.0, "shroud.thickness": 0.0,
+         "speed.rpm": 0.0}     # the published benchmarks are at rest (at the default 10000 r/min their blades' root strain is refused)
 MACNEAL_HARDER = {**STRIP, "blade.length": 12.0, "blade.width": 1.1, "blade.twist_deg": 90.0,
                   "material.E": 29e6, "material.nu": 0.22}
 # (case, thickness, force (X, Y, Z), component, published tip deflection along the force, size factor)

@@ -433,7 +433,8 @@ def test_a_closed_loop_stops_where_it_comes_back_onto_itself():
     def residual(x, p):
         return np.array([x[0] ** 2 + (p - 10.0) ** 2 - 1.0]), np.array([[2 * x[0]]]), lambda: np.array([2 * (p - 10.0)])
     from shroud.core.continuation import continue_branch
-    branch = continue_branch(residual, np.array([math.sqrt(0.75)]), 9.5, 100.0, 1.0, ds=0.02, ds_max=0.05)
+    branch = continue_branch(residual, np.array([math.sqrt(0.75)]), 9.5, 100.0, 1.0, ds=0.02, ds_max=0.05,
+                             stop_on_retrace=True)
     x, p = np.array(branch.x)[:, 0], np.array(branch.p)
     assert not branch.complete and "came back onto its own path" in branch.stopped
     assert np.allclose(x ** 2 + (p - 10.0) ** 2, 1.0, atol=1e-8)

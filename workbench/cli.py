@@ -323,7 +323,12 @@ def cmd_record(args) -> int:
     if args.jobs < 1:
         raise InputError("--jobs", f"{args.jobs} is out of range; allowed: an integer >= 1")
     if not args.check:
-        for path in records.record(args.scenes or None, stale_only=args.stale, jobs=args.jobs):
+        try:
+            made = records.record(args.scenes or None, stale_only=args.stale, jobs=args.jobs)
+        except RuntimeError as exc:          # a scene that failed: the others' records are made all the same
+            print(f"error: {exc}", file=sys.stderr)
+            return EXIT_RUN_FAILED
+        for path in made:
             print(path.relative_to(records.ROOT))
         return 0
     stale = 0

@@ -191,17 +191,24 @@ def record(scenes: list[str] | None = None, stale_only: bool = False, jobs: int 
     todo = list(scenes or RECORDED)
     if stale_only:
         todo = [s for s in todo if not (RECORDS / f"{s}.json").is_file() or not check(load(s)).current]
-    if jobs <= 1:
-        return [_made(s, commit) for s in todo]
     from concurrent.futures import ThreadPoolExecutor      # each scene is its own process: threads only wait
-    with ThreadPoolExecutor(jobs) as pool:
-        return list(pool.map(lambda s: _made(s, commit), todo))
+    with ThreadPoolExecutor(max(jobs, 1)) as pool:
+        outcomes = list(pool.map(lambda s: _made(s, commit), todo))
+    failed = [f"{scene}: {o}" for scene, o in zip(todo, outcomes) if isinstance(o, Exception)]
+    if failed:                     # every other scene's record is made all the same
+        raise RuntimeError("records not made:\n" + "\n".join(failed))
+    return outcomes
 
 
-def _made(scene: str, commit: str) -> Path:
+def _made(scene: str, commit: str) -> Path | Exception:
+    """The record of ``scene``, or the error that stopped it (one scene's failure stops no other)."""
     t0 = time.perf_counter()
     print(f"[record] {scene}: running the full scene", file=sys.stderr, flush=True)
-    path = make(scene, commit)
+    try:
+        path = make(scene, commit)
+    except RuntimeError as exc:
+        print(f"[record] {scene}: FAILED after {time.perf_counter() - t0:.0f} s", file=sys.stderr, flush=True)
+        return exc
     print(f"[record] {scene}: {path.relative_to(ROOT)} in {time.perf_counter() - t0:.0f} s", file=sys.stderr,
           flush=True)
     return path

@@ -325,7 +325,7 @@ def run_hb_through(params: Parameters, model: str, X: np.ndarray, rpm: float, rp
             R, J, d_rpm = residual(Xc, sign * p)
             return R, J, lambda: sign * d_rpm()
         branch = continue_branch(signed, X, sign * rpm, sign * end, x_scale, ds=0.05, ds_max=0.5, dp_max=dp_max,
-                                 on_point=lambda Xc, p, sign=sign, details=details: details.append(
+                                 stop_on_retrace=True, on_point=lambda Xc, p, sign=sign, details=details: details.append(
                                      point_details(speeds, law, basis, Xc, sign * p, residual.last,
                                                    details[-1] if details else None)))
         halves.append((sign, branch, details))

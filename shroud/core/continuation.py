@@ -61,7 +61,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
                     ds: float = 0.02, ds_min: float = 1e-5, ds_max: float = 0.1, max_points: int = 2000,
                     dp_max: float | None = None, max_turn: float = 0.5, ds_kink: float = 2e-3,
                     on_point: Callable[[np.ndarray, float], None] | None = None,
-                    p_scale: float | None = None) -> Branch:
+                    p_scale: float | None = None, stop_on_retrace: bool = False) -> Branch:
     """Follow R(x, p) = 0 from (x0, p0) until p passes ``p_end`` (p0 < p_end).
 
     ``x0`` needs only be near the solution at p0 (Newton at fixed p first).
@@ -72,10 +72,14 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     is piecewise linear: grazing, the onset of stick) and is stepped over,
     recorded in ``Branch.kinks`` (its parameter value and the turn). The last point is
     put exactly at p_end. ``on_point(x, p)`` is called for every accepted point.
-    A branch that comes back onto its own path, going the same way (a closed
-    loop, or a cycle between kinks), stops there, incomplete, saying so
-    (:func:`_retraced`): past that point it would only repeat itself up to
-    ``max_points``.
+    With ``stop_on_retrace``, a branch that comes back onto its own path,
+    going the same way (a closed loop, or a cycle between kinks), stops
+    there, incomplete, saying so (:func:`_retraced`): past that point it
+    would only repeat itself up to ``max_points``. Off by default: near a
+    sharp peak the test also fires on branches that do not retrace (the
+    full hb_friction scene's 300 um gap stopped after 10 points at its
+    8089 r/min kink), so only branches seeded away from the continued one
+    (shroud.analysis.hb.run_hb_through), where runaways were seen, use it.
     ``p_scale`` scales the parameter in the arclength (default |p0|; give it
     where p0 may be 0, e.g. a preload continued from N0 = 0).
     """
@@ -144,7 +148,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
             return branch
         if turn > max_turn:
             branch.kinks.append({"p": float(p_new), "turn_rad": float(turn)})
-        back = _retraced(path[:count], u_new, u_new - u)
+        back = _retraced(path[:count], u_new, u_new - u) if stop_on_retrace else None
         if back is not None:
             branch.complete = False
             branch.stopped = (f"the branch came back onto its own path at p = {p_new:g} (its point {back}, "

@@ -664,12 +664,7 @@ def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, 
     energy = None
     if status == OK and energy_window:
         energy = _energy_balance(system, rec, q, v, window, steps)
-    cause = None
-    if status != OK:
-        t = done * scheme.dt
-        cause = (f"non-finite displacement at step {done} (t = {t:.4g} s)" if status == NOT_FINITE else
-                 f"tip displacement beyond {bound:.3g} m at step {done} (t = {t:.4g} s): "
-                 "the response grows without bound")
+    cause = divergence_cause(status, done, scheme.dt, bound)
     if unconverged:
         warn(f"the contact solve did not settle in {unconverged} of {done} steps "
              "(element states kept cycling); results near those steps are approximate")
@@ -696,3 +691,14 @@ def _energy_balance(system, rec, q, v, window, steps) -> EnergyBalance:
                          damping=float(d_damp), friction=float(d_fric),
                          kinetic_change=kin1 - kin0, strain_change=str1 - str0,
                          contact_change=float(e_c1 - e_c0), contact_work=float(w_contact))
+
+
+def divergence_cause(status: int, done: int, dt: float, bound: float) -> str | None:
+    """Why an integration that stopped with ``status`` after ``done`` steps of ``dt`` (s) did: None if OK."""
+    if status == OK:
+        return None
+    t = done * dt
+    if status == NOT_FINITE:
+        return f"non-finite displacement at step {done} (t = {t:.4g} s)"
+    return (f"tip displacement beyond {bound:.3g} m at step {done} (t = {t:.4g} s): "
+            "the response grows without bound")

@@ -33,7 +33,7 @@ from shroud.base.log import warn
 from shroud.core.contact import (SLIP, STICK, ContactLaw, contact_energy, copy_into, evaluate, friction_dissipation,
                                  solve_contact, workspace)
 from shroud.core.linear_solvers import dense
-from shroud.core.newmark import NOT_FINITE, OK, UNBOUNDED, EnergyBalance, NewmarkScheme
+from shroud.core.newmark import NOT_FINITE, OK, UNBOUNDED, EnergyBalance, NewmarkScheme, divergence_cause
 from shroud.core.ring import BladeRing
 
 
@@ -289,12 +289,7 @@ def integrate_ring(ring: BladeRing, law: ContactLaw, scheme: NewmarkScheme, step
                                 damping=float(energy[1]), friction=float(energy[2]),
                                 kinetic_change=kin1 - kin0, strain_change=str1 - str0,
                                 contact_change=float(energy[5] - energy[4]), contact_work=float(energy[3]))
-    cause = None
-    if status != OK:
-        t = done * scheme.dt
-        cause = (f"non-finite displacement at step {done} (t = {t:.4g} s)" if status == NOT_FINITE else
-                 f"tip displacement beyond {bound:.3g} m at step {done} (t = {t:.4g} s): "
-                 "the response grows without bound")
+    cause = divergence_cause(status, done, scheme.dt, bound)
     if unconverged:
         warn(f"the ring's contact solve did not settle in {unconverged} of {done} steps "
              "(element states kept cycling); results near those steps are approximate")

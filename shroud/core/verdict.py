@@ -197,8 +197,9 @@ def _three_way(x: float, edge: float, margin: float, above: Any, below: Any, bet
 
 
 def is_verdict(document: Any) -> bool:
-    """Whether a JSON value is a verdict's record (the keys of :meth:`Verdict.to_json`)."""
-    return isinstance(document, dict) and tuple(document) == KEYS
+    """Whether a JSON value is a verdict's record (the keys of :meth:`Verdict.to_json`, in any order: a JSON
+    object is unordered, and records are written with sorted keys)."""
+    return isinstance(document, dict) and len(document) == len(KEYS) and set(document) == set(KEYS)
 
 
 def answer_of(document: Any) -> Any:
