@@ -5,7 +5,7 @@ against the P2 tetrahedra of 3.5 mm (the solid before fe.cell existed), or
 against ``--candidates``: each model of ``--models`` runs on every mesh;
 reported per run DOF, contact elements, build and per-step times, and the
 hexahedral run's agreement with the tetrahedral one (NRMSE and peak error of
-the Fig. 8 signals over the last ``--window`` periods, comparisons/_agreement).
+the Fig. 8 signals over the last ``--window`` periods, shroud/analysis/agreement.py).
 
     python benchmarks/bench_fe_cells.py                               # fe-reduced, 100 periods
     python benchmarks/bench_fe_cells.py --models fe --periods 4       # the full solid, per step
@@ -31,7 +31,7 @@ import json
 import math
 import time
 
-from comparisons._agreement import agreement, signals_of, window
+from shroud.analysis.agreement import agreement, signals_of, window
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from workbench.scene import load_scene

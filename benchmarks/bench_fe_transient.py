@@ -21,7 +21,7 @@ load average: the machine is shared), total, peak memory.
 Interface reduction of fe-reduced (fe.interface_modes): ``--interface-modes
 0 8 16 32`` runs "fe" once and "fe-reduced" with each count of kept
 contact-face patterns, and adds each one's agreement with "fe" (NRMSE of the
-Fig. 8 signals over the last ``--window`` periods, comparisons/_agreement).
+Fig. 8 signals over the last ``--window`` periods, shroud/analysis/agreement.py).
 
     python benchmarks/bench_fe_transient.py --periods 12 --interface-modes 0 8 16 32 64
 """
@@ -37,7 +37,7 @@ import pstats
 import resource
 import time
 
-from comparisons._agreement import agreement, signals_of
+from shroud.analysis.agreement import agreement, signals_of
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from shroud.core.linear_solvers import default_factorization

@@ -16,18 +16,21 @@ Times: DOLFINx's is its in-process modal solve (operators and eigen-solves,
 mesh cached), CalculiX's the wall time of its ccx runs (one thread; two on the
 linear-prestress path); the whole-process comparison is
 benchmarks/bench_fe_modal.py.
+
+The study is compute (:func:`compute` -> :class:`CalculixComparison`) -> plot -> report.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from comparisons._study import study
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
 from shroud.base.tables import write_records
-from shroud.base.outputs import write_text
 
 OPTIONS = {
     "rpm": 10000.0,
@@ -50,7 +53,19 @@ def check(scene) -> None:
                          "equal, non-zero length")
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class CalculixComparison:
+    """Per mesh and mode both codes' frequencies (undamped, with Coriolis); per mesh the sizes and costs."""
+
+    modes: list[dict]              # one per mesh and mode
+    meshes: list[dict]             # one per mesh: elements, DOF, times, worst difference
+
+    def to_json(self) -> dict:
+        return {"modes": self.modes, "meshes": self.meshes}
+
+
+def compute(scene, out: Path) -> CalculixComparison:
+    """Both codes on every mesh of the scene (CalculiX's decks, logs and .dat into ``out``/ccx_<cell>)."""
     from reference_fe.calculix import ccx, run_calculix
     from reference_fe.modal import solve_modes
     opts = scene.options
@@ -83,9 +98,13 @@ def run(scene, out: Path) -> dict:
                         "dofs_dolfinx": ours.dofs, "dofs_calculix": theirs.dofs,
                         "time_dolfinx_s": ours.solve_s, "time_calculix_s": theirs.wall_s,
                         "worst_diff_pct": worst})
-    write_records(out / "calculix.csv", rows)
-    _write_report(out / "report.md", scene, rows, summary)
-    return {"modes": rows, "meshes": summary}
+    return CalculixComparison(modes=rows, meshes=summary)
+
+
+def plot(result: CalculixComparison, scene, out: Path) -> list[str]:
+    """No figure: the frequencies as CSV (calculix.csv)."""
+    write_records(out / "calculix.csv", result.modes)
+    return []
 
 
 PRESTRESS_TEXT = {
@@ -96,8 +115,8 @@ PRESTRESS_TEXT = {
 }
 
 
-def _write_report(path: Path, scene, rows, summary) -> None:
-    opts = scene.options
+def report(result: CalculixComparison, scene, files: list[str]) -> str:
+    opts, rows, summary = scene.options, result.modes, result.meshes
     lines = [f"# {scene.title}", "",
              f"{opts['rpm']:g} r/min; the same mesh in both codes; modes paired by tip-kinematics label. "
              "DOLFINx: linear prestress (K_e u0 = f_c), Lagrange elements (P2 tetrahedra, Q2 27-node "
@@ -123,4 +142,7 @@ def _write_report(path: Path, scene, rows, summary) -> None:
               "through which Coriolis softens flap1 (DOLFINx: about -0.07 %; CalculiX: none): compare "
               "the Coriolis columns with that in mind.", "",
               "Decks, logs and CalculiX's .dat: ccx_<cell>/ beside this report."]
-    write_text(path, "\n".join(lines) + "\n")
+    return "\n".join(lines) + "\n"
+
+
+run = study(compute, plot, report, writes=True)

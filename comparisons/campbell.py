@@ -10,20 +10,24 @@ label (shroud.analysis.api.modal(params, "fe")): every mode the beam also
 has, plus the solid's torsion modes (the beam has none). The solid's
 crossings come from a Southwell fit f^2 = f0^2 + S (rpm/60)^2 through its
 points, the form a rotating blade's frequencies follow.
+
+The study is compute (:func:`compute` -> :class:`CampbellComparison`) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import csv
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from reduced_model.campbell import campbell
+from comparisons._study import study
+from reduced_model.campbell import CampbellResult, campbell
 from shroud.base.errors import InputError
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
-from shroud.base.outputs import open_replacing, write_text
+from shroud.base.outputs import open_replacing
 
 OPTIONS = {
     "rpm_from": 0.0,
@@ -94,10 +98,57 @@ def spread(ys: list[float], gap: float) -> list[float]:
     return list(out)
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class CampbellComparison:
+    """The beam's frequencies over speed with and without Coriolis, the solid's points, the crossings."""
+
+    ke: int                        # the excitation order load.ke
+    orders: list[int]              # the engine orders drawn (ke among them)
+    rpm_to: float                  # the range's top speed, r/min
+    plain: CampbellResult          # without Coriolis
+    gyro: CampbellResult           # with Coriolis
+    fe: list[dict]                 # the solid's frequencies by label at a few speeds (fe_points)
+    tracks: list[str]              # the solid's labels shown (fe_tracks)
+    fits: dict[str, tuple[float, float]]   # label -> Southwell fit (f0^2, S) of the solid's points
+
+    @property
+    def crossings(self) -> dict[str, list[dict]]:
+        """Per engine order the beam's crossings (label, r/min, Hz), with Coriolis."""
+        return {str(k): [{"label": lab, "rpm": r, "f_hz": f} for lab, r, f in self.gyro.crossings(k)]
+                for k in self.orders}
+
+    @property
+    def fe_crossings(self) -> dict[str, float | None]:
+        return {lab: southwell_crossing(*fit, self.ke, self.rpm_to) for lab, fit in self.fits.items()}
+
+    @property
+    def shift(self) -> np.ndarray:
+        """Coriolis's frequency shift, %, per speed and mode."""
+        return 100 * (self.gyro.f_hz - self.plain.f_hz) / self.plain.f_hz
+
+    def conclusions(self) -> dict:
+        crossings, ke = self.crossings, self.ke
+        beam_ke = {lab: next((c["rpm"] for c in crossings[str(ke)] if c["label"] == lab), None)
+                   for lab in self.gyro.labels}
+        return {"ke": ke, "beam_crossings_rpm": beam_ke, "solid_crossings_rpm": self.fe_crossings,
+                "beam_crossings_every_order_rpm": {f"{k}x {c['label']}": c["rpm"] for k in self.orders
+                                                   for c in crossings[str(k)]}}
+
+    def to_json(self) -> dict:
+        plain, gyro = self.plain, self.gyro
+        return {"rpm": plain.rpm, "labels": list(plain.labels), "f_hz": plain.f_hz.T, "f_coriolis_hz": gyro.f_hz.T,
+                "coriolis_shift_pct_at_max_rpm": dict(zip(gyro.labels, self.shift[-1])),
+                "crossings": self.crossings, "fe": self.fe,
+                "fe_southwell": {lab: {"f0_hz": float(np.sqrt(max(a, 0.0))), "S": b}
+                                 for lab, (a, b) in self.fits.items()},
+                "conclusions": self.conclusions(),
+                "elapsed_s": {"without_coriolis": plain.elapsed_s, "with_coriolis": gyro.elapsed_s}}
+
+
+def compute(scene) -> CampbellComparison:
+    """The beam over the speed range with and without Coriolis; the solid at a few speeds if asked."""
     params, o = scene.params, scene.options
     ke = params.load.ke
-    orders = sorted(set(o["excitation_orders"]) | {ke})
     rpms = np.linspace(o["rpm_from"], o["rpm_to"], o["speeds"])
     plain = campbell(params, rpms, o["n_modes"], coriolis=False)
     gyro = campbell(params, rpms, o["n_modes"], coriolis=True)
@@ -105,32 +156,32 @@ def run(scene, out: Path) -> dict:
     tracks = fe_tracks(fe, plain.labels, float(gyro.f_hz.max()))
     fits = {lab: southwell([p["rpm"] for p in fe if lab in p["f_hz"]], [p["f_hz"][lab] for p in fe if lab in p["f_hz"]])
             for lab in tracks if sum(lab in p["f_hz"] for p in fe) >= 2}
+    return CampbellComparison(ke=ke, orders=sorted(set(o["excitation_orders"]) | {ke}), rpm_to=o["rpm_to"],
+                          plain=plain, gyro=gyro, fe=fe, tracks=tracks, fits=fits)
 
+
+def plot(result: CampbellComparison, scene, out: Path) -> list[str]:
+    """The Campbell diagram (campbell.png); the frequencies and engine-order lines as CSV."""
+    plain, gyro, orders = result.plain, result.gyro, result.orders
     with open_replacing(out / "campbell.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["rpm"] + [f"{lab}_hz" for lab in plain.labels]
                    + [f"{lab}_coriolis_hz" for lab in gyro.labels]
                    + [f"ke{k}_line_hz" for k in orders])
-        for i, rpm in enumerate(rpms):
+        for i, rpm in enumerate(plain.rpm):
             w.writerow([rpm, *plain.f_hz[i], *gyro.f_hz[i], *(k * rpm / 60 for k in orders)])
-    crossings = {str(k): [{"label": lab, "rpm": r, "f_hz": f} for lab, r, f in gyro.crossings(k)] for k in orders}
-    fe_crossings = {lab: southwell_crossing(*fit, ke, o["rpm_to"]) for lab, fit in fits.items()}
-    shift = 100 * (gyro.f_hz - plain.f_hz) / plain.f_hz
-    _figure(plain, gyro, fe, tracks, fits, orders, ke, out / "campbell.png")
-    beam_ke = {lab: next((c["rpm"] for c in crossings[str(ke)] if c["label"] == lab), None) for lab in gyro.labels}
-    found = {"ke": ke, "beam_crossings_rpm": beam_ke, "solid_crossings_rpm": fe_crossings,
-             "beam_crossings_every_order_rpm": {f"{k}x {c['label']}": c["rpm"] for k in orders
-                                                for c in crossings[str(k)]}}
-    write_text(out / "report.md", _report(scene, plain, gyro, fe, tracks, crossings, fe_crossings, shift, ke))
-    return {"rpm": rpms, "labels": list(plain.labels), "f_hz": plain.f_hz.T, "f_coriolis_hz": gyro.f_hz.T,
-            "coriolis_shift_pct_at_max_rpm": dict(zip(gyro.labels, shift[-1])),
-            "crossings": crossings, "fe": fe, "fe_southwell": {lab: {"f0_hz": float(np.sqrt(max(a, 0.0))), "S": b}
-                                                               for lab, (a, b) in fits.items()},
-            "conclusions": found,
-            "elapsed_s": {"without_coriolis": plain.elapsed_s, "with_coriolis": gyro.elapsed_s}}
+    return [_figure(plain, gyro, result.fe, result.tracks, result.fits, orders, result.ke, out / "campbell.png").name]
 
 
-def _figure(plain, gyro, fe, tracks, fits, orders, ke, path: Path) -> None:
+def report(result: CampbellComparison, scene, files: list[str]) -> str:
+    return _report(scene, result.plain, result.gyro, result.fe, result.tracks, result.crossings,
+                   result.fe_crossings, result.shift, result.ke)
+
+
+run = study(compute, plot, report)
+
+
+def _figure(plain, gyro, fe, tracks, fits, orders, ke, path: Path) -> Path:
     fig, axes = figure(1, 1, width=7.4, height=5.0)
     ax = axes[0, 0]
     rpm = plain.rpm
@@ -188,7 +239,7 @@ def _figure(plain, gyro, fe, tracks, fits, orders, ke, path: Path) -> None:
     ax.plot([], [], "o", color="k", ms=5, label="beam crossing")
     ax.legend(loc="center left", bbox_to_anchor=(0.0, 0.62), fontsize=7, framealpha=0.95)
     fig.subplots_adjust(right=0.86)
-    save(fig, path)
+    return save(fig, path)
 
 
 def _report(scene, plain, gyro, fe, tracks, crossings, fe_crossings, shift, ke) -> str:

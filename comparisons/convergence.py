@@ -17,24 +17,28 @@ time is the modal solve (operators and eigen-solves, mesh cached), memory
 the MUMPS Cholesky factor of K + M (entries x 8 bytes), the object that
 bounds the transient's step. :func:`conclusions` turns the returned numbers
 into what the report concludes.
+
+The study is compute (:func:`compute` -> :class:`ConvergenceResult`) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import csv
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
 
 from comparisons import paper
+from comparisons._study import study
 from shroud.base.errors import InputError
 from shroud.params import FE
 from shroud.base.markdown import markdown_table
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.core.verdict import Verdict
-from shroud.base.outputs import open_replacing, write_text
+from shroud.base.outputs import open_replacing
 
 OPTIONS = {
     "tet_sizes": [0.0035, 0.0028, 0.0022],          # fe.mesh_size of the tetrahedral meshes, m
@@ -120,7 +124,42 @@ def slope(dofs, values) -> float:
     return float(np.polyfit(np.log(dofs), np.log(values), 1)[0])
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class ConvergenceResult:
+    """Every mesh's frequencies at every speed, the Richardson estimates, the cost growth, the chosen mesh."""
+
+    rpms: list[float]
+    labels: list[str]              # the modes, by tip-kinematics label
+    rows: list[dict]               # per mesh: kind, size, DOF, solve time, factor bytes, f, errors, params
+    estimates: dict[str, tuple]    # cell kind -> (Richardson values (speeds, modes), observed orders)
+    reference: str                 # the cell kind whose estimates are the converged values
+    tolerance_pct: float
+    known: float | None            # how well the converged values are known (the other kind's estimate), %
+    chosen: dict | None            # the row of the mesh with the fewest DOF within the tolerance
+    growth: dict[str, dict]        # cell kind -> time and factor-memory slopes over DOF
+    chosen_modes: object | None    # the chosen mesh's modes at the first speed (option pictures)
+    shell: dict | None             # the shell model's own mesh sequence (shell_sequence; None: no shell_sizes)
+
+    def to_json(self) -> dict:
+        rows, chosen, estimates = self.rows, self.chosen, self.estimates
+        results = {"labels": self.labels, "rpms": self.rpms, "tolerance_pct": self.tolerance_pct,
+                   "converged_known_to_pct": self.known,
+                   "meshes": [{"cell": r["kind"], "mesh_size_m": r["size"], "dofs": r["dofs"], "solve_s": r["solve_s"],
+                               "factor_MB": r["factor_bytes"] / 1e6, "frequencies_hz": r["f"].tolist(),
+                               "error_pct": r["error_pct"].tolist(), "worst_error_pct": r["worst_pct"]} for r in rows],
+                   "converged_hz": estimates[self.reference][0].tolist(), "reference": self.reference,
+                   "richardson_hz": {kind: e[0].tolist() for kind, e in estimates.items()},
+                   "observed_order": {kind: e[1] for kind, e in estimates.items()},
+                   "cost_growth": self.growth,
+                   "chosen": None if chosen is None else {"cell": chosen["kind"], "mesh_size_m": chosen["size"],
+                                                           "dofs": chosen["dofs"], "worst_error_pct": chosen["worst_pct"]},
+                   "paper_fe_hz": list(PAPER_FE), "shell": self.shell}
+        results["conclusions"] = conclusions(results)
+        return results
+
+
+def compute(scene) -> ConvergenceResult:
+    """Every mesh at every speed; the Richardson estimates, each mesh's error, the cost growth, the choice."""
     from reference_fe.modal import solve_modes
     opts = scene.options
     _check(scene.params, opts)
@@ -166,7 +205,17 @@ def run(scene, out: Path) -> dict:
                      "memory_slope": slope([r["dofs"] for r in rows if r["kind"] == kind],
                                            [r["factor_bytes"] for r in rows if r["kind"] == kind])}
               for kind in KINDS if sum(r["kind"] == kind for r in rows) >= 2}
+    shell = shell_sequence(scene.params, opts, rpms, labels, reference) if opts["shell_sizes"] else None
+    chosen_modes = (solve_modes(chosen["params"], rpms[0], k, coriolis=False)
+                    if opts["pictures"] and chosen is not None else None)
+    return ConvergenceResult(rpms=rpms, labels=labels, rows=rows, estimates=estimates, reference=opts["reference"],
+                             tolerance_pct=opts["tolerance_pct"], known=known, chosen=chosen, growth=growth,
+                             chosen_modes=chosen_modes, shell=shell)
 
+
+def plot(result: ConvergenceResult, scene, out: Path) -> list[str]:
+    """Error and cost against DOF (convergence.png), the chosen mesh and its modes (option pictures); the CSV."""
+    rows, labels, rpms = result.rows, result.labels, result.rpms
     with open_replacing(out / "convergence.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["cell", "mesh_size_m", "dofs", "solve_s", "factor_MB", "rpm"]
@@ -175,28 +224,19 @@ def run(scene, out: Path) -> dict:
             for i, rpm in enumerate(rpms):
                 w.writerow([r["kind"], r["size"], r["dofs"], f"{r['solve_s']:.2f}", f"{r['factor_bytes'] / 1e6:.1f}",
                             rpm] + [f"{x:.4f}" for x in r["f"][i]] + [f"{x:.4f}" for x in r["error_pct"][i]])
-    shell = shell_sequence(scene.params, opts, rpms, labels, reference) if opts["shell_sizes"] else None
-    _figure(rows, growth, opts, out / "convergence.png")
-    if opts["pictures"] and chosen is not None:
-        _pictures(solve_modes(chosen["params"], rpms[0], k, coriolis=False), out)
-    results = {"labels": labels, "rpms": rpms, "tolerance_pct": opts["tolerance_pct"],
-            "converged_known_to_pct": known,
-            "meshes": [{"cell": r["kind"], "mesh_size_m": r["size"], "dofs": r["dofs"], "solve_s": r["solve_s"],
-                        "factor_MB": r["factor_bytes"] / 1e6, "frequencies_hz": r["f"].tolist(),
-                        "error_pct": r["error_pct"].tolist(), "worst_error_pct": r["worst_pct"]} for r in rows],
-            "converged_hz": reference.tolist(), "reference": opts["reference"],
-            "richardson_hz": {kind: e[0].tolist() for kind, e in estimates.items()},
-            "observed_order": {kind: e[1] for kind, e in estimates.items()},
-            "cost_growth": growth,
-            "chosen": None if chosen is None else {"cell": chosen["kind"], "mesh_size_m": chosen["size"],
-                                                    "dofs": chosen["dofs"], "worst_error_pct": chosen["worst_pct"]},
-            "paper_fe_hz": list(PAPER_FE), "shell": shell}
-    results["conclusions"] = conclusions(results)
-    _write_report(out / "report.md", scene, rows, labels, rpms, estimates, growth, chosen, results["conclusions"])
-    if shell is not None:
-        with open(out / "report.md", "a") as fh:
-            fh.write(_shell_report(shell, labels, rpms))
-    return results
+    files = [_figure(rows, result.growth, scene.options, out / "convergence.png").name]
+    if result.chosen_modes is not None:
+        files += [p.name for p in _pictures(result.chosen_modes, out)]
+    return files
+
+
+def report(result: ConvergenceResult, scene, files: list[str]) -> str:
+    return (_report(scene, result.rows, result.labels, result.rpms, result.estimates, result.growth, result.chosen,
+                    result.to_json()["conclusions"])
+            + ("" if result.shell is None else _shell_report(result.shell, result.labels, result.rpms)))
+
+
+run = study(compute, plot, report)
 
 
 def shell_sequence(params, opts, rpms, labels, solid_hz: np.ndarray) -> dict:
@@ -347,7 +387,7 @@ def _cheaper(meshes: list[dict], within_tolerance: set[str]) -> str | None:
     return None
 
 
-def _figure(rows, growth, opts, path: Path) -> None:
+def _figure(rows, growth, opts, path: Path) -> Path:
     fig, axes = figure(1, 3, width=13.0, height=4.0)
     marks = {"tet": "o", "hex": "s"}
     for kind in KINDS:
@@ -380,20 +420,21 @@ def _figure(rows, growth, opts, path: Path) -> None:
     axes[0, 2].set_ylabel("solve time (s, solid) / factor memory (GB, dashed)")
     axes[0, 2].set_title("FE cost growth")
     axes[0, 2].legend(fontsize=7)
-    save(fig, path)
+    return save(fig, path)
 
 
-def _pictures(modes, out: Path) -> None:
+def _pictures(modes, out: Path) -> list[Path]:
     from comparisons._pictures import mesh_picture, mode_picture
     from meshes.blade import mesh_file
     from reference_fe.export import mode_grid, write_modes_vtk
     spec = modes.operators.model.spec
-    mesh_picture(mesh_file(spec), spec.size, out / "mesh.png")
-    mode_picture(mode_grid(modes), out / "modes.png")
+    pictures = [mesh_picture(mesh_file(spec), spec.size, out / "mesh.png"),
+                mode_picture(mode_grid(modes), out / "modes.png")]
     write_modes_vtk(modes, out / "modes" / "modes.pvd")
+    return pictures
 
 
-def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chosen, found: dict) -> None:
+def _report(scene, rows, labels, rpms, estimates, growth, chosen, found: dict) -> str:
     opts = scene.options
     ref = estimates[opts["reference"]][0]
     lines = [f"# {scene.title}", "",
@@ -450,4 +491,4 @@ def _write_report(path: Path, scene, rows, labels, rpms, estimates, growth, chos
     lines += ["", "Figure convergence.png: error against DOF, against time, and the cost growth."
               + (" Chosen mesh: mesh.png; its mode shapes: modes.png and modes/modes.pvd (ParaView)."
                  if opts["pictures"] and chosen is not None else "")]
-    write_text(path, "\n".join(lines) + "\n")
+    return "\n".join(lines) + "\n"

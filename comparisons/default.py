@@ -16,7 +16,8 @@ What ``bash scripts/main.sh`` runs on a fresh machine, in a few minutes:
 
 Everything comes from ``shroud.analysis.api`` and the fig8 study; this module only
 arranges and reports. :func:`conclusions` turns the returned numbers into what
-the report concludes.
+the report concludes. The study is compute (:func:`compute` -> :class:`DefaultResult`,
+the fig8 study's compute inside) -> plot -> report.
 """
 
 from __future__ import annotations
@@ -25,11 +26,13 @@ import csv
 import dataclasses
 import math
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from comparisons import convergence, paper
+from comparisons import convergence, fig8, paper
+from comparisons._study import study
 from shroud.analysis import api
 from shroud.core import registry
 from shroud.base.errors import InputError
@@ -66,28 +69,62 @@ def check(scene) -> None:
         raise InputError("options.modal_rpm", f"{o['modal_rpm']} is out of range; allowed: a speed >= 0 r/min")
     if o["transient_models"]:
         scene.params.time_step       # refuses a speed of 0 (shroud.params)
-        fig8, fig8_scene = _fig8_scene(scene)
-        fig8.check(fig8_scene)
+        fig8.check(_fig8_scene(scene))
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class DefaultResult:
+    """The frequencies of every modal model paired by label, and the fig8 study on this scene."""
+
+    modal: dict | None             # frequencies by label, differences to the solid, costs (frequencies())
+    transient: fig8.Fig8Result | None   # the fig8 study's result on this scene's transient models
+
+    def to_json(self) -> dict:
+        results: dict = {}
+        if self.modal is not None:
+            results["modal"] = self.modal
+        if self.transient is not None:
+            results["fig8"] = self.transient.to_json()
+        results["conclusions"] = conclusions(results)
+        return results
+
+
+def compute(scene, out: Path) -> DefaultResult:
+    """The modal models at ``modal_rpm``; the fig8 study's computation (time series into ``out``/fig8)."""
     check(scene)
     o = scene.options
-    results: dict = {}
-    sections = [f"# {scene.title}\n\n"]
+    modal = None
     if o["modal_models"]:
-        modal = {m: api.modal(scene.params, m, rpm=o["modal_rpm"], n_modes=o["n_modes"])
-                 for m in o["modal_models"]}
-        results["modal"] = _frequencies(modal, o["modal_rpm"], out)
-        sections.append(_frequency_report(results["modal"]))
-    if o["transient_models"]:
-        results["fig8"] = _fig8(scene, out)
-        sections.append(_fig8_report(out))
-    results["conclusions"] = conclusions(results)
-    if "modal" in results:
-        sections.insert(2, _frequency_verdicts(results["conclusions"]["frequency_vs_solid"]))
-    write_text(out / "report.md", "".join(sections))
-    return results
+        modal = frequencies({m: api.modal(scene.params, m, rpm=o["modal_rpm"], n_modes=o["n_modes"])
+                             for m in o["modal_models"]}, o["modal_rpm"])
+    transient = fig8.compute(_fig8_scene(scene), _fig8_folder(out)) if o["transient_models"] else None
+    return DefaultResult(modal=modal, transient=transient)
+
+
+def plot(result: DefaultResult, scene, out: Path) -> list[str]:
+    """The frequencies (CSV and figure); the fig8 study's figures, tables and report into ``out``/fig8."""
+    files = []
+    if result.modal is not None:
+        files.append(_write_frequencies(result.modal, out).name)
+    if result.transient is not None:
+        fig8_scene, folder = _fig8_scene(scene), _fig8_folder(out)
+        shown = fig8.plot(result.transient, fig8_scene, folder)
+        write_text(folder / "report.md", fig8.report(result.transient, fig8_scene, shown))
+        files += [f"fig8/{f}" for f in shown]
+    return files
+
+
+def report(result: DefaultResult, scene, files: list[str]) -> str:
+    sections = [f"# {scene.title}\n\n"]
+    if result.modal is not None:
+        sections.append(_frequency_report(result.modal))
+        sections.append(_frequency_verdicts(result.to_json()["conclusions"]["frequency_vs_solid"]))
+    if result.transient is not None:
+        sections.append(_fig8_report(result.transient, scene))
+    return "".join(sections)
+
+
+run = study(compute, plot, report, writes=True)
 
 
 def conclusions(results: dict) -> dict:
@@ -130,7 +167,7 @@ def _frequency_verdicts(verdicts: dict) -> str:
 
 # --- 1. frequencies -----------------------------------------------------------
 
-def _frequencies(modal: dict, rpm: float, out: Path) -> dict:
+def frequencies(modal: dict, rpm: float) -> dict:
     """Frequencies by label for each model; relative difference to the solid FE."""
     by_label = {m: r.by_label() for m, r in modal.items()}
     # a mode is listed when two models or more have it (the extended beam and the solid: torsion1),
@@ -149,14 +186,20 @@ def _frequencies(modal: dict, rpm: float, out: Path) -> dict:
             i = PAPER_TABLE1_LABELS.index(lab)
             row.update({k: v[i] for k, v in PAPER_TABLE1.items()})
         rows.append(row)
-    with open_replacing(out / "frequencies.csv") as fh:
-        writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}, key=_column_order))
-        writer.writeheader()
-        writer.writerows(rows)
-    _plot_frequencies(rows, list(by_label), reference, rpm, out / "frequencies.png")
     return {"rpm": rpm, "rows": rows, "unpaired": {m: sorted(set(f) - set(labels)) for m, f in by_label.items()},
             "cost": {m: {"dofs": r.dofs, "elapsed_s": r.elapsed_s} for m, r in modal.items()},
             "figure": "frequencies.png", "csv": "frequencies.csv"}
+
+
+def _write_frequencies(modal: dict, out: Path) -> Path:
+    """The frequencies' CSV and figure (names in ``modal``)."""
+    rows = modal["rows"]
+    with open_replacing(out / modal["csv"]) as fh:
+        writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}, key=_column_order))
+        writer.writeheader()
+        writer.writerows(rows)
+    models = list(modal["cost"])
+    return _plot_frequencies(rows, models, "fe" if "fe" in models else None, modal["rpm"], out / modal["figure"])
 
 
 def _ordered_labels(modal: dict) -> list[str]:
@@ -170,7 +213,7 @@ def _column_order(key: str):
     return (key != "label", key.startswith("paper"), "vs" in key, key)
 
 
-def _plot_frequencies(rows, models, reference, rpm, path: Path) -> None:
+def _plot_frequencies(rows, models, reference, rpm, path: Path) -> Path:
     fig, axes = figure(1, 2, width=7.2, height=2.8)
     x = np.arange(len(rows))
     labels = [r["label"] for r in rows]
@@ -193,7 +236,7 @@ def _plot_frequencies(rows, models, reference, rpm, path: Path) -> None:
         axes[0, 1].legend()
     else:
         axes[0, 1].set_visible(False)
-    save(fig, path)
+    return save(fig, path)
 
 
 def _nan(v):
@@ -224,21 +267,19 @@ def _frequency_report(modal: dict) -> str:
 
 def _fig8_scene(scene):
     """This scene as a fig8 scene: its models, the most detailed of them as reference."""
-    from comparisons import fig8
     models = scene.options["transient_models"]
     options = {**fig8.OPTIONS, "models": models, "reference": next(m for m in FIDELITY if m in models),
                "window_periods": scene.options["window_periods"]}
-    return fig8, dataclasses.replace(scene, study="fig8", options=options)
+    return dataclasses.replace(scene, study="fig8", options=options)
 
 
-def _fig8(scene, out: Path) -> dict:
-    """Run comparisons.fig8 on this scene into ``out/fig8``; its results."""
-    fig8, fig8_scene = _fig8_scene(scene)
+def _fig8_folder(out: Path) -> Path:
+    """Where the fig8 study's files go: ``out``/fig8."""
     folder = out / "fig8"
     folder.mkdir(exist_ok=True)
-    return fig8.run(fig8_scene, folder)
+    return folder
 
 
-def _fig8_report(out: Path) -> str:
-    body = re.sub(r"\A# [^\n]*\n", "", (out / "fig8" / "report.md").read_text())
+def _fig8_report(transient: fig8.Fig8Result, scene) -> str:
+    body = re.sub(r"\A# [^\n]*\n", "", fig8.report(transient, _fig8_scene(scene), []))
     return "## The Fig. 8 transient and the paper's Table 3\n\n" + relink(demote(body), "fig8") + "\n"

@@ -23,6 +23,8 @@ answer to the same question: a second picture puts every point's error in
 the steady amplitudes of v_L and w_L (against the reference's over its
 last periods) against its cost, time-domain runs and harmonic-balance
 points side by side.
+
+The study is compute (:func:`compute` -> :class:`ErrorVsTime`) -> plot -> report.
 """
 
 from __future__ import annotations
@@ -35,7 +37,8 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._agreement import agreement, signals_of
+from shroud.analysis.agreement import agreement, signals_of
+from comparisons._study import study
 from comparisons._bands import CHEAPER, TIMING_NOISE, cost_versus, versus
 from shroud.analysis import api
 from shroud.analysis.hb import checkpoint
@@ -47,7 +50,7 @@ from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.transient import simulate
 from shroud.core.signals import amplitude
 from shroud.core.verdict import RatioVerdict
-from shroud.base.outputs import open_replacing, write_text
+from shroud.base.outputs import open_replacing
 
 OPTIONS = {
     "reduced_nr": [2, 4, 6, 10],          # beam model, kept modes (at reduced.N)
@@ -164,7 +167,29 @@ def measure(params, point: Point, warm: bool = True):
     return result, system.dofs, time.perf_counter() - t0, first
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class ErrorVsTime:
+    """Every point's error against the reference and its warm cost, the front, the HB points, the verdicts."""
+
+    reference: Point
+    reference_dofs: int
+    reference_s: float             # the reference's build + integration, s (cold: it is not a point)
+    reference_amplitudes: tuple[float, float]   # its steady v_L, w_L amplitudes, m
+    rows: list[dict]               # one per point: DOF, warm time, worst NRMSE, amplitude error, on the front
+    front: np.ndarray              # on the error-against-time front, per row
+    hb_rows: list[dict]            # one per harmonic-balance point
+    conclusions: dict              # conclusions() | hb_conclusions()
+
+    def to_json(self) -> dict:
+        rows = self.rows
+        return {"reference": {"setting": self.reference.setting, "dofs": self.reference_dofs,
+                              "time_s": self.reference_s, "amplitudes": self.reference_amplitudes},
+                "points": rows, "pareto": [f"{r['model']} {r['setting']}" for r in rows if r["pareto"]],
+                "harmonic_balance": self.hb_rows, "conclusions": self.conclusions}
+
+
+def compute(scene) -> ErrorVsTime:
+    """The reference run, then every point (warm) against it; the harmonic-balance points."""
     check(scene)
     params, o = scene.params, scene.options
     period = 2 * math.pi / (params.load.ke * params.speed.omega)
@@ -205,25 +230,36 @@ def run(scene, out: Path) -> dict:
     front = pareto(times, errors)
     for r, f in zip(rows, front):
         r["pareto"] = bool(f)
-    with open_replacing(out / "error_vs_time.csv") as fh:
-        w = csv.DictWriter(fh, fieldnames=[k for k in rows[0] if k != "names"], extrasaction="ignore")
-        w.writeheader()
-        w.writerows(rows)
     hb_rows = []
     for model in o["hb_models"]:
         h = hb_point(params, model, o["hb_harmonics"])
         h["amplitude_error"] = amplitude_error(h["amplitudes"], ref_amp)
         hb_rows.append(h)
         info(f"{model} harmonic balance: {h['time_s']:.2f} s, amplitude error {h['amplitude_error']:.3g}")
-    fig_name = _figure(rows, front, ref_point, out)
-    amp_name = _amplitude_figure(rows, hb_rows, ref_point, out)
-    found = conclusions(rows, scene) | hb_conclusions(rows, hb_rows, scene)
-    write_text(out / "report.md", _report(scene, ref_point, ref_dofs, ref_s, rows, fig_name, found)
-                                  + _hb_report(scene, rows, hb_rows, ref_amp, amp_name))
-    return {"reference": {"setting": ref_point.setting, "dofs": ref_dofs, "time_s": ref_s,
-                          "amplitudes": ref_amp},
-            "points": rows, "pareto": [f"{r['model']} {r['setting']}" for r in rows if r["pareto"]],
-            "harmonic_balance": hb_rows, "conclusions": found}
+    return ErrorVsTime(reference=ref_point, reference_dofs=ref_dofs, reference_s=ref_s, reference_amplitudes=ref_amp,
+                       rows=rows, front=front, hb_rows=hb_rows,
+                       conclusions=conclusions(rows, scene) | hb_conclusions(rows, hb_rows, scene))
+
+
+def plot(result: ErrorVsTime, scene, out: Path) -> list[str]:
+    """Error against run time with its front, amplitude error against run time (HB points too); the CSV."""
+    rows = result.rows
+    with open_replacing(out / "error_vs_time.csv") as fh:
+        w = csv.DictWriter(fh, fieldnames=[k for k in rows[0] if k != "names"], extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    return [_figure(rows, result.front, result.reference, out),
+            _amplitude_figure(rows, result.hb_rows, result.reference, out)]
+
+
+def report(result: ErrorVsTime, scene, files: list[str]) -> str:
+    fig_name, amp_name = files
+    return (_report(scene, result.reference, result.reference_dofs, result.reference_s, result.rows, fig_name,
+                    result.conclusions)
+            + _hb_report(scene, result.rows, result.hb_rows, result.reference_amplitudes, amp_name))
+
+
+run = study(compute, plot, report)
 
 
 def scene_point(rows: list[dict], model: str, scene) -> dict | None:

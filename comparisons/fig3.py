@@ -2,21 +2,26 @@
 
 Paper (Sect. 2.2.1): the largest difference between nr = 6 and nr = 30 is
 about 0.08 %, so nr = 6 is kept (30 x 30 reduced to 6 x 6).
+
+The study is compute (:func:`compute` -> :class:`ReductionResult`) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import csv
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from comparisons._study import study
 from shroud.analysis.api import build_system, compile_kernels
 from shroud.core.plotting import figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.transient import simulate
+from shroud.core.results import TransientResult
 from shroud.core.verdict import Verdict
-from shroud.base.outputs import open_replacing, write_text
+from shroud.base.outputs import open_replacing
 
 OPTIONS = {"nr_values": [6, 30], "zoom_periods": 2}
 
@@ -34,29 +39,55 @@ def reduction_verdict(error_pct: float, ref_nr: int) -> Verdict:
                              "both runs on one time grid, so no step or sampling margin")
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class ReductionResult:
+    """The nr runs at one speed and their largest v_L difference from the run with the most modes."""
+
+    transients: dict[int, TransientResult]   # nr -> the transient (its trajectory kept)
+    dofs: dict[int, int]
+    build_s: dict[int, float]
+    errors: dict[int, float]                 # nr -> max |v_L - v_L(ref)| / max |v_L(ref)|
+
+    @property
+    def ref_nr(self) -> int:
+        return max(self.transients)
+
+    @property
+    def verdict(self) -> Verdict:
+        return reduction_verdict(100 * self.errors[min(self.transients)], self.ref_nr)
+
+    def to_json(self) -> dict:
+        return {"conclusions": {"reduction_error_below_1pct": self.verdict},
+                "max_error_percent": {nr: 100 * e for nr, e in self.errors.items()},
+                "amplitude_v_L_m": {nr: res.amplitude["v_L"] for nr, res in self.transients.items()},
+                "elapsed_s": {nr: res.elapsed_s for nr, res in self.transients.items()}}
+
+
+def compute(scene, out: Path) -> ReductionResult:
+    """One transient per nr (time series into ``out``), each against the largest nr's."""
     params, opts = scene.params, scene.options
     compile_kernels(params)                             # before timing: costs are run costs
-    runs = {}
+    transients, dofs, build_s = {}, {}, {}
     for nr in opts["nr_values"]:
         p = params.updated({"reduced.nr": nr})
         system = build_system(p, "reduced")
-        runs[nr] = (system, simulate(system, p, csv_path=out / f"transient_nr{nr}.csv"))
-    ref_nr = max(opts["nr_values"])
-    ref = runs[ref_nr][1].trajectory.tip[:, 0]
+        transients[nr] = simulate(system, p, csv_path=out / f"transient_nr{nr}.csv")
+        dofs[nr], build_s[nr] = system.dofs, system.build_s
+    ref = transients[max(opts["nr_values"])].trajectory.tip[:, 0]
     scale = np.abs(ref).max()
-    rows, errors = [], {}
-    for nr, (system, res) in runs.items():
-        err = float(np.abs(res.trajectory.tip[:, 0] - ref).max() / scale)
-        errors[nr] = err
-        rows.append((nr, system.dofs, res.amplitude["v_L"] * 1e3, 100 * err,
-                     seconds(system.build_s), seconds(res.elapsed_s)))
+    errors = {nr: float(np.abs(res.trajectory.tip[:, 0] - ref).max() / scale) for nr, res in transients.items()}
+    return ReductionResult(transients=transients, dofs=dofs, build_s=build_s, errors=errors)
+
+
+def plot(result: ReductionResult, scene, out: Path) -> list[str]:
+    """The tip waveforms, whole and the last periods enlarged; the errors' table."""
+    opts = scene.options
     fig, axes = figure(2, 1)
-    spp = params.time.steps_per_period
-    for nr, (_, res) in sorted(runs.items(), reverse=True):
+    spp = scene.params.time.steps_per_period
+    for nr, res in sorted(result.transients.items(), reverse=True):
         t = res.trajectory.t
         # the reference (largest nr) solid, the others dashed above it: they agree to 0.1 %
-        style = dict(lw=1.6) if nr == ref_nr else dict(ls=(0, (4, 3)), zorder=3)
+        style = dict(lw=1.6) if nr == result.ref_nr else dict(ls=(0, (4, 3)), zorder=3)
         axes[0][0].plot(t, res.trajectory.tip[:, 0] * 1e3, label=f"nr = {nr}", **style)
         z = slice(len(t) - 1 - opts["zoom_periods"] * spp, len(t))
         axes[1][0].plot(t[z], res.trajectory.tip[z, 0] * 1e3, label=f"nr = {nr}", **style)
@@ -66,27 +97,32 @@ def run(scene, out: Path) -> dict:
         ax.legend()
     axes[0][0].set_title("(a) tip bending displacement")
     axes[1][0].set_title("(b) last periods, enlarged")
-    save(fig, out / "fig3_waveforms.png")
-    small = min(opts["nr_values"])
-    verdict = reduction_verdict(100 * errors[small], ref_nr)
+    files = [save(fig, out / "fig3_waveforms.png").name]
+    with open_replacing(out / "fig3_errors.csv") as fh:
+        csv.writer(fh).writerows([("nr", "dofs", "amplitude_v_L_mm", "max_error_percent", "build_s", "transient_s"),
+                                  *[(nr, result.dofs[nr], res.amplitude["v_L"] * 1e3, 100 * result.errors[nr],
+                                     result.build_s[nr], res.elapsed_s) for nr, res in result.transients.items()]])
+    return files
+
+
+def report(result: ReductionResult, scene, files: list[str]) -> str:
+    params = scene.params
+    small, ref_nr = min(result.transients), result.ref_nr
+    rows = [(nr, result.dofs[nr], res.amplitude["v_L"] * 1e3, 100 * result.errors[nr],
+             seconds(result.build_s[nr]), seconds(res.elapsed_s)) for nr, res in result.transients.items()]
     lines = [f"# {scene.title}\n",
              f"Gap {params.contact.gap_m * 1e3:g} mm, {params.speed.rpm:g} r/min, "
              f"{params.time.periods} periods, {params.time.contact} contact.\n",
              "| paper | here |", "|---|---|",
              f"| max error nr = 6 vs nr = 30: ~0.08 % | nr = {small} vs nr = {ref_nr}: "
-             f"{100 * errors[small]:.4f} % of max abs v_L |", "",
-             f"Reduction error below 1 %: {verdict.sentence()}.\n",
+             f"{100 * result.errors[small]:.4f} % of max abs v_L |", "",
+             f"Reduction error below 1 %: {result.verdict.sentence()}.\n",
              markdown_table(["nr", "DOF", "amplitude v_L (mm)", "max error vs largest nr (%)",
                              "build", "transient"], rows),
-             "![fig3_waveforms.png](fig3_waveforms.png)", "",
+             *[f"![{f}]({f})" for f in files], "",
              f"nr = {ref_nr} solid, the smaller bases dashed above it: where they agree, the dashes run on "
              "its line."]
-    write_text(out / "report.md", "\n".join(lines) + "\n")
-    with open_replacing(out / "fig3_errors.csv") as fh:
-        csv.writer(fh).writerows([("nr", "dofs", "amplitude_v_L_mm", "max_error_percent", "build_s", "transient_s"),
-                                  *[(r[0], r[1], r[2], r[3], runs[r[0]][0].build_s, runs[r[0]][1].elapsed_s)
-                                    for r in rows]])
-    return {"conclusions": {"reduction_error_below_1pct": verdict},
-            "max_error_percent": {nr: 100 * e for nr, e in errors.items()},
-            "amplitude_v_L_m": {nr: res.amplitude["v_L"] for nr, (_, res) in runs.items()},
-            "elapsed_s": {nr: res.elapsed_s for nr, (_, res) in runs.items()}}
+    return "\n".join(lines) + "\n"
+
+
+run = study(compute, plot, report, writes=True)

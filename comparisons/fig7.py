@@ -15,18 +15,22 @@ over the speeds divided by the beam curve's peak). Where the curves differ
 by more than ``coexist_threshold`` at a speed, both models are restarted
 from the same initial states to tell coexisting steady states (a jump
 reached from rest by one model and not the other) from model error
-(comparisons._coexistence).
+(shroud.analysis.coexistence).
+
+The study is compute (:func:`compute` -> :class:`Fig7Result`) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from comparisons import _coexistence
+from shroud.analysis import coexistence
 from comparisons import _families as fam
+from comparisons._study import study
 from shroud.base.errors import InputError
 from shroud.base.log import Progress, info
 from shroud.core.plotting import figure, save
@@ -34,7 +38,6 @@ from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import PLATEAU, Settling, run_sweeps, steady_resonance
 from shroud.base.tables import write_records
 from shroud.core.verdict import Verdict
-from shroud.base.outputs import write_text
 
 OPTIONS = {
     "gaps_um": [600.0, 100.0, 50.0],
@@ -42,7 +45,7 @@ OPTIONS = {
     "preloads_N": [0.0, 10.0, 50.0],
     "rpm_from": 6000.0, "rpm_to": 14000.0, "rpm_count": 17,
     "models": ["reduced", "fe-reduced"],
-    **_coexistence.OPTIONS,
+    **coexistence.OPTIONS,
 }
 LINE, POINTS = "reduced", "fe-reduced"
 PEAKED = 1.5     # a curve has a resonance peak in the range when its largest amplitude is this many times its smallest
@@ -103,16 +106,40 @@ def conclusions(rows: list[dict], coexist: list[dict], step_rpm: float, threshol
     return out
 
 
-def run(scene, out: Path) -> dict:
-    check(scene)
-    params, o = scene.params, scene.options
-    cases = fam.cases(params, o)
-    rpms = fam.rpms(o)
-    settling = Settling.from_options(o)
-    build_s = prebuild_reductions(params, rpms)
-    info(f"FE reductions at {len(rpms)} speeds ready ({build_s:.1f} s)")
-    sweeps = {m: run_sweeps([c.params for c in cases], m, rpms, settling=settling) for m in (LINE, POINTS)}
-    rows, curves = [], []
+@dataclass(frozen=True)
+class Fig7Result:
+    """Beam and reduced solid swept over the cases, their resonances, and where they differ, their states."""
+
+    cases: list[fam.Case]
+    rpms: np.ndarray               # the speeds, r/min
+    sweeps: dict[str, list]        # model -> SweepResult per case
+    build_s: float                 # the FE reductions' build, every speed, s
+    rows: list[dict]               # per case: both resonances, peak, curve gap, costs
+    coexist: list[dict]            # shroud.analysis.coexistence rows
+    threshold: float               # coexist_threshold: curves apart by more differ
+    tolerance: float               # the settling tolerance
+
+    @property
+    def dofs(self) -> dict[str, int]:
+        return {m: self.sweeps[m][0].dofs for m in (LINE, POINTS)}
+
+    @property
+    def step(self) -> float:
+        return float(self.rpms[1] - self.rpms[0])
+
+    def conclusions(self) -> dict:
+        return conclusions(self.rows, self.coexist, self.step, self.threshold, self.tolerance)
+
+    def to_json(self) -> dict:
+        return {"rpm": self.rpms, "dofs": self.dofs, "reduction_build_s": self.build_s, "resonances": self.rows,
+                "coexisting_states": self.coexist, "conclusions": self.conclusions(),
+                "curves": {c.label: {m: self.sweeps[m][k].to_json() for m in (LINE, POINTS)}
+                           for k, c in enumerate(self.cases)}}
+
+
+def resonance_rows(cases, sweeps) -> list[dict]:
+    """Per case both models' resonances, whether the beam curve has a peak, the curve gap, the costs."""
+    rows = []
     for k, c in enumerate(cases):
         line, pts = sweeps[LINE][k], sweeps[POINTS][k]
         res_line, res_pts = steady_resonance(line), steady_resonance(pts)
@@ -126,23 +153,46 @@ def run(scene, out: Path) -> dict:
                      "unsettled_speeds": {m: int(sum(not x for x in s.settled)) for m, s in ((LINE, line), (POINTS, pts))},
                      "curve_gap": curve_gap(line.amplitude_v_L, pts.amplitude_v_L),
                      "reduced_cpu_s": line.cpu_s, "fe_reduced_cpu_s": pts.cpu_s})
-        for i, rpm in enumerate(rpms):
+    return rows
+
+
+def compute(scene) -> Fig7Result:
+    """The FE reductions at every speed, then both models over every case; both restarted from common
+    states where their curves differ."""
+    check(scene)
+    params, o = scene.params, scene.options
+    cases = fam.cases(params, o)
+    rpms = fam.rpms(o)
+    settling = Settling.from_options(o)
+    build_s = prebuild_reductions(params, rpms)
+    info(f"FE reductions at {len(rpms)} speeds ready ({build_s:.1f} s)")
+    sweeps = {m: run_sweeps([c.params for c in cases], m, rpms, settling=settling) for m in (LINE, POINTS)}
+    coexist = coexistence.coexistence([(c.label, c.params) for c in cases], sweeps, rpms, o, (LINE, POINTS))
+    return Fig7Result(cases=cases, rpms=rpms, sweeps=sweeps, build_s=build_s, rows=resonance_rows(cases, sweeps),
+                      coexist=coexist, threshold=o["coexist_threshold"], tolerance=settling.tolerance)
+
+
+def plot(result: Fig7Result, scene, out: Path) -> list[str]:
+    """Fig. 7 (fig7.png); the curves and resonances as CSV."""
+    curves = []
+    for k, c in enumerate(result.cases):
+        line, pts = result.sweeps[LINE][k], result.sweeps[POINTS][k]
+        for i, rpm in enumerate(result.rpms):
             curves.append({"case": c.label, "rpm": rpm, "reduced_v_L_m": line.amplitude_v_L[i],
                            "fe_reduced_v_L_m": pts.amplitude_v_L[i], "reduced_w_L_m": line.amplitude_w_L[i],
                            "fe_reduced_w_L_m": pts.amplitude_w_L[i], "reduced_settled": line.settled[i],
                            "fe_reduced_settled": pts.settled[i]})
-    coexist = _coexistence.coexistence([(c.label, c.params) for c in cases], sweeps, rpms, o, (LINE, POINTS))
     write_records(out / "fig7_curves.csv", curves)
-    write_records(out / "fig7_resonances.csv", rows)
-    figure_name = _figure(cases, sweeps, out)
-    dofs = {m: sweeps[m][0].dofs for m in (LINE, POINTS)}
-    step = float(rpms[1] - rpms[0])
-    found = conclusions(rows, coexist, step, o["coexist_threshold"], settling.tolerance)
-    write_text(out / "report.md", _report(scene, rows, dofs, build_s, figure_name, len(rpms), coexist,
-                                          settling, step, found))
-    return {"rpm": rpms, "dofs": dofs, "reduction_build_s": build_s, "resonances": rows,
-            "coexisting_states": coexist, "conclusions": found,
-            "curves": {c.label: {m: sweeps[m][k].to_json() for m in (LINE, POINTS)} for k, c in enumerate(cases)}}
+    write_records(out / "fig7_resonances.csv", result.rows)
+    return [_figure(result.cases, result.sweeps, out)]
+
+
+def report(result: Fig7Result, scene, files: list[str]) -> str:
+    return _report(scene, result.rows, result.dofs, result.build_s, files[0], len(result.rpms), result.coexist,
+                   Settling.from_options(scene.options), result.step, result.conclusions())
+
+
+run = study(compute, plot, report)
 
 
 def _figure(cases, sweeps, out: Path) -> str:
@@ -203,5 +253,5 @@ def _report(scene, rows, dofs, build_s, figure_name, n_speeds, coexist, settling
                + (f"; same resonant speed {v['same_resonant_speed'].sentence()}" if v["same_resonant_speed"]
                   else "") for case, v in found.items()], "",
              "Data: `fig7_curves.csv`, `fig7_resonances.csv`.\n",
-             *_coexistence.section(coexist, scene.options, (LINE, POINTS), ("beam", "solid FE"))]
+             *coexistence.section(coexist, scene.options, (LINE, POINTS), ("beam", "solid FE"))]
     return "\n".join(lines)

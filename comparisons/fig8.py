@@ -31,16 +31,20 @@ and the report says what the run's settings cannot resolve: unsettled
 models, models left out (the reduced solid standing in for the full one), a
 solid mesh other than the default. :func:`conclusions` turns the returned
 numbers into what the report concludes.
+
+The study is compute (:func:`compute` -> :class:`Fig8Result`) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from comparisons import convergence
-from comparisons._agreement import SIGNALS, Agreement, agreement, signals_of
+from comparisons._study import study
+from shroud.analysis.agreement import SIGNALS, Agreement, agreement, signals_of
 from comparisons._bands import CHEAPER, TIMING_NOISE, cost_versus, versus
 from comparisons.paper import PAPER_SECONDS, TABLE3_SECONDS
 from shroud.analysis import api
@@ -57,7 +61,6 @@ from shroud.analysis.sweep import Settling, amplitude_change
 from shroud.analysis.transient import simulate
 from shroud.base.tables import write_records
 from shroud.params import FE
-from shroud.base.outputs import write_text
 
 OPTIONS = {
     "models": ["reduced", "full", "extended", "fe-reduced", "fe"],
@@ -66,6 +69,7 @@ OPTIONS = {
     "plot_periods": 2,          # periods shown in the time panels
 }
 
+FIGURE = "fig8.png"      # paper Fig. 8 (a)-(j)
 # (model, its full model, NRMSE target)
 PAIRS = (("reduced", "full", 0.01), ("fe-reduced", "fe", 0.02), ("shell-reduced", "shell", 0.02))
 LABELS = {"reduced": "reduced beam (nr modes)", "full": "full beam (5N DOF)",
@@ -127,7 +131,64 @@ def run_models(params, models, out: Path) -> dict[str, dict]:
     return runs
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class Fig8Result:
+    """Every model's run, its agreement with the reference and within the reduced/full pairs, the costs,
+    and for the solids the contact-state maps."""
+
+    rpm: float
+    periods: int
+    steps_per_period: int
+    period: float                  # the excitation period, s
+    reference: str                 # the model every other one is measured against
+    runs: dict[str, dict]          # model -> run (run_models: the result, or why it diverged; DOF, times)
+    compile_s: float               # the kernels' compilation before the runs (kept out of Table 3), s
+    versus_ref: dict[str, Agreement]
+    pairs: dict[str, dict]         # "small vs big" -> agreement, target, met
+    maps: dict[str, dict]          # solid model -> its contact-state map's summary (contact_maps)
+    faces: list | None             # the shroud faces the maps lie on (reference_fe.contact_map.FaceGeometry)
+
+    @property
+    def ok(self) -> dict[str, dict]:
+        """The runs that completed."""
+        return {m: r for m, r in self.runs.items() if "result" in r}
+
+    @property
+    def table3(self) -> list[dict]:
+        return [{"model": m, "dofs": r["dofs"], "build_s": r["build_s"], "run_s": r.get("run_s"),
+                 "total_s": r["build_s"] + r.get("run_s", math.nan), "cache_build_s": r["cache_build_s"],
+                 "warm_total_s": r["build_s"] - r["cache_build_s"] + r.get("run_s", math.nan),
+                 "paper_s": PAPER_SECONDS.get(m),
+                 "status": "diverged" if "diverged" in r else "complete"} for m, r in self.runs.items()]
+
+    @property
+    def states(self) -> dict[str, dict]:
+        return {m: r["result"].state_fraction for m, r in self.ok.items()}
+
+    def to_json(self) -> dict:
+        ok, runs = self.ok, self.runs
+        change = {m: r["amplitude_change"] for m, r in ok.items()}
+        results = {
+            "rpm": self.rpm, "periods": self.periods,
+            "steps_per_period": self.steps_per_period, "reference": self.reference,
+            "table3": self.table3, "compile_s": self.compile_s, "paper_table3_s": TABLE3_SECONDS,
+            "amplitude": {m: r["result"].amplitude for m, r in ok.items()},
+            "peak": {m: r["result"].peak for m, r in ok.items()},
+            "state_fraction": self.states, "period": {m: r["result"].period for m, r in ok.items()},
+            "versus_reference": {m: a.to_json() for m, a in self.versus_ref.items()},
+            "pairs": self.pairs, "diverged": {m: r["diverged"] for m, r in runs.items() if "diverged" in r},
+            "figures": [FIGURE] + [m["png"] for m in self.maps.values()],
+            "contact_map": self.maps,
+            "amplitude_change": {m: c if math.isfinite(c) else None for m, c in change.items()},
+            "settled": {m: c <= Settling.tolerance if math.isfinite(c) else None for m, c in change.items()},
+        }
+        results["conclusions"] = conclusions(results)
+        return results
+
+
+def compute(scene, out: Path) -> Fig8Result:
+    """Every model's run (time series into ``out``), each against the reference and its full model; the
+    solids' contact-state maps."""
     check(scene)
     params, o = scene.params, scene.options
     period = 2 * math.pi / (params.load.ke * params.speed.omega)
@@ -148,40 +209,32 @@ def run(scene, out: Path) -> dict:
             fit = agreement(ok[small]["t"], ok[small]["signals"], ok[big]["t"], ok[big]["signals"],
                             period, o["window_periods"])
             pairs[f"{small} vs {big}"] = {**fit.to_json(), "target": target, "met": fit.worst_nrmse <= target}
+    faces, maps = contact_maps(ok, params)
+    return Fig8Result(rpm=params.speed.rpm, periods=params.time.periods, steps_per_period=params.time.steps_per_period,
+                      period=period, reference=o["reference"], runs=runs, compile_s=compile_s, versus_ref=versus_ref,
+                      pairs=pairs, maps=maps, faces=faces)
 
-    table3 = [{"model": m, "dofs": r["dofs"], "build_s": r["build_s"], "run_s": r.get("run_s"),
-               "total_s": r["build_s"] + r.get("run_s", math.nan), "cache_build_s": r["cache_build_s"],
-               "warm_total_s": r["build_s"] - r["cache_build_s"] + r.get("run_s", math.nan),
-               "paper_s": PAPER_SECONDS.get(m),
-               "status": "diverged" if "diverged" in r else "complete"} for m, r in runs.items()]
-    states = {m: r["result"].state_fraction for m, r in ok.items()}
-    write_records(out / "table3.csv", table3)
+
+def plot(result: Fig8Result, scene, out: Path) -> list[str]:
+    """Paper Fig. 8 (fig8.png), the contact-state maps (PNG and per-node CSV); Table 3, the agreement and
+    the state shares as CSV."""
+    o = scene.options
+    write_records(out / "table3.csv", result.table3)
     write_records(out / "agreement.csv", [
         {"model": m, "versus": o["reference"], "signal": s, "nrmse": a.nrmse[s], "peak_error": a.peak_error[s]}
-        for m, a in versus_ref.items() for s in SIGNALS])
+        for m, a in result.versus_ref.items() for s in SIGNALS])
     write_records(out / "state_fractions.csv", [
-        {"model": m, "side": side, **fr} for m, st in states.items() for side, fr in st.items()])
-    figures = _figures(ok, params, o, period, out)
-    maps = _contact_maps(ok, params, out)
-    change = {m: r["amplitude_change"] for m, r in ok.items()}
-    results = {
-        "rpm": params.speed.rpm, "periods": params.time.periods,
-        "steps_per_period": params.time.steps_per_period, "reference": o["reference"],
-        "table3": table3, "compile_s": compile_s, "paper_table3_s": TABLE3_SECONDS,
-        "amplitude": {m: r["result"].amplitude for m, r in ok.items()},
-        "peak": {m: r["result"].peak for m, r in ok.items()},
-        "state_fraction": states, "period": {m: r["result"].period for m, r in ok.items()},
-        "versus_reference": {m: a.to_json() for m, a in versus_ref.items()},
-        "pairs": pairs, "diverged": {m: r["diverged"] for m, r in runs.items() if "diverged" in r},
-        "figures": [p.name for p in figures] + [m["png"] for m in maps.values()],
-        "contact_map": maps,
-        "amplitude_change": {m: c if math.isfinite(c) else None for m, c in change.items()},
-        "settled": {m: c <= Settling.tolerance if math.isfinite(c) else None for m, c in change.items()},
-    }
-    results["conclusions"] = conclusions(results)
-    write_text(out / "report.md", _report(scene, runs, table3, compile_s, versus_ref, pairs, states,
-                                          figures, maps, results))
-    return results
+        {"model": m, "side": side, **fr} for m, st in result.states.items() for side, fr in st.items()])
+    figures = _figures(result.ok, scene.params, o, result.period, out)
+    return [p.name for p in figures] + _contact_map_pictures(result, out)
+
+
+def report(result: Fig8Result, scene, files: list[str]) -> str:
+    return _report(scene, result.runs, result.table3, result.compile_s, result.versus_ref, result.pairs,
+                   result.states, result.maps, result.to_json())
+
+
+run = study(compute, plot, report, writes=True)
 
 
 def _state_order(shares: dict[str, float]) -> str:
@@ -310,22 +363,42 @@ def _figures(ok: dict, params, o, period: float, out: Path) -> list[Path]:
                 ax.set_yticks([1, 2, 3], ["1 separate", "2 slip", "3 stick"])
     if ok:      # one legend above the panels: inside one it hid the peaks of (a)
         fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="upper center", ncol=3, frameon=False)
-    return [save(fig, out / "fig8.png", top=0.95 if ok else 1.0)]
+    return [save(fig, out / FIGURE, top=0.95 if ok else 1.0)]
 
 
-def _contact_maps(ok: dict, params, out: Path) -> dict[str, dict]:
-    """Per solid model: the node-wise state shares on the shroud faces (PNG, CSV, summary)."""
-    solid = {m: r["result"].trajectory for m, r in ok.items()
-             if m in ("fe-reduced", "fe") and r["result"].trajectory.element_share is not None}
+def _solid_runs(ok: dict) -> dict:
+    """The solid models' trajectories that hold node-wise contact shares."""
+    return {m: r["result"].trajectory for m, r in ok.items()
+            if m in ("fe-reduced", "fe") and r["result"].trajectory.element_share is not None}
+
+
+def contact_maps(ok: dict, params) -> tuple[list | None, dict[str, dict]]:
+    """Per solid model: the node-wise state shares on the shroud faces, summarized (the faces, the summaries;
+    ``draw_s`` the time to summarize them, the picture is drawn by :func:`plot`)."""
+    solid = _solid_runs(ok)
     if not solid:
-        return {}
-    from comparisons._pictures import contact_map_picture
-    from reference_fe.contact_map import face_geometry, split_by_side, summarize
+        return None, {}
+    from reference_fe.contact_map import face_geometry, summarize
     faces = face_geometry(params)
     window = min(STEADY_PERIODS, params.time.periods)
     maps = {}
     for model, tr in solid.items():
         t0 = time.perf_counter()
+        maps[model] = {"png": f"contact_map_{model}.png", "csv": f"contact_map_{model}.csv", "window_periods": window,
+                       **summarize(faces, tr.element_share, tr.element_peak_normal),
+                       "draw_s": time.perf_counter() - t0}
+    return faces, maps
+
+
+def _contact_map_pictures(result: Fig8Result, out: Path) -> list[str]:
+    """Per solid model: its contact-state map (PNG) and the per-node shares (CSV)."""
+    if not result.maps:
+        return []
+    from comparisons._pictures import contact_map_picture
+    from reference_fe.contact_map import split_by_side
+    faces, names = result.faces, []
+    for model, tr in _solid_runs(result.ok).items():
+        window = result.maps[model]["window_periods"]
         png = contact_map_picture(out / f"contact_map_{model}.png", faces, split_by_side(faces, tr.element_share),
                                   f"{LABELS[model]}, last {window} periods")
         rows = []
@@ -337,10 +410,8 @@ def _contact_maps(ok: dict, params, out: Path) -> dict[str, dict]:
                              **{name: share[j, c] for c, name in enumerate(STATE_NAMES)},
                              "peak_normal_N": peak[j]})
         write_records(out / f"contact_map_{model}.csv", rows)
-        maps[model] = {"png": png.name, "csv": f"contact_map_{model}.csv", "window_periods": window,
-                       **summarize(faces, tr.element_share, tr.element_peak_normal),
-                       "draw_s": time.perf_counter() - t0}
-    return maps
+        names.append(png.name)
+    return names
 
 
 def _conclusion_lines(results: dict) -> list[str]:
@@ -428,7 +499,7 @@ def _limits(scene, results: dict) -> list[str]:
     return lines
 
 
-def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, figures, maps, results) -> str:
+def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, maps, results) -> str:
     p = scene.params
     lines = [f"# {scene.title}\n",
              f"{p.speed.rpm:g} r/min, N0 = {p.contact.N0:g} N, kn = {p.contact.kn:g} N/m, "
@@ -476,7 +547,7 @@ def _report(scene, runs, table3, compile_s, versus_ref, pairs, states, figures, 
         lines.append(f"Each contact-face node is one contact element; colour: its share of the last "
                      f"{c['window_periods']} periods spent separate, stick and slip. Area-weighted mean "
                      "share of the face (node range in brackets) and the largest nodal normal force; "
-                     f"drawn in {seconds(c['draw_s'])}.\n")
+                     f"summarized in {seconds(c['draw_s'])}.\n")
         lines.append(markdown_table(
             ("side", "nodes") + STATE_NAMES + ("peak nodal N (N)",),
             [(side[-1], c[side]["nodes"],

@@ -4,6 +4,9 @@ Paper (Sect. 3.2): at gaps >= 100 um mu changes neither resonant speed nor
 amplitude; with a 1 um gap or a preload the resonant speed rises with mu;
 the optimal preload falls as mu grows while the minimum resonant amplitude
 stays nearly the same; P10 motion near 22500-26000 r/min at mu 0.5.
+
+The study is compute (:func:`compute` -> :class:`FamilyComparison`) -> plot -> report; the stiffness
+ratio study is the same with other variants (:func:`compute_variants`).
 """
 
 from __future__ import annotations
@@ -12,10 +15,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from comparisons import _families as fam
+from comparisons._study import study
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.sweep import Settling, coexisting_states
 from shroud.core.verdict import BandVerdict, Verdict
-from shroud.base.outputs import write_text
 
 OPTIONS = {**fam.FAMILY_OPTIONS, "values": [0.1, 0.3, 0.5], "coexist_starts": [-1.0, -0.5, 0.0, 0.5, 1.0]}
 # Curves apart by more than this share of the peak: a jump, not "no effect". The paper's "no effect" is
@@ -95,15 +98,12 @@ def conclusions(rows: list[dict], small_gap_um: float, margins: Margins) -> dict
                                                reason=f"two amplitudes' settling tolerance and the change when {GRID}")}}
 
 
-def run(scene, out: Path) -> dict:
-    variants = {f"mu {v:g}": scene.params.updated({"contact.mu": v}) for v in scene.options["values"]}
-    return run_variants(scene, out, variants, "the coefficient of friction")
-
-
-@dataclass
+@dataclass(frozen=True)
 class FamilyComparison:
     """The variants' curves over the gap and preload cases, and what the paper checks on them."""
 
+    describe: str                  # the varied parameter, as the report names it
+    small_gap_um: float            # the small gap the preload panel starts from
     family: dict                   # variant -> [(case, SweepResult)]
     rows: list[dict]               # resonance per variant and case (comparisons._families.resonance_table)
     optimum: dict                  # variant -> (N0, amplitude) of the optimal preload
@@ -113,16 +113,23 @@ class FamilyComparison:
     big_gap_curves: float          # largest curve difference outside the jumps, share of the peak
     jumps: list[dict]              # speeds next to a jump, with the settled states each variant reaches
 
-    def to_json(self, small_gap_um: float) -> dict:
+    def to_json(self) -> dict:
         return {"resonances": self.rows, "curves": fam.curves_json(self.family),
-                "conclusions": conclusions(self.rows, small_gap_um, self.margins), "margins": self.margins,
+                "conclusions": conclusions(self.rows, self.small_gap_um, self.margins), "margins": self.margins,
                 "optimal_preload": {n: {"N0": v[0], "amplitude_m": v[1]} for n, v in self.optimum.items()},
                 "large_gap_spread": {"resonance_rpm": self.big_gap_rpm, "resonance_amplitude": self.big_gap_amp,
                                      "curves_outside_jumps": self.big_gap_curves, "jump_speeds": self.jumps}}
 
 
-def compute_variants(scene, variants: dict) -> FamilyComparison:
-    """Sweep every variant over the gap and preload cases; restart both sides of every jump."""
+def compute(scene) -> FamilyComparison:
+    """The friction coefficient's variants (mu over ``values``) over the gap and preload cases."""
+    variants = {f"mu {v:g}": scene.params.updated({"contact.mu": v}) for v in scene.options["values"]}
+    return compute_variants(scene, variants, "the coefficient of friction")
+
+
+def compute_variants(scene, variants: dict, describe: str) -> FamilyComparison:
+    """Sweep every variant (name -> Parameters) of one contact parameter (``describe``, for the report) over
+    the gap and preload cases; restart both sides of every jump."""
     opts = scene.options
     family = fam.run_family(variants, opts)
     settling = Settling.from_options(opts)
@@ -137,16 +144,21 @@ def compute_variants(scene, variants: dict) -> FamilyComparison:
         j["states_m"] = {n: s.amplitudes for n, s in states.items()}
         j["unsettled_runs"] = {n: s.unsettled for n, s in states.items()}
     grid = fam.rpms(opts)
-    return FamilyComparison(family=family, rows=rows,
+    return FamilyComparison(describe=describe, small_gap_um=opts["small_gap_um"], family=family, rows=rows,
                             optimum={name: fam.optimal_preload(rows, name) for name in family},
                             big_gap_rpm=spread(rows, "gap", "resonance_rpm", min_value=100.0),
                             big_gap_amp=big_gap_spread(rows), big_gap_curves=big_gap_curves, jumps=jumps,
                             margins=Margins.measure(family, settling.tolerance, float(grid[1] - grid[0])))
 
 
-def report_variants(result: FamilyComparison, scene, describe: str, files: list[str]) -> str:
+def plot(result: FamilyComparison, scene, out: Path) -> list[str]:
+    """The families' figures and CSV (comparisons._families.write_outputs)."""
+    return fam.write_outputs(out, result.family, result.rows, scene.title)
+
+
+def report(result: FamilyComparison, scene, files: list[str]) -> str:
     """The paper's checks beside ours, the jumps' states, the resonance table, the figures."""
-    opts, family, rows, jumps = scene.options, result.family, result.rows, result.jumps
+    opts, family, rows, jumps, describe = scene.options, result.family, result.rows, result.jumps, result.describe
     pre_rpm = {name: [fam.speed_text(r) for r in rows if r["variant"] == name and r["kind"] == "preload"]
                for name in family}
     pre_amp = {name: [r["resonance_amplitude_m"] for r in rows if r["variant"] == name and r["kind"] == "preload"]
@@ -210,9 +222,4 @@ def _verdict_lines(found: dict, describe: str) -> list[str]:
             f"{trends['amplitude_trend'].sentence()}", ""]
 
 
-def run_variants(scene, out: Path, variants: dict, describe: str) -> dict:
-    """compute -> plot (the families' figures and CSV) -> report, for one varied contact parameter."""
-    result = compute_variants(scene, variants)
-    files = fam.write_outputs(out, result.family, result.rows, scene.title)
-    write_text(out / "report.md", report_variants(result, scene, describe, files))
-    return result.to_json(scene.options["small_gap_um"])
+run = study(compute, plot, report)

@@ -4,10 +4,13 @@ Paper (Sect. 3.1, mu 0.3, alpha 30 deg, kt 5e6 N/m): the resonance of v_L
 sits near 8500 r/min at a 0.6 mm gap (2 f_r close to the first frequency,
 284.2 Hz); smaller gaps or larger preloads raise the resonant speed and
 flatten the peak; among preloads one minimizes the resonant amplitude.
+
+The study is compute (:func:`compute` -> :class:`GapPreloadResult`) -> plot -> report.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -15,12 +18,12 @@ import scipy.linalg
 
 from comparisons import _families as fam
 from comparisons import paper
+from comparisons._study import study
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from shroud.core.newmark import stuck_stiffness
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.verdict import Verdict
-from shroud.base.outputs import write_text
 
 OPTIONS = dict(fam.FAMILY_OPTIONS)
 
@@ -48,19 +51,64 @@ def rises(ordered: list[dict], step_rpm: float) -> Verdict:
                                                        "step each")
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class GapPreloadResult:
+    """The curves over the gap and preload cases, their resonances, and the first frequency's two limits."""
+
+    family: dict                   # variant -> [(case, SweepResult)] (one variant: the scene's mu)
+    rows: list[dict]               # resonance per case (comparisons._families.resonance_table)
+    step_rpm: float                # the speed grid's step
+    first_frequency_hz: tuple[float, float]   # at the top speed: free, both contacts stuck
+
+    @property
+    def gaps(self) -> list[dict]:
+        """The gap cases' resonances, the largest gap first (gaps closing)."""
+        return sorted((r for r in self.rows if r["kind"] == "gap"), key=lambda r: -r["value"])
+
+    @property
+    def rising(self) -> Verdict:
+        return rises(self.gaps, self.step_rpm)
+
+    @property
+    def optimum(self) -> tuple[float, float]:
+        return fam.optimal_preload(self.rows, next(iter(self.family)))
+
+    @property
+    def every_preload_beyond(self) -> bool:
+        return all(r["beyond_range"] for r in self.rows if r["kind"] == "preload" and r["value"] > 0)
+
+    def to_json(self) -> dict:
+        rows, (n_opt, a_opt), (f_free, f_stuck) = self.rows, self.optimum, self.first_frequency_hz
+        return {"resonances": rows, "curves": fam.curves_json(self.family),
+                "conclusions": {"resonances": {r["case"]: {"rpm": r["resonance_rpm"], "beyond_range": r["beyond_range"]}
+                                               for r in rows},
+                                "resonant_speed_rises_as_gap_closes": self.rising,
+                                "every_preload_beyond_range": self.every_preload_beyond},
+                "optimal_preload_N": n_opt, "optimal_resonant_amplitude_m": a_opt,
+                "resonant_speed_rises_as_gap_closes": self.rising,
+                "first_frequency_hz_at_top_speed": {"free": f_free, "stuck": f_stuck}}
+
+
+def compute(scene) -> GapPreloadResult:
+    """The scene's blade swept over the gap and preload cases; the first frequency free and stuck at the top speed."""
     opts = scene.options
     family = fam.run_family({f"mu {scene.params.contact.mu:g}": scene.params}, opts)
-    rows = fam.resonance_table(family)
-    files = fam.write_outputs(out, family, rows, scene.title)
-    name = next(iter(family))
-    gaps = [r for r in rows if r["kind"] == "gap"]
-    at_06 = next((r for r in gaps if abs(r["value"] * 1e-6 - paper.FIG11_GAP_M) < 1e-12), None)
-    n_opt, a_opt = fam.optimal_preload(rows, name)
-    ordered = sorted(gaps, key=lambda r: -r["value"])
-    rising = rises(ordered, float(fam.rpms(opts)[1] - fam.rpms(opts)[0]))
+    grid = fam.rpms(opts)
+    return GapPreloadResult(family=family, rows=fam.resonance_table(family), step_rpm=float(grid[1] - grid[0]),
+                            first_frequency_hz=stuck_first_frequency(scene.params, opts["model"], opts["rpm_to"]))
+
+
+def plot(result: GapPreloadResult, scene, out: Path) -> list[str]:
+    """The families' figures and CSV (comparisons._families.write_outputs)."""
+    return fam.write_outputs(out, result.family, result.rows, scene.title)
+
+
+def report(result: GapPreloadResult, scene, files: list[str]) -> str:
+    opts, rows, ordered = scene.options, result.rows, result.gaps
+    at_06 = next((r for r in ordered if abs(r["value"] * 1e-6 - paper.FIG11_GAP_M) < 1e-12), None)
+    n_opt, a_opt = result.optimum
     cpu = sum(r["cpu_s"] for r in rows)
-    f_free, f_stuck = stuck_first_frequency(scene.params, opts["model"], opts["rpm_to"])
+    f_free, f_stuck = result.first_frequency_hz
     f_e = scene.params.load.ke * opts["rpm_to"] / 60.0
     lines = [f"# {scene.title}\n",
              f"Reduced model (nr = {scene.params.reduced.nr}), at least {scene.params.time.periods} periods per speed, "
@@ -70,13 +118,12 @@ def run(scene, out: Path) -> dict:
              f"{at_06['resonance_rpm']:.0f} r/min, {at_06['resonance_amplitude_m'] * 1e3:.3f} mm |" if at_06 else
              f"| resonance near {paper.FIG11_RESONANCE_RPM:g} r/min at {paper.FIG11_GAP_M * 1e3:g} mm gap | "
              "(that gap is not in gaps_um) |",
-             f"| resonant speed rises as the gap closes | {rising.sentence()}: "
+             f"| resonant speed rises as the gap closes | {result.rising.sentence()}: "
              + ", ".join(f"{r['value']:g} um -> {fam.speed_text(r)}" for r in ordered) + " |",
              f"| an optimal preload minimizes the resonant amplitude | N0 = {n_opt:g} N "
              f"({a_opt * 1e3:.4f} mm)" + (" -- but every preload's resonance lies at or beyond the last swept "
                                          "speed, so this is the smallest amplitude at that speed, not an optimum"
-                                         if all(r["beyond_range"] for r in rows if r["kind"] == "preload"
-                                                and r["value"] > 0) else "") + " |", "",
+                                         if result.every_preload_beyond else "") + " |", "",
              f"At {opts['rpm_to']:g} r/min the first frequency is {f_free:.0f} Hz free and {f_stuck:.0f} Hz with "
              f"both contacts stuck (kn = {scene.params.contact.kn:.3g}, kt = {scene.params.contact.kt:.3g} N/m), "
              f"against the excitation {f_e:.0f} Hz (ke = {scene.params.load.ke}): with the shroud kept stuck the "
@@ -87,13 +134,7 @@ def run(scene, out: Path) -> dict:
                               ",".join(f"P{p}" for p in r["periods_seen"]), seconds(r["cpu_s"])) for r in rows]),
              fam.settling_text(rows, opts),
              *[f"![{f}]({f})" for f in files], "", fam.WIDEST_FIRST]
-    write_text(out / "report.md", "\n".join(lines) + "\n")
-    every_preload_beyond = all(r["beyond_range"] for r in rows if r["kind"] == "preload" and r["value"] > 0)
-    return {"resonances": rows, "curves": fam.curves_json(family),
-            "conclusions": {"resonances": {r["case"]: {"rpm": r["resonance_rpm"], "beyond_range": r["beyond_range"]}
-                                           for r in rows},
-                            "resonant_speed_rises_as_gap_closes": rising,
-                            "every_preload_beyond_range": every_preload_beyond},
-            "optimal_preload_N": n_opt, "optimal_resonant_amplitude_m": a_opt,
-            "resonant_speed_rises_as_gap_closes": rising,
-            "first_frequency_hz_at_top_speed": {"free": f_free, "stuck": f_stuck}}
+    return "\n".join(lines) + "\n"
+
+
+run = study(compute, plot, report)

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from comparisons._study import study
 from shroud.core.verdict import Verdict
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
@@ -31,7 +32,6 @@ from shroud.core import signals
 from shroud.core.newmark import LAG_CHECK_MAX_DOFS, NewmarkScheme, explicit_lag_stability, stuck_stiffness
 from shroud.core.plotting import figure, save
 from shroud.base.tables import write_records
-from shroud.base.outputs import write_text
 
 OPTIONS = {"kn_values": [1e6, 1e7, 1e8, 1e9, 1e10], "steps_per_period": [256, 64, 32, 16],
            "treatments": ["implicit", "explicit"], "refine": 8, "huge_preload_N": 1e5,
@@ -62,7 +62,7 @@ class Case:
     linear_reference: str | None = None   # "stuck": linear blade + contact springs; "free": without contact
 
 
-@dataclass
+@dataclass(frozen=True)
 class StabilityResult:
     rows: list[dict]                   # one per (case, steps per period, treatment)
     linear_limits: dict[str, dict]     # case label -> transient vs linear amplitude
@@ -241,8 +241,10 @@ def compute(scene) -> StabilityResult:
     return StabilityResult(rows=rows, linear_limits=linear, explicit_lag=lag, left_out=left_out)
 
 
-def plot(result: StabilityResult, opts, out: Path) -> Path:
-    """Error against the 8x finer run over kn, one panel per treatment, one line per step."""
+def plot(result: StabilityResult, scene, out: Path) -> list[str]:
+    """Error against the 8x finer run over kn, one panel per treatment, one line per step; the runs as CSV."""
+    opts = scene.options
+    write_records(out / "stability.csv", result.rows)
     fig, axes = figure(1, len(opts["treatments"]), width=4.5 * len(opts["treatments"]))
     for treatment, ax in zip(opts["treatments"], axes[0]):
         for spp in opts["steps_per_period"]:
@@ -254,10 +256,10 @@ def plot(result: StabilityResult, opts, out: Path) -> Path:
         ax.set_ylabel(f"error of v_L vs {opts['refine']}x finer step")
         ax.set_title(f"{treatment} contact (missing points: unbounded)")
         ax.legend()
-    return save(fig, out / "stability.png")
+    return [save(fig, out / "stability.png").name]
 
 
-def report(result: StabilityResult, scene) -> str:
+def report(result: StabilityResult, scene, files: list[str]) -> str:
     params, refine = scene.params, scene.options["refine"]
     rows, linear = result.rows, result.linear_limits
     lines = [f"# {scene.title}\n",
@@ -274,7 +276,7 @@ def report(result: StabilityResult, scene) -> str:
                   markdown_table(["case", "transient amplitude (mm)", "linear amplitude (mm)", "relative difference"],
                                  [(k, v["transient_m"] * 1e3, v["linear_m"] * 1e3, v["relative_difference"])
                                   for k, v in linear.items()])]
-    lines.append("![stability.png](stability.png)")
+    lines += [f"![{f}]({f})" for f in files]
     lines += _conclusion_lines(result, params.time.periods)
     if result.left_out:
         lines += ["\n**Left out of this run:**\n", *[f"- {why}" for why in result.left_out], ""]
@@ -310,12 +312,7 @@ def _conclusion_lines(result: StabilityResult, periods: int) -> list[str]:
     return lines
 
 
-def run(scene, out: Path) -> dict:
-    result = compute(scene)
-    write_records(out / "stability.csv", result.rows)
-    plot(result, scene.options, out)
-    write_text(out / "report.md", report(result, scene))
-    return result.to_json()
+run = study(compute, plot, report)
 
 
 def _lag_section(lag: list[dict]) -> list[str]:

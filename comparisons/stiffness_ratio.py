@@ -7,14 +7,18 @@ resonant amplitude falls as xi grows; the optimal preload is unaffected.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from comparisons import friction
+from comparisons._study import study
 
 OPTIONS = {**friction.OPTIONS, "values": [0.2, 0.5, 1.0]}
 
 
-def run(scene, out: Path) -> dict:
+def compute(scene) -> friction.FamilyComparison:
+    """The stiffness ratio's variants (kt = xi kn over ``values``) over the gap and preload cases."""
     kn = scene.params.contact.kn
     base = {f"xi {v:g}": scene.params.updated({"contact.kt": v * kn}) for v in scene.options["values"]}
-    return friction.run_variants(scene, out, base, "the stiffness ratio xi")
+    return friction.compute_variants(scene, base, "the stiffness ratio xi")
+
+
+plot, report = friction.plot, friction.report
+run = study(compute, plot, report)

@@ -11,16 +11,20 @@ solid (shroud.analysis.api.modal(params, "fe")) as a third reference.
 Our shape functions are polynomials (reduced_model.basis), the paper's are
 not given (its Ref. [50]); both converge from above (Rayleigh-Ritz), at
 different rates.
+
+The study is compute (:func:`compute` -> :class:`Table1Result`) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from comparisons import paper
+from comparisons._study import study
 from reduced_model.models import EXTENDED
 from reduced_model.beam import TipBody, beam_matrices, tip_body
 from reduced_model.modal import gyroscopic_modes, modal_analysis
@@ -30,7 +34,6 @@ from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.base.tables import write_records
 from shroud.core.verdict import Verdict
-from shroud.base.outputs import write_text
 
 OPTIONS = {
     "N_values": [4, 5, 6, 7],
@@ -96,47 +99,80 @@ def fe_column(params, rpm: float, coriolis: bool) -> dict:
     return {"f": {lab: f.get(lab) for lab in PAPER_LABELS}, "dofs": result.dofs, "elapsed_s": result.elapsed_s}
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class Table1Result:
+    """The beam's frequencies per N beside the paper's columns, the references, the term-by-term study."""
+
+    rpm: float
+    rows: list[dict]               # beam_row per N
+    ref: dict                      # beam_row at the reference N (converged)
+    ref_before: dict               # beam_row one N less (the reference's own convergence)
+    fe: dict | None                # our solid's column (option with_fe)
+    terms: list[tuple[str, dict[str, float]]]   # term_study at N = 6
+    extended: dict                 # beam_row of the extended beam at N = 6
+
+    @property
+    def table(self) -> list[dict]:
+        """One line per N and mode: ours, the paper's columns, the errors, the costs."""
+        table = []
+        for r in self.rows:
+            paper = PAPER_REDUCED.get(r["N"], (None,) * 4)
+            for k, lab in enumerate(PAPER_LABELS):
+                f = r["f"][lab]
+                line = {"N": r["N"], "label": lab, "f_hz": f, "paper_hz": paper[k], "paper_fe_hz": PAPER_FE[k],
+                        "err_vs_paper_pct": pct(f, paper[k]), "err_vs_paper_fe_pct": pct(f, PAPER_FE[k]),
+                        "paper_err_vs_paper_fe_pct": pct(paper[k], PAPER_FE[k]),
+                        "err_vs_converged_pct": pct(f, self.ref["f"][lab])}
+                if self.fe:
+                    line.update(fe_hz=self.fe["f"][lab], err_vs_fe_pct=pct(f, self.fe["f"][lab]))
+                line.update(build_s=r["build_s"], solve_s=r["solve_s"])
+                table.append(line)
+        return table
+
+    def conclusions(self) -> dict:
+        return conclusions(self.rows, self.ref, self.ref_before)
+
+    def to_json(self) -> dict:
+        rows, ref, extended = self.rows, self.ref, self.extended
+        return {
+            "rpm": self.rpm, "labels": list(PAPER_LABELS), "N": [r["N"] for r in rows],
+            "f_hz": {str(r["N"]): r["f"] for r in rows},
+            "paper_reduced_hz": {str(n): dict(zip(PAPER_LABELS, v)) for n, v in PAPER_REDUCED.items()},
+            "paper_fe_hz": dict(zip(PAPER_LABELS, PAPER_FE)),
+            "reference": {"N": ref["N"], "f_hz": ref["f"]},
+            "fe": self.fe, "terms_N6": dict(self.terms),
+            "extended": {"N": 6, "f_hz": extended["f"], "torsion1_hz": extended["torsion1"]},
+            "table": self.table,
+            "conclusions": self.conclusions(),
+            "build_s": {str(r["N"]): r["build_s"] for r in rows},
+            "solve_s": {str(r["N"]): r["solve_s"] for r in rows},
+        }
+
+
+def compute(scene) -> Table1Result:
+    """The beam at every N, the reference N and one less, the extended beam, the terms; the solid if asked."""
     params, o = scene.params, scene.options
     rpm = params.speed.rpm
-    rows = [beam_row(params, N, rpm, o["coriolis"]) for N in o["N_values"]]
-    ref = beam_row(params, o["N_reference"], rpm, o["coriolis"])
-    ref_before = beam_row(params, o["N_reference"] - 1, rpm, o["coriolis"])   # the reference's own convergence
-    fe = fe_column(params, rpm, o["coriolis"]) if o["with_fe"] else None
-    terms = term_study(params, 6, rpm)
-    extended = beam_row(params.updated(EXTENDED), 6, rpm, o["coriolis"])
+    return Table1Result(rpm=rpm, rows=[beam_row(params, N, rpm, o["coriolis"]) for N in o["N_values"]],
+                        ref=beam_row(params, o["N_reference"], rpm, o["coriolis"]),
+                        ref_before=beam_row(params, o["N_reference"] - 1, rpm, o["coriolis"]),
+                        fe=fe_column(params, rpm, o["coriolis"]) if o["with_fe"] else None,
+                        terms=term_study(params, 6, rpm),
+                        extended=beam_row(params.updated(EXTENDED), 6, rpm, o["coriolis"]))
 
-    table = []
-    for r in rows:
-        paper = PAPER_REDUCED.get(r["N"], (None,) * 4)
-        for k, lab in enumerate(PAPER_LABELS):
-            f = r["f"][lab]
-            line = {"N": r["N"], "label": lab, "f_hz": f, "paper_hz": paper[k], "paper_fe_hz": PAPER_FE[k],
-                    "err_vs_paper_pct": pct(f, paper[k]), "err_vs_paper_fe_pct": pct(f, PAPER_FE[k]),
-                    "paper_err_vs_paper_fe_pct": pct(paper[k], PAPER_FE[k]),
-                    "err_vs_converged_pct": pct(f, ref["f"][lab])}
-            if fe:
-                line.update(fe_hz=fe["f"][lab], err_vs_fe_pct=pct(f, fe["f"][lab]))
-            line.update(build_s=r["build_s"], solve_s=r["solve_s"])
-            table.append(line)
 
-    write_records(out / "table1.csv", table)
-    _figure(rows, ref, fe, out / "table1_convergence.png")
-    found = conclusions(rows, ref, ref_before)
-    write_text(out / "report.md", _report(scene, rows, ref, fe, terms, table, extended) + _verdict_lines(found))
-    return {
-        "rpm": rpm, "labels": list(PAPER_LABELS), "N": [r["N"] for r in rows],
-        "f_hz": {str(r["N"]): r["f"] for r in rows},
-        "paper_reduced_hz": {str(n): dict(zip(PAPER_LABELS, v)) for n, v in PAPER_REDUCED.items()},
-        "paper_fe_hz": dict(zip(PAPER_LABELS, PAPER_FE)),
-        "reference": {"N": ref["N"], "f_hz": ref["f"]},
-        "fe": fe, "terms_N6": dict(terms),
-        "extended": {"N": 6, "f_hz": extended["f"], "torsion1_hz": extended["torsion1"]},
-        "table": table,
-        "conclusions": found,
-        "build_s": {str(r["N"]): r["build_s"] for r in rows},
-        "solve_s": {str(r["N"]): r["solve_s"] for r in rows},
-    }
+def plot(result: Table1Result, scene, out: Path) -> list[str]:
+    """The frequencies over N beside the paper's (table1_convergence.png); the table as CSV."""
+    write_records(out / "table1.csv", result.table)
+    return [_figure(result.rows, result.ref, result.fe, out / "table1_convergence.png").name]
+
+
+def report(result: Table1Result, scene, files: list[str]) -> str:
+    return (_report(scene, result.rows, result.ref, result.fe, result.terms, result.extended)
+            + _verdict_lines(result.conclusions()) + "".join(f"\n![{f}]({f})\n" for f in files))
+
+
+run = study(compute, plot, report)
 
 
 PRINTED_HZ = 0.05     # the paper prints its frequencies to 0.1 Hz: each within half of that
@@ -185,7 +221,7 @@ def _verdict_lines(found: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _figure(rows, ref, fe, path: Path) -> None:
+def _figure(rows, ref, fe, path: Path) -> Path:
     fig, axes = figure(2, 2, height=5.0)
     Ns = [r["N"] for r in rows]
     for ax, (k, lab) in zip(axes.flat, enumerate(PAPER_LABELS)):
@@ -201,10 +237,10 @@ def _figure(rows, ref, fe, path: Path) -> None:
         ax.set_xlabel("N (shape functions per field)")
         ax.set_ylabel("frequency (Hz)")
     axes[0, 0].legend()
-    save(fig, path)
+    return save(fig, path)
 
 
-def _report(scene, rows, ref, fe, terms, table, extended) -> str:
+def _report(scene, rows, ref, fe, terms, extended) -> str:
     rpm = scene.params.speed.rpm
     head = ["N"] + [f"{lab} (Hz), ours / paper" for lab in PAPER_LABELS] + \
            [f"err {lab} vs paper N (%)" for lab in PAPER_LABELS] + ["assembly", "eigen-solve"]

@@ -11,12 +11,12 @@
 #
 # It compares their contact forces (N1, N2, friction Ff1, Ff2) and tip
 # displacements (v_L, w_L) over the last 10 periods by the normalized RMS
-# error the fig8 study reports (comparisons/_agreement.py), and checks that
+# error the fig8 study reports (shroud/analysis/agreement.py), and checks that
 # the reduction keeps the full beam's response to within 1 %, the
 # workbench's target for a reduced model (the README measures 0.46 %; the
 # paper's Fig. 8 shows the two curves on top of each other).
 
-from comparisons._agreement import SIGNALS, agreement, signals_of
+from shroud.analysis.agreement import SIGNALS, agreement, signals_of
 from shroud.analysis.api import transient
 from shroud.params import Parameters
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from comparisons._agreement import SIGNALS, agreement, nrmse, peak_error
+from shroud.analysis.agreement import SIGNALS, agreement, nrmse, peak_error
 from comparisons.error_vs_time import pareto
 
 

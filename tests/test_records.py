@@ -61,6 +61,13 @@ def test_the_sources_follow_the_study_helpers_it_imports():
     sources = records.sources_of("fig8")
     assert sources[0] == "scenes/fig8.toml" and "comparisons/fig8.py" in sources
     assert any(s.startswith("comparisons/_") for s in sources)        # its private helpers are named too
+    # the helpers public in the analysis layer: fig8 imports agreement (`from ... import`), fig4 coexistence
+    # (`from shroud.analysis import coexistence`), default agreement through the fig8 study it runs
+    assert "shroud/analysis/agreement.py" in sources
+    assert "shroud/analysis/coexistence.py" in records.sources_of("fig4")
+    assert "shroud/analysis/agreement.py" in records.sources_of("default")
+    # a study importing neither names neither, nor any other analysis module (physics below the studies)
+    assert not any(s.startswith("shroud/") for s in records.sources_of("table1"))
 
 
 @pytest.mark.slow

@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from comparisons import _coexistence
+from shroud.analysis import coexistence
 from shroud.analysis.sweep import States
-from comparisons._agreement import SIGNALS, agreement, nrmse
+from shroud.analysis.agreement import SIGNALS, agreement, nrmse
 from shroud.core.modes import pair_by_mac
 
 
-# --- comparisons/_coexistence: a model with no steady state shares nothing -------------
+# --- shroud/analysis/coexistence: a model with no steady state shares nothing -------------
 class _Sweep:
     def __init__(self, amplitudes):
         self.amplitude_v_L = np.asarray(amplitudes, dtype=float)
@@ -21,27 +21,27 @@ class _Sweep:
 @pytest.mark.parametrize("found", [{"reduced": [], "full": []}, {"reduced": [], "full": [40e-6]},
                                    {"reduced": [40e-6, 120e-6], "full": []}])
 def test_no_steady_state_is_never_called_the_same_or_shared(monkeypatch, found):
-    monkeypatch.setattr(_coexistence, "coexisting_states",
+    monkeypatch.setattr(coexistence, "coexisting_states",
                         lambda params, model, rpm, starts, settling: States(found[model], unsettled=0))
     sweeps = {"reduced": [_Sweep([40e-6, 120e-6])], "full": [_Sweep([40e-6, 40e-6])]}
-    opts = dict(_coexistence.OPTIONS)
-    rows = _coexistence.coexistence([("50 um gap", None)], sweeps, np.array([12000.0, 13000.0]), opts,
+    opts = dict(coexistence.OPTIONS)
+    rows = coexistence.coexistence([("50 um gap", None)], sweeps, np.array([12000.0, 13000.0]), opts,
                                     ("reduced", "full"))
     assert len(rows) == 1
     row = rows[0]
     assert not row["shared_states"] and not row["same_states"]
     assert row["largest_state_difference"] == np.inf
-    table = "".join(_coexistence.section(rows, opts, ("reduced", "full"), ("reduced beam", "full beam")))
+    table = "".join(coexistence.section(rows, opts, ("reduced", "full"), ("reduced beam", "full beam")))
     assert "| no steady state |" in table and "| same |" not in table and "| shared |" not in table
-    assert "no settled steady state" in _coexistence.summary(rows)
-    assert "have the same coexisting" not in _coexistence.summary(rows)
+    assert "no settled steady state" in coexistence.summary(rows)
+    assert "have the same coexisting" not in coexistence.summary(rows)
 
 
 def test_matched_states_within_one_percent_are_the_same():
-    assert _coexistence.matched_difference([30.05e-6, 62.41e-6], [30.06e-6, 62.38e-6]) < _coexistence.SAME
+    assert coexistence.matched_difference([30.05e-6, 62.41e-6], [30.06e-6, 62.38e-6]) < coexistence.SAME
 
 
-# --- comparisons/_agreement: a flat reference ---------------------------------------------
+# --- shroud/analysis/agreement: a flat reference ---------------------------------------------
 def _runs(delta: float):
     """Side 1 never touches (N1 = Ff1 = 0 in the reference); the candidate differs by ``delta``."""
     t = np.linspace(0.0, 0.02, 2001)

@@ -61,7 +61,8 @@ def test_interrupted_run_leaves_a_marked_partial_result(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "workbench.cli", "run", str(path), "--out", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
-    while not (out / "frequencies.csv").exists():       # the study is past its first output
+    first = out / "fig8" / "transient_reduced.csv"      # the study's computation writes its time series
+    while not first.exists():                           # the study is past its first output
         assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
         time.sleep(0.05)
     proc.send_signal(signal.SIGINT)
@@ -70,8 +71,8 @@ def test_interrupted_run_leaves_a_marked_partial_result(tmp_path):
     assert "Traceback" not in err and "partial" in err
     record = json.loads((out / "results.json").read_text())
     assert record["status"].startswith("partial")
-    assert "frequencies.csv" in record["incomplete_files"]
-    for csv in out.glob("*.csv"):
+    assert "fig8/transient_reduced.csv" in record["incomplete_files"]
+    for csv in out.rglob("*.csv"):
         assert csv.read_text().startswith("# status: incomplete"), csv.name
     assert "**Partial result** (run interrupted" in (out / "report.md").read_text()
     assert not (out / "fig8" / "transient_full.csv").exists()   # the run stopped before the second model

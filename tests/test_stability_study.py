@@ -62,4 +62,4 @@ def test_the_lag_analysis_left_out_above_its_size_is_reported(monkeypatch):
     result = stability.StabilityResult(rows=[], linear_limits={}, explicit_lag=rows,
                                        left_out=[f"explicit lag analysis: {why}"])
     scene = SimpleNamespace(params=Parameters(), title="probe", options={"refine": 2})
-    assert "Left out of this run" in stability.report(result, scene)
+    assert "Left out of this run" in stability.report(result, scene, [])

@@ -13,8 +13,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from comparisons import (_bands, _coexistence, _families, convergence, default, error_vs_time, fig3, fig7, fig8, friction,
+from comparisons import (_bands, _families, convergence, default, error_vs_time, fig3, fig7, fig8, friction,
                          gap_preload, stability, table1)
+from shroud.analysis import coexistence
 from comparisons.paper import TABLE1_FE, TABLE1_LABELS, TABLE1_REDUCED
 from shroud.core.results import SweepResult
 from shroud.core.verdict import KEYS, NOT_DECIDED, TIME_RATIO, contradicts, is_verdict
@@ -258,7 +259,7 @@ def test_linear_limit_holds_the_transients_step_error_as_margin(difference, step
 @pytest.mark.parametrize("difference, answer", [(0.002, True), (0.011, NOT_DECIDED), (0.02, False),
                                                 (math.inf, NOT_DECIDED)])
 def test_coexisting_states_match_within_one_percent_and_twice_the_settling_tolerance(difference, answer):
-    assert _coexistence.state_match(difference, 2e-3).answer == answer
+    assert coexistence.state_match(difference, 2e-3).answer == answer
 
 
 def test_fig8_a_run_too_short_to_measure_its_settling_decides_nothing_from_its_window():

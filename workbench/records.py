@@ -9,8 +9,10 @@ anyone can make it again and tell that it is current, so each one names
   refused: its conclusions could not be made again);
 * ``sources``: the files the study's conclusions depend on directly, each
   with its SHA-256: the scene, the study module and the study helpers it
-  imports (comparisons/_*.py, paper.py). A record whose sources have changed
-  since is stale; physics below the studies is held by the quick run itself;
+  imports (comparisons/_*.py, paper.py, and the two public in the analysis
+  layer: shroud/analysis/agreement.py, coexistence.py). A record whose
+  sources have changed since is stale; physics below the studies is held by
+  the quick run itself;
 * ``digest``: the SHA-256 of its conclusions, sources and commit, so a
   record edited by hand reads as such;
 * the command that made it, and (not compared) its run time and date.
@@ -56,9 +58,14 @@ def study_of(scene: str) -> str:
     return tomllib.loads((SCENES / f"{scene}.toml").read_text())["study"]
 
 
-def _comparisons_imports(path: Path) -> set[str]:
-    """Modules of the comparisons package that ``path`` imports (anywhere in it)."""
-    found = set()
+# Study helpers public in the analysis layer (moved out of comparisons/): a study importing one depends on
+# it as on its private helpers. Their own imports are physics below the studies, not followed.
+ANALYSIS_HELPERS = ("shroud/analysis/agreement.py", "shroud/analysis/coexistence.py")
+
+
+def _study_imports(path: Path) -> tuple[set[str], set[str]]:
+    """Modules of the comparisons package, and files of ANALYSIS_HELPERS, that ``path`` imports (anywhere in it)."""
+    found, helpers = set(), set()
     for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
         names = []
         if isinstance(node, ast.Import):
@@ -69,18 +76,22 @@ def _comparisons_imports(path: Path) -> set[str]:
             parts = name.split(".")
             if parts[0] == "comparisons" and len(parts) == 2 and (ROOT / "comparisons" / f"{parts[1]}.py").is_file():
                 found.add(parts[1])
-    return found
+            elif "/".join(parts) + ".py" in ANALYSIS_HELPERS:
+                helpers.add("/".join(parts) + ".py")
+    return found, helpers
 
 
 def sources_of(scene: str) -> list[str]:
     """Paths (relative to the project) of the files ``scene``'s conclusions depend on directly."""
-    todo, seen = [study_of(scene)], set()
+    todo, seen, helpers = [study_of(scene)], set(), set()
     while todo:
         module = todo.pop()
         if module not in seen:
             seen.add(module)
-            todo.extend(_comparisons_imports(ROOT / "comparisons" / f"{module}.py") - seen)
-    return [f"scenes/{scene}.toml"] + sorted(f"comparisons/{m}.py" for m in seen)
+            modules, used = _study_imports(ROOT / "comparisons" / f"{module}.py")
+            todo.extend(modules - seen)
+            helpers |= used
+    return [f"scenes/{scene}.toml"] + sorted(f"comparisons/{m}.py" for m in seen) + sorted(helpers)
 
 
 def file_hashes(paths: list[str]) -> dict[str, str]:

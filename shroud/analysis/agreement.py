@@ -1,4 +1,4 @@
-"""How closely one transient follows a reference transient (Fig. 8, error against run time).
+"""How closely one transient follows a reference transient (used by the Fig. 8 and error-against-run-time studies).
 
 Both are compared over the reference's last ``periods`` excitation periods,
 after interpolating the candidate onto the reference's time grid (runs at
