@@ -13,19 +13,24 @@ ring's travelling wave passes through, against the paper's blade.
 Conclusion: where the engine order's nodal diameter puts the stuck ring's
 flap family against the blade stuck to fixed neighbours, which has
 relative motion factor 1 against the ring's 2 |sin(pi n / N)|.
+
+The study is compute (:func:`compute` -> :class:`InterferenceComparison`) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import csv
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from comparisons._study import study
 from shroud.analysis.limits import interface_modal
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
+from shroud.base.outputs import open_replacing
 from shroud.core.plotting import figure, save
 from shroud.core.verdict import Verdict
 
@@ -66,35 +71,100 @@ def crossing(rpm: np.ndarray, f: np.ndarray, ke: int) -> float | None:
     return float(rpm[i] - g[i] * (rpm[i + 1] - rpm[i]) / (g[i + 1] - g[i]))
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class InterferenceComparison:
+    """The ring's frequencies per nodal diameter at the scene's speed and its flap family over speed."""
+
+    N: int                        # blades
+    ke: int                       # engine order load.ke
+    model: str
+    rpm: float                    # the diagram's speed, r/min
+    n_modes: int                  # modes per nodal diameter
+    engine_orders: int            # engine-order lines drawn: 0 .. engine_orders
+    diagram: dict[str, dict[int, list[float]]]   # "free"/"stuck" -> nd -> frequencies (Hz)
+    blade_free_hz: list[float]    # the free blade's modes at rpm (Hz)
+    fixed_stuck_hz: float         # flap1 of the blade stuck to fixed neighbours at rpm (Hz)
+    rpms: np.ndarray              # the Campbell speeds, r/min
+    ring_nd: np.ndarray           # the stuck ring's flap1 at the engine order's nodal diameter (Hz)
+    blade_fixed: np.ndarray       # the blade stuck to fixed neighbours (Hz)
+    blade_free: np.ndarray        # the free blade (Hz)
+
+    @property
+    def nd_ke(self) -> int:
+        return folded(self.ke, self.N)
+
+    @property
+    def factor(self) -> float:
+        """The relative-motion factor 2 |sin(pi n / N)| at the engine order's nodal diameter."""
+        return 2 * abs(math.sin(math.pi * self.nd_ke / self.N))
+
+    @property
+    def crossings(self) -> dict[str, float | None]:
+        return {"ring_stuck": crossing(self.rpms, self.ring_nd, self.ke),
+                "fixed_neighbours_stuck": crossing(self.rpms, self.blade_fixed, self.ke),
+                "free": crossing(self.rpms, self.blade_free, self.ke)}
+
+    def verdict(self) -> Verdict:
+        nd = self.nd_ke
+        return Verdict.of(float(self.diagram["stuck"][nd][0] / self.fixed_stuck_hz), threshold=1.0, margin=1e-6,
+                          below="ring softer", above="ring stiffer",
+                          reason=f"stuck flap1 of the ring at nd {nd} over the blade stuck to fixed neighbours at "
+                                 f"{self.rpm:g} r/min (eigenvalues to 1e-8; relative-motion factor {self.factor:.3f} "
+                                 "against 1)")
+
+    def conclusions(self) -> dict:
+        return {"ring_against_fixed_neighbours": self.verdict().answer}
+
+    def to_json(self) -> dict:
+        i = int(np.argmin(abs(self.rpms - self.rpm)))
+        nds = sorted(self.diagram["stuck"])
+        return {"conclusions": self.conclusions(), "nd_engine_order": self.nd_ke,
+                "relative_motion_factor": self.factor,
+                "flap1_hz": {"ring_stuck": self.diagram["stuck"][self.nd_ke][0],
+                             "fixed_neighbours_stuck": self.fixed_stuck_hz, "free": self.blade_free_hz[0]},
+                "crossing_rpm": self.crossings, "ratio_on_grid": float(self.ring_nd[i] / self.blade_fixed[i]),
+                "nodal_diameters": {iface: {str(n): self.diagram[iface][n] for n in nds}
+                                    for iface in ("free", "stuck")}}
+
+
+def compute(scene) -> InterferenceComparison:
+    """The free and stuck ring per nodal diameter at the scene's speed; the flap family over the speeds."""
     params, o = scene.params, scene.options
     N, ke, model, k = params.ring.blades, params.load.ke, o["model"], o["n_modes"]
     nd_ke = folded(ke, N)
     rpm0 = params.speed.rpm
-    diagram = {iface: _flap(params, model, rpm0, k, iface) for iface in ("free", "stuck")}
-    fixed_stuck = interface_modal(params.updated({"ring.blades": 0}), model, rpm0, k, False, "stuck")
+    fixed_params = params.updated({"ring.blades": 0})
+    free, diagram_free = _flap(params, model, rpm0, k, "free")
+    _, diagram_stuck = _flap(params, model, rpm0, k, "stuck")
+    fixed_stuck = interface_modal(fixed_params, model, rpm0, k, False, "stuck")
     rpms = np.linspace(o["rpm_from"], o["rpm_to"], o["speeds"])
     ring_nd, blade_free, blade_fixed = [], [], []
     for r in rpms:
-        free, _ = _flap(params, model, r, 1, "free")
+        free_r, _ = _flap(params, model, r, 1, "free")
         _, stuck = _flap(params, model, r, 1, "stuck")
-        fixed = interface_modal(params.updated({"ring.blades": 0}), model, r, 1, False, "stuck")
+        fixed = interface_modal(fixed_params, model, r, 1, False, "stuck")
         ring_nd.append(stuck[nd_ke][0])
-        blade_free.append(free[0])
+        blade_free.append(free_r[0])
         blade_fixed.append(fixed.blade.modes[0].f_hz)
-    ring_nd, blade_free, blade_fixed = map(np.array, (ring_nd, blade_free, blade_fixed))
-    cross = {"ring_stuck": crossing(rpms, ring_nd, ke), "fixed_neighbours_stuck": crossing(rpms, blade_fixed, ke),
-             "free": crossing(rpms, blade_free, ke)}
+    return InterferenceComparison(N=N, ke=ke, model=model, rpm=rpm0, n_modes=k, engine_orders=o["engine_orders"],
+                                  diagram={"free": diagram_free, "stuck": diagram_stuck}, blade_free_hz=free,
+                                  fixed_stuck_hz=fixed_stuck.blade.modes[0].f_hz, rpms=rpms,
+                                  ring_nd=np.array(ring_nd), blade_free=np.array(blade_free),
+                                  blade_fixed=np.array(blade_fixed))
 
+
+def plot(result: InterferenceComparison, scene, out: Path) -> list[str]:
+    """(a) the interference diagram, (b) the flap family over speed (interference.png); the diagram as CSV."""
+    N, ke, k, rpm0, rpms, nd_ke = result.N, result.ke, result.n_modes, result.rpm, result.rpms, result.nd_ke
     fig, axes = figure(1, 2, width=9.0, height=3.6)
     ax = axes[0][0]
-    nds = sorted(diagram["stuck"][1])
+    nds = sorted(result.diagram["stuck"])
     for iface, style in (("free", ":"), ("stuck", "-")):
-        per_nd = diagram[iface][1]
+        per_nd = result.diagram[iface]
         for i in range(k):
             ax.plot(nds, [per_nd[n][i] for n in nds], style + "o", ms=3, color=f"C{i}",
                     label=f"mode {i + 1}, {iface}")
-    orders = np.arange(0, o["engine_orders"] + 1)
+    orders = np.arange(0, result.engine_orders + 1)
     ax.plot([folded(int(q), N) for q in orders], orders * rpm0 / 60.0, "k--", lw=0.8, label="engine orders")
     ax.plot([nd_ke], [ke * rpm0 / 60.0], "ks", ms=6, mfc="none", label=f"k_e = {ke}")
     ax.set_xlabel("nodal diameter")
@@ -102,43 +172,38 @@ def run(scene, out: Path) -> dict:
     ax.set_title(f"(a) interference diagram, {N} blades, {rpm0:g} r/min")
     ax.legend(fontsize=6, ncol=2)
     ax = axes[0][1]
-    ax.plot(rpms, ring_nd, "-", label=f"ring stuck, nd {nd_ke}")
-    ax.plot(rpms, blade_fixed, "--", label="blade stuck to fixed neighbours")
-    ax.plot(rpms, blade_free, ":", label="free blade")
+    ax.plot(rpms, result.ring_nd, "-", label=f"ring stuck, nd {nd_ke}")
+    ax.plot(rpms, result.blade_fixed, "--", label="blade stuck to fixed neighbours")
+    ax.plot(rpms, result.blade_free, ":", label="free blade")
     ax.plot(rpms, ke * rpms / 60.0, "k-", lw=0.8, label=f"{ke} x rotation")
     ax.set_xlabel("speed (r/min)")
     ax.set_ylabel("frequency (Hz)")
     ax.set_title("(b) flap family at the engine order's nodal diameter")
     ax.legend(fontsize=6)
     save(fig, out / "interference.png")
-
-    with open(out / "interference.csv", "w", newline="") as fh:
+    with open_replacing(out / "interference.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["interface", "nd"] + [f"f{i + 1}_hz" for i in range(k)])
         for iface in ("free", "stuck"):
             for n in nds:
-                w.writerow([iface, n, *diagram[iface][1][n]])
-    factor = 2 * abs(math.sin(math.pi * nd_ke / N))
-    ratio = ring_nd[np.argmin(abs(rpms - rpm0))] / blade_fixed[np.argmin(abs(rpms - rpm0))]
-    verdict = Verdict.of(float(diagram["stuck"][1][nd_ke][0] / fixed_stuck.blade.modes[0].f_hz), threshold=1.0,
-                         margin=1e-6, below="ring softer", above="ring stiffer",
-                         reason=f"stuck flap1 of the ring at nd {nd_ke} over the blade stuck to fixed neighbours "
-                                f"at {rpm0:g} r/min (eigenvalues to 1e-8; relative-motion factor {factor:.3f} "
-                                "against 1)")
-    rows = [(name, "none in range" if c is None else f"{c:.0f}") for name, c in cross.items()]
+                w.writerow([iface, n, *result.diagram[iface][n]])
+    return ["interference.png"]
+
+
+def report(result: InterferenceComparison, scene, files: list[str]) -> str:
+    N, ke, nd_ke, rpm0, verdict = result.N, result.ke, result.nd_ke, result.rpm, result.verdict()
+    rows = [(name, "none in range" if c is None else f"{c:.0f}") for name, c in result.crossings.items()]
     lines = [f"# {scene.title}\n",
              f"{N} blades, engine order {ke} (nodal diameter {nd_ke}, inter-blade phase "
-             f"{360.0 * ke / N:g} deg, relative-motion factor 2 |sin(pi n / N)| = {factor:.3f}), model {model}.\n",
+             f"{360.0 * ke / N:g} deg, relative-motion factor 2 |sin(pi n / N)| = {result.factor:.3f}), model "
+             f"{result.model}.\n",
              f"At {rpm0:g} r/min the stuck ring's flap1 at nd {nd_ke} is "
-             f"{diagram['stuck'][1][nd_ke][0]:.1f} Hz against {fixed_stuck.blade.modes[0].f_hz:.1f} Hz for the "
-             f"blade stuck to fixed neighbours and {diagram['free'][0][0]:.1f} Hz free: {verdict.answer} "
+             f"{result.diagram['stuck'][nd_ke][0]:.1f} Hz against {result.fixed_stuck_hz:.1f} Hz for the "
+             f"blade stuck to fixed neighbours and {result.blade_free_hz[0]:.1f} Hz free: {verdict.answer} "
              f"(ratio {verdict.value:.4f}).\n",
-             markdown_table(["flap1 meets k_e x rotation", "r/min"], rows), "",
-             "![interference.png](interference.png)"]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
-    return {"conclusions": {"ring_against_fixed_neighbours": verdict.answer},
-            "nd_engine_order": nd_ke, "relative_motion_factor": factor,
-            "flap1_hz": {"ring_stuck": diagram["stuck"][1][nd_ke][0],
-                         "fixed_neighbours_stuck": fixed_stuck.blade.modes[0].f_hz, "free": diagram["free"][0][0]},
-            "crossing_rpm": cross, "ratio_on_grid": float(ratio),
-            "nodal_diameters": {iface: {str(n): diagram[iface][1][n] for n in nds} for iface in ("free", "stuck")}}
+             markdown_table(["flap1 meets k_e x rotation", "r/min"], rows), ""]
+    lines += [f"![{f}]({f})" for f in files]
+    return "\n".join(lines) + "\n"
+
+
+run = study(compute, plot, report)

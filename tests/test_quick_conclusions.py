@@ -325,3 +325,40 @@ def test_shell_benchmarks_quick_agree_with_full(tmp_path):
     for group in ("macneal_harder", "fv16"):
         assert got[group].keys() == full[group].keys(), group
         assert agrees(got[group], full[group]), group
+
+
+def test_interference_quick_agrees_with_full(tmp_path):
+    """The ring's stuck flap family at the engine order's nodal diameter against fixed neighbours: the
+    eigenvalues at the scene's speed do not depend on the Campbell grid the quick version thins."""
+    got, _ = quick("interference", tmp_path)
+    full = full_conclusions("interference")
+    assert got.keys() == full.keys()
+    assert all(agrees(got[k], full[k]) for k in got)
+
+
+@pytest.mark.slow
+def test_ring_mistuning_quick_agrees_with_full(tmp_path):
+    """8 samples against 100: whether mistuning amplifies (the quick median's wider interval may leave it
+    undecided, never the other side) and whether every sample stays within Whitehead's bound."""
+    got, _ = quick("ring_mistuning", tmp_path)
+    full = full_conclusions("ring_mistuning")
+    assert got.keys() == full.keys()
+    for key in got:
+        assert agrees(got[key], full[key]), (key, got[key], full[key])
+
+
+@pytest.mark.slow
+def test_ring_tuned_quick_agrees_with_full(tmp_path):
+    """Every time point the quick scene runs is one the full scene runs (the same case, ring size, speed
+    and settings): named alike (on or off the wave, and what explains a departure), its HB agreement
+    alike; and what the quick scene finds wrong on its points (the HB differing where the ring is on a wave,
+    a departure the HB does not explain) the full scene, which runs them all, finds too."""
+    got, _ = quick("ring_tuned", tmp_path)
+    full = full_conclusions("ring_tuned")
+    shared = got["points"].keys() & full["points"].keys()
+    assert shared == got["points"].keys()
+    for point in shared:
+        assert got["points"][point] == full["points"][point], point
+    for key in ("departures_explained", "hb_agrees_where_on_wave"):
+        if got[key] is False:
+            assert full[key] is False, key

@@ -53,22 +53,26 @@ def test_sector_hb_is_the_ring_in_time_where_it_settles_on_a_travelling_wave(mod
         assert wave["stable"]
 
 
+def _wave_and_multiplier(p: Parameters, rpm: float, H: int, samples: int):
+    """The sector's travelling wave at ``rpm`` (H harmonics): its stability verdict, the largest |multiplier|
+    of the whole ring's monodromy about it, and every blade's (q, v) at t = 0 on it (to start the ring there)."""
+    basis = hb.fourier(H, samples)
+    speeds = SpeedModel(model_at_speed(p, "reduced"), H)
+    system, lin, _, _ = speeds.at(rpm)
+    sector = sector_of(system, p, H)
+    X = sector_solve(lin, sector, basis)
+    d = _details(speeds, sector, basis, X, rpm, True)
+    return d["stable"], np.abs(d["multipliers"]).max(), ring_state(system, lin, sector, basis, X)
+
+
 def test_an_unstable_wave_is_left_at_the_rate_of_its_floquet_multiplier():
     """6 blades at 7200 r/min: the ring started on the sector's wave leaves it; a perturbation's growth per
     period, max |x(t) - x(t - T)| over the ring in the time domain (1024 steps a period), is the largest
     |multiplier| of the whole ring's monodromy about the wave."""
     p = Parameters().with_overrides(["ring.blades=6", "speed.rpm=7200", "time.periods=55",
                                      "time.steps_per_period=1024"])
-    H = 20
-    basis = hb.fourier(H, 1024)
-    speeds = SpeedModel(model_at_speed(p, "reduced"), H)
-    system, lin, _, _ = speeds.at(7200.0)
-    sector = sector_of(system, p, H)
-    X = sector_solve(lin, sector, basis)
-    d = _details(speeds, sector, basis, X, 7200.0, True)
-    mu = np.abs(d["multipliers"]).max()
-    assert not d["stable"] and mu > 1.5
-    q0, v0 = ring_state(system, lin, sector, basis, X)
+    stable, mu, (q0, v0) = _wave_and_multiplier(p, 7200.0, 20, 1024)
+    assert not stable and mu > 1.5
     tr = run_ring(build_ring(p, "reduced"), p, q0=q0, v0=v0)
     spp = p.time.steps_per_period
     x = tr.tip[:, :, 0]
@@ -95,16 +99,8 @@ def test_every_nodal_diameter_counts_a_symmetric_start_hides_the_fig8_rings_inst
     blade (random, 1e-4 of the motion) grows at that rate until the ring lands off the wave."""
     p = Parameters().with_overrides(["ring.blades=24", "speed.rpm=10000", "time.periods=110",
                                      "time.steps_per_period=1024"])
-    H = 40
-    basis = hb.fourier(H, 2048)
-    speeds = SpeedModel(model_at_speed(p, "reduced"), H)
-    system, lin, _, _ = speeds.at(10000.0)
-    sector = sector_of(system, p, H)
-    X = sector_solve(lin, sector, basis)
-    d = _details(speeds, sector, basis, X, 10000.0, True)
-    mu = np.abs(d["multipliers"]).max()
+    _, mu, (q0, v0) = _wave_and_multiplier(p, 10000.0, 40, 2048)
     assert 1.01 < mu < 1.1
-    q0, v0 = ring_state(system, lin, sector, basis, X)
     kick = 1e-4 * np.abs(q0).max() * np.random.default_rng(1).normal(size=q0.shape)
     tr = run_ring(build_ring(p, "reduced"), p, q0=q0 + kick, v0=v0)
     spp = p.time.steps_per_period

@@ -273,3 +273,52 @@ def test_fig8_a_run_too_short_to_measure_its_settling_decides_nothing_from_its_w
     assert found["pairs_met"]["reduced vs full"].answer == NOT_DECIDED
     assert found["settled"]["reduced"].answer == NOT_DECIDED
     assert found["cost"]["reduced vs full"].answer == "cheaper"
+
+
+# --- ring_tuned: on the travelling wave, the HB's agreement, what explains a departure ----------------
+
+def ring_point(spread=0.0, period=1, drift=0.0, wave=1e-5, coexisting=(), stable=None, tried=True):
+    """A 12-blade time point whose blades spread by ``spread`` around 1e-5 m, its wave and stability."""
+    from comparisons.ring_tuned import RingPoint
+    from shroud.core.verdict import Verdict
+    a = 1e-5 * (1 + spread * (np.arange(12) / 11 - 0.5))
+    verdict = None if stable is None else Verdict.of(stable, threshold=1.0, margin=0.02, below=True, above=False,
+                                                     reason="")
+    return RingPoint(blades=12, rpm=10000.0, amplitudes=list(a), period=period, drift=drift, wave=wave,
+                     coexisting=list(coexisting), stability=verdict, wave_spread=0.005, stability_tried=tried)
+
+
+@pytest.mark.parametrize("spread, answer", [(0.002, True), (0.0045, NOT_DECIDED), (0.0055, NOT_DECIDED),
+                                            (0.008, False)])
+def test_ring_on_the_wave_flips_at_half_a_percent_of_spread_with_the_steps_margin(spread, answer):
+    assert ring_point(spread).on == answer
+
+
+def test_a_ring_not_p1_or_still_drifting_is_off_the_wave_whatever_its_spread():
+    assert ring_point(0.0, period=None).on is False
+    assert ring_point(0.0, period=3).on is False
+    assert ring_point(0.0, drift=2e-3).on is False
+
+
+@pytest.mark.parametrize("wave, answer", [(1.002e-5, True), (1.005e-5, NOT_DECIDED), (1.01e-5, False)])
+def test_ring_hb_agrees_within_half_a_percent_of_the_nearest_wave(wave, answer):
+    assert ring_point(0.0, wave=wave).agreement(0.005).answer == answer
+    assert ring_point(0.0, wave=3e-5, coexisting=[wave]).agreement(0.005).answer == answer   # the nearest wave
+
+
+@pytest.mark.parametrize("kwargs, named", [
+    ({"stable": 1.5}, "wave unstable"),
+    ({"stable": 0.9, "coexisting": [1e-5, 2e-5, 3e-5]}, "coexisting branch"),
+    ({"stable": 0.9, "coexisting": [1e-5]}, "unexplained"),
+    ({"stable": 1.01}, "stability not decided"),
+    ({"wave": None}, "no wave reached"),
+    ({"tried": False}, "stability not computed"),
+    ({}, "stability not reached at 2 H")])
+def test_a_departure_from_the_wave_is_named_by_what_the_hb_shows(kwargs, named):
+    assert ring_point(0.02, period=2, **kwargs).explanation() == named
+
+
+def test_a_ring_on_its_wave_is_named_by_the_waves_stability():
+    assert ring_point(0.0, stable=0.9).explanation() == "stable wave"
+    assert ring_point(0.0, stable=1.5).explanation() == "on an unstable wave"
+    assert ring_point(0.0, stable=1.01).explanation() == "stability not decided"

@@ -17,13 +17,13 @@ from typing import Any
 import numpy as np
 
 from shroud.analysis.checks import MEMORY_SHARE, check_run
+from shroud.analysis.transient import written
 from shroud.base.resources import in_words, physical_memory
-from shroud.base.errors import InputError, RunDiverged
-from shroud.base.log import info
+from shroud.base.errors import InputError
 from shroud.core import registry, signals
 from shroud.core.contact import ContactLaw, contact_law
 from shroud.core.newmark import NewmarkScheme, Trajectory
-from shroud.core.results import TransientResult, write_trajectory_csv
+from shroud.core.results import TransientResult
 from shroud.core.ring import BladeRing, ring_of, with_rayleigh
 from shroud.core.ring_newmark import RingTrajectory, integrate_ring
 from shroud.params import Parameters
@@ -113,14 +113,8 @@ def simulate_ring(params: Parameters, model: str, csv_path: Path | None = None) 
     ring = build_ring(params, model)
     spp = params.time.steps_per_period
     tr = run_ring(ring, params)
-    view = blade_view(tr, 0)
-    if csv_path is not None:
-        status = "complete" if tr.diverged is None else f"incomplete: {tr.diverged}"
-        Path(csv_path).parent.mkdir(parents=True, exist_ok=True)
-        write_trajectory_csv(Path(csv_path), view, status)
-        info(f"wrote {csv_path} ({tr.steps + 1} rows, blade 0)")
-    if tr.diverged is not None:
-        raise RunDiverged(f"ring of {ring.count} {model} blades at {params.speed.rpm:g} r/min: {tr.diverged}")
+    view = written(blade_view(tr, 0), csv_path, f"ring of {ring.count} {model} blades at {params.speed.rpm:g} r/min",
+                   rows=", blade 0")
     blades = [{"amplitude": {"v_L": signals.amplitude(tr.tip[:, j, 0], spp),
                              "w_L": signals.amplitude(tr.tip[:, j, 1], spp)},
                "peak": {"N": signals.peak(tr.normal[:, j], spp), "Ff": signals.peak(tr.friction[:, j], spp)}}

@@ -45,19 +45,27 @@ def run(system: StructuralSystem, params: Parameters, method: str = "auto",
                      label=f"transient {system.model} {params.speed.rpm:g} r/min")
 
 
+def written(tr: Trajectory, csv_path: Path | None, what: str, rows: str = "") -> Trajectory:
+    """``tr``'s time series in ``csv_path`` if asked (its status line says complete or where it stopped;
+    ``rows`` names whose rows they are); raises RunDiverged naming ``what`` (the CSV so far kept) if the
+    run was unbounded. The one writer of a transient's CSV, for the single blade and the ring."""
+    if csv_path is not None:
+        status = "complete" if tr.diverged is None else f"incomplete: {tr.diverged}"
+        Path(csv_path).parent.mkdir(parents=True, exist_ok=True)
+        write_trajectory_csv(Path(csv_path), tr, status)
+        info(f"wrote {csv_path} ({tr.steps + 1} rows{rows})")
+    if tr.diverged is not None:
+        where = f"; time series so far in {csv_path}" if csv_path else ""
+        raise RunDiverged(f"{what}: {tr.diverged}{where}")
+    return tr
+
+
 def simulate(system: StructuralSystem, params: Parameters, csv_path: Path | None = None,
              method: str = "auto") -> TransientResult:
     """One transient run; raises RunDiverged (CSV so far kept, marked incomplete) if unbounded."""
     spp = params.time.steps_per_period
     tr = run(system, params, method=method)
-    if csv_path is not None:
-        status = "complete" if tr.diverged is None else f"incomplete: {tr.diverged}"
-        Path(csv_path).parent.mkdir(parents=True, exist_ok=True)
-        write_trajectory_csv(Path(csv_path), tr, status)
-        info(f"wrote {csv_path} ({tr.steps + 1} rows)")
-    if tr.diverged is not None:
-        where = f"; time series so far in {csv_path}" if csv_path else ""
-        raise RunDiverged(f"{system.model} model at {params.speed.rpm:g} r/min: {tr.diverged}{where}")
+    written(tr, csv_path, f"{system.model} model at {params.speed.rpm:g} r/min")
     return TransientResult.from_trajectory(tr, model=system.model, rpm=params.speed.rpm, dofs=system.dofs,
                                            steps_per_period=spp, contact_treatment=params.time.contact,
                                            timeseries=str(csv_path) if csv_path else None)

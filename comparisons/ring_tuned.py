@@ -1,0 +1,398 @@
+"""The tuned ring against fixed neighbours for the Fig. 11 contact: sector HB, its stability, the ring in time.
+
+The paper holds both neighbours of its blade fixed (Sect. 2; Fig. 11:
+alpha 30 deg, kt 5e6 N/m, mu 0.3, initial gaps and preloads). On a tuned
+ring of N blades under engine order ke the forced response may be a
+travelling wave, U_{j+1,h} = exp(i h phi) U_{j,h}, phi = 2 pi ke / N
+(docs/ring.md), which one sector carries by harmonic balance
+(shroud.analysis.ring_hb). Per case (``gaps_um``) and ring size
+(``blades``) the study draws
+
+* the fixed-neighbour blade's HB branch with its stability
+  (shroud.analysis.hb.run_hb, what shroud.api.continuation runs, with the
+  branch's samples) and the sector's HB branch over the same speeds
+  (shroud.analysis.ring_hb.run_ring_hb without the ring's monodromy at
+  every point: 1.3 s a point at 24 blades, 3 min at 48, measured), both at
+  ``branch_harmonics``; a branch the continuation cannot carry across the
+  range is drawn as far as it goes and its stop reported;
+* at each of ``td_rpms`` the whole ring in time from rest
+  (shroud.api.transient; E scattered by ``symmetry_break``, 1e-4, so that a
+  wave unstable in another nodal diameter can be left: a perfectly
+  symmetric start excites only the wave's own, docs/ring.md), each blade's
+  settled amplitude;
+* there, the sector's wave solved at that speed and, for the ring sizes in
+  ``stability_blades``, its stability against every nodal diameter
+  (ring_hb.stability_verdict: the whole ring's monodromy at 2 H against 1,
+  its margin the change from H, at least floquet's floor 0.02).
+
+Each time point is named: on the travelling wave (blade 0 P1, settled, the
+blades' spread within ``wave_spread``), where the sector's HB must agree
+within ``agree`` (0.5 %) and be stable; or off it, where the report says
+what explains it: the wave is unstable, or a coexisting branch of the
+sector (more than one wave at that speed), or what is missing (no wave
+reached, stability not computed); the dominant nodal diameter of the
+blades' spread says what the ring lands on.
+docs/ring-tuned.md has the measurements.
+
+The study is compute (:func:`compute` -> :class:`RingTunedComparison`) -> plot -> report.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from comparisons._hb import crossings
+from comparisons._study import study
+from shroud.api import transient
+from shroud.analysis.hb import run_hb
+from shroud.analysis.ring_hb import run_ring_hb, sector_at, stability_verdict
+from shroud.base.errors import InputError, RunDiverged
+from shroud.base.markdown import markdown_table
+from shroud.base.outputs import open_replacing
+from shroud.core import floquet, signals
+from shroud.core.plotting import figure, save
+from shroud.core.verdict import NOT_DECIDED, Verdict
+
+OPTIONS = {
+    "gaps_um": [1.0, 100.0],           # Fig. 11b's small gap and Fig. 11a's 0.1 mm
+    "blades": [12, 24, 48],
+    "rpm_from": 6000.0, "rpm_to": 14000.0,
+    "td_rpms": [8000.0, 10000.0, 12000.0],
+    "harmonics": 20,                   # the waves' at the time points (the impacts need H = 20: docs/ring.md)
+    "branch_harmonics": 10,            # the branches' (at H = 20 the 1 um gap's first point fails)
+    "stability_harmonics": 20,         # the stability verdict at 2 x this against this
+    "stability_blades": [12, 24],      # ring sizes whose waves get the (costly) stability verdict
+    "symmetry_break": 1e-4,            # std of E's scatter in the time runs
+    "wave_spread": 0.005,              # (max - min) / mean of the blades' amplitudes on a travelling wave
+    "agree": 0.005,                    # the issue's: the sector's HB within 0.5 % of the ring in time
+    "model": "reduced",
+}
+SETTLED = 1e-3       # relative change of every blade's amplitude between the last two windows of STEADY_PERIODS
+STEP_SPREAD = 1e-3   # the blades' spread the time step alone makes on a wave (0.075 % measured, 24 blades, docs/ring.md)
+
+
+def check(scene) -> None:
+    o = scene.options
+    if any(n < 2 for n in o["blades"]) or not o["blades"]:
+        raise InputError("options.blades", f"{o['blades']!r}; allowed: ring sizes >= 2")
+    if not 0 < o["rpm_from"] < o["rpm_to"] or not o["td_rpms"] or min(o["td_rpms"]) <= 0:
+        raise InputError("options.rpm_from", "allowed: 0 < rpm_from < rpm_to and time-domain speeds > 0 r/min")
+    if any(g < 0 for g in o["gaps_um"]) or not o["gaps_um"]:
+        raise InputError("options.gaps_um", f"{o['gaps_um']!r}; allowed: gaps >= 0 um")
+
+
+@dataclass(frozen=True)
+class RingPoint:
+    """The ring in time at one speed and the sector's wave there."""
+
+    blades: int
+    rpm: float
+    amplitudes: list[float]            # every blade's settled v_L amplitude, m
+    period: int | None                 # blade 0's detected period (None: none up to 10)
+    drift: float                       # largest relative change of a blade's amplitude between the last windows
+    wave: float | None                 # the sector's wave solved at rpm (from the linear start), m; None: not reached
+    coexisting: list[float]            # the sector branch's waves at rpm (interpolated), m
+    stability: Verdict | None          # of the wave at rpm; None: not computed (ring size not in stability_blades,
+                                       # or no wave at H or 2 H)
+    wave_spread: float                 # the blades' spread below which the ring is on a travelling wave
+    stability_tried: bool              # the ring size is one of stability_blades
+
+    @property
+    def spread(self) -> float:
+        a = np.asarray(self.amplitudes)
+        return float(np.ptp(a) / a.mean())
+
+    def on_wave(self) -> Verdict | bool:
+        """Whether the ring settled on a travelling wave: False where blade 0 is not P1 or its amplitudes still
+        drift; else the blades' spread against ``wave_spread`` (margin the step's own spread on a wave)."""
+        if self.period != 1 or self.drift >= SETTLED:
+            return False
+        return Verdict.of(self.spread, threshold=self.wave_spread, margin=STEP_SPREAD, below=True, above=False,
+                          reason="the blades' amplitude spread (max - min) / mean against the wave's 0 (threshold "
+                                 f"{self.wave_spread:g}; margin the Newmark step's own spread on a wave, "
+                                 f"{STEP_SPREAD:g})")
+
+    @property
+    def on(self):
+        """on_wave's answer: True, False or 'not decided'."""
+        v = self.on_wave()
+        return v if isinstance(v, bool) else v.answer
+
+    @property
+    def pattern_nd(self) -> int | None:
+        """The nodal diameter whose Fourier component around the ring dominates the blades' amplitude spread
+        (None on a wave, where no pattern is meant): what the ring lands on when it leaves the wave."""
+        a = np.asarray(self.amplitudes)
+        if self.on is True:
+            return None
+        return int(np.argmax(np.abs(np.fft.rfft(a - a.mean()))[1:]) + 1)
+
+    def difference(self) -> float | None:
+        """The largest |blade / wave - 1| against the nearest wave the HB has at rpm."""
+        waves = [w for w in [self.wave, *self.coexisting] if w is not None]
+        if not waves:
+            return None
+        a = np.asarray(self.amplitudes)
+        return min(float(np.abs(a / w - 1).max()) for w in waves)
+
+    def agreement(self, agree: float) -> Verdict | None:
+        d = self.difference()
+        if d is None:
+            return None
+        return Verdict.of(d, threshold=agree, margin=STEP_SPREAD, below=True, above=False,
+                          reason=f"largest |blade / wave - 1| against {agree:g}, margin the Newmark step's own "
+                                 f"effect on the amplitudes ({STEP_SPREAD:g})")
+
+    def explanation(self) -> str:
+        """What the HB says of a ring that left the wave (or of one on it: 'stable wave' when it should)."""
+        s = None if self.stability is None else self.stability.answer
+        if s is None:
+            s = "not reached" if self.stability_tried else "not computed"
+        if self.on is True:
+            return {True: "stable wave", False: "on an unstable wave", "not reached": "stability not reached at 2 H",
+                    "not computed": "stability not computed"}.get(s, "stability not decided")
+        if s is False:
+            return "wave unstable"
+        if len(self.coexisting) > 1:
+            return "coexisting branch"
+        if self.wave is None:
+            return "no wave reached"
+        return {"not computed": "stability not computed", "not reached": "stability not reached at 2 H",
+                NOT_DECIDED: "stability not decided"}.get(s, "unexplained")
+
+    def key(self) -> str:
+        return f"{self.blades} blades, {self.rpm:g} r/min"
+
+    def to_json(self, agree: float) -> dict:
+        v = self.agreement(agree)
+        return {"blades": self.blades, "rpm": self.rpm, "amplitudes_m": self.amplitudes, "period": self.period,
+                "drift": self.drift, "spread": self.spread, "spread_nodal_diameter": self.pattern_nd,
+                "on_wave": self.on if isinstance(self.on_wave(), bool) else self.on_wave().to_json(),
+                "wave_m": self.wave, "coexisting_waves_m": self.coexisting,
+                "stable": None if self.stability is None else self.stability.to_json(),
+                "agreement": None if v is None else v.to_json(), "explanation": self.explanation()}
+
+
+@dataclass(frozen=True)
+class RingCase:
+    """One Fig. 11 case: the fixed-neighbour branch, the sector branches, the ring's time points."""
+
+    label: str
+    gap_um: float
+    fixed: object                       # HBResult of the blade between fixed neighbours
+    sectors: dict[int, object | None]   # N -> the sector's HBResult (None: no wave reached at rpm_from)
+    failures: dict[int, str]            # N -> why the sector's branch was not continued
+    points: list[RingPoint] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class RingTunedComparison:
+    cases: list[RingCase]
+    agree: float
+
+    def points(self):
+        return [(c, p) for c in self.cases for p in c.points]
+
+    def conclusions(self) -> dict:
+        """Per time point its naming (on the wave: 'stable wave' ...; off it: what explains it) and the HB's
+        agreement there; over all points on a wave, whether the HB agrees within ``agree``; whether every
+        departure is explained by the HB (instability or a coexisting branch)."""
+        on = [(c, p) for c, p in self.points() if p.on is True]
+        diffs = [p.difference() for _, p in on if p.difference() is not None]
+        worst = max(diffs, default=None)
+        agrees = None if worst is None else Verdict.of(
+            worst, threshold=self.agree, margin=STEP_SPREAD, below=True, above=False,
+            reason=f"largest |blade / wave - 1| over the points on a travelling wave against {self.agree:g}").answer
+        off = [p.explanation() for _, p in self.points() if p.on is False]
+        answers = [p.stability.answer for _, p in on if p.stability is not None]
+        stable = (None if not answers else False if False in answers else NOT_DECIDED if NOT_DECIDED in answers
+                  else True)
+        return {"points": {f"{c.label}, {p.key()}": {"on_wave": p.on, "explanation": p.explanation(),
+                                                      "agrees": None if p.on is not True or p.agreement(self.agree)
+                                                      is None else p.agreement(self.agree).answer}
+                           for c, p in self.points()},
+                "hb_agrees_where_on_wave": agrees,
+                "hb_stable_where_on_wave": stable,
+                "departures_explained": all(e in ("wave unstable", "coexisting branch") for e in off)
+                if off else None}
+
+    def to_json(self) -> dict:
+        return {"conclusions": self.conclusions(),
+                "cases": [{"label": c.label, "gap_um": c.gap_um, "fixed_neighbours": c.fixed.to_json(),
+                           "sectors": {str(n): None if b is None else b.to_json() for n, b in c.sectors.items()},
+                           "failures": {str(n): why for n, why in c.failures.items()},
+                           "points": [p.to_json(self.agree) for p in c.points]} for c in self.cases]}
+
+
+def wave_at(p, model: str, rpm: float, H: int) -> float | None:
+    """The sector's wave at ``rpm`` from the linear start (m), None where no periodic state is reached."""
+    try:
+        return sector_at(p, model, rpm, harmonics=H, stability=False)["amplitude_v_L"]
+    except RunDiverged:
+        return None
+
+
+def stability(p, model: str, rpm: float, H: int) -> Verdict | None:
+    """ring_hb.stability_verdict with its margin at least floquet's floor on a multiplier's error (Hill
+    against the monodromy, 0.02: docs/hb-stability.md): a ring whose interfaces never slip has a multiplier
+    at 1 (the sliders' offset), which the change from H to 2 H alone (1e-6 here) would call unstable. None
+    where the wave is not reached at H or 2 H from the linear start."""
+    try:
+        v = stability_verdict(p, model, rpm, H)
+    except RunDiverged:
+        return None
+    return Verdict.of(v.value, threshold=v.threshold, margin=max(v.margin, floquet.MULTIPLIER_FLOOR), below=True,
+                      above=False, reason=f"{v.reason}, at least floquet's floor {floquet.MULTIPLIER_FLOOR:g}")
+
+
+def ring_point(p, model: str, rpm: float, o, branch) -> RingPoint:
+    """The ring in time from rest at ``rpm`` (E scattered by symmetry_break) and the sector's waves there."""
+    q = p.updated({"speed.rpm": rpm})
+    run = transient(q.updated({"ring.mistuning_std": o["symmetry_break"], "ring.seed": 1}), model)
+    tip, spp = run.trajectory.tip[:, :, 0], q.time.steps_per_period
+    window = signals.STEADY_PERIODS * spp
+    now = np.array([signals.amplitude(tip[:, j], spp) for j in range(tip.shape[1])])
+    before = np.array([signals.amplitude(tip[:-window, j], spp) for j in range(tip.shape[1])])
+    wave = wave_at(q, model, rpm, int(o["harmonics"]))
+    stable = (stability(q, model, rpm, int(o["stability_harmonics"]))
+              if q.ring.blades in o["stability_blades"] and wave is not None else None)
+    return RingPoint(blades=q.ring.blades, rpm=rpm, amplitudes=[float(a) for a in now],
+                     period=signals.detect_period(tip[:, 0], spp), drift=float(np.abs(before / now - 1).max()),
+                     wave=wave, coexisting=[] if branch is None else crossings(branch, rpm, None), stability=stable,
+                     wave_spread=o["wave_spread"], stability_tried=q.ring.blades in o["stability_blades"])
+
+
+def compute(scene) -> RingTunedComparison:
+    params, o = scene.params.updated({"ring.mistuning": (), "ring.mistuning_std": 0.0}), scene.options
+    model, H = o["model"], int(o["branch_harmonics"])
+    cases = []
+    for g in o["gaps_um"]:
+        case = params.updated({"contact.gap": g * 1e-6, "ring.blades": 0})
+        fixed = run_hb(case, model, o["rpm_from"], o["rpm_to"], harmonics=H)
+        sectors, failures, points = {}, {}, []
+        for n in o["blades"]:
+            p = case.updated({"ring.blades": int(n)})
+            try:
+                sectors[n] = run_ring_hb(p, model, o["rpm_from"], o["rpm_to"], H, stability=False).branch
+            except RunDiverged as e:
+                sectors[n], failures[n] = None, str(e)
+            points += [ring_point(p, model, float(r), o, sectors[n]) for r in o["td_rpms"]]
+        cases.append(RingCase(label=f"gap {g:g} um", gap_um=g, fixed=fixed, sectors=sectors, failures=failures,
+                              points=points))
+    return RingTunedComparison(cases=cases, agree=o["agree"])
+
+
+def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
+    """Per case: the branches and the ring's time points (ring_tuned.png); every blade's amplitude at the time
+    points (ring_tuned_blades.png); the points as CSV."""
+    cases = result.cases
+    fig, axes = figure(1, len(cases), width=4.8 * len(cases), height=5.2)
+    for ax, c in zip(axes[0], cases):
+        f = c.fixed
+        stable = np.array([s is True for s in f.stable])
+        amp = 1e6 * f.amplitude_v_L
+        ax.plot(f.rpm, np.where(stable, amp, np.nan), "k-", lw=1.4, label="fixed neighbours (HB), stable")
+        ax.plot(f.rpm, np.where(stable, np.nan, amp), "k:", lw=1.0, label="fixed neighbours, unstable or undecided")
+        for i, (n, br) in enumerate(c.sectors.items()):
+            colour = f"C{i}"
+            if br is not None:     # widest first: where the shrouds do not touch every ring is the free blade
+                ax.plot(br.rpm, 1e6 * br.amplitude_v_L, "-", color=colour, lw=1.0 + 0.9 * (len(c.sectors) - 1 - i),
+                        alpha=0.8, label=f"{n} blades: sector HB")
+            for p in (q for q in c.points if q.blades == n):
+                a = 1e6 * np.asarray(p.amplitudes)
+                on = p.on is True
+                ax.plot([p.rpm, p.rpm], [a.min(), a.max()], "-", color=colour, lw=2.5, alpha=0.6)
+                ax.plot([p.rpm], [a.mean()], "o" if on else "x", color=colour, ms=6, mfc=colour if on else "none")
+                if p.wave is not None:
+                    s = None if p.stability is None else p.stability.answer
+                    ax.plot([p.rpm + 60], [1e6 * p.wave], {True: "^", False: "v"}.get(s, "d"), color=colour, ms=5,
+                            mfc="white")
+        ax.set_xlabel("speed (r/min)")
+        ax.set_xticks(np.linspace(scene.options["rpm_from"], scene.options["rpm_to"], 5))
+        ax.set_ylabel("v_L amplitude (um)")
+        ax.set_yscale("log")
+        ax.plot([], [], "ko", ms=5, label="ring in time on a wave (bar: its blades)")
+        ax.plot([], [], "kx", ms=5, label="ring in time off the wave")
+        ax.plot([], [], "k^", mfc="white", ms=5, label="sector wave there: stable")
+        ax.plot([], [], "kv", mfc="white", ms=5, label="unstable")
+        ax.plot([], [], "kd", mfc="white", ms=5, label="undecided or not computed")
+        ax.set_title(f"Fig. 11 contact, {c.label}", fontsize=9)
+        ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
+    save(fig, out / "ring_tuned.png")
+
+    fig, axes = figure(1, len(cases), width=4.8 * len(cases), height=3.4)
+    for ax, c in zip(axes[0], cases):
+        for i, n in enumerate(c.sectors):
+            for k, p in enumerate(q for q in c.points if q.blades == n):
+                if p.on is True:
+                    continue
+                a = np.asarray(p.amplitudes)
+                ax.plot(np.arange(n) / n, 100 * (a / a.mean() - 1), ["-", "--", ":", "-."][k % 4], color=f"C{i}",
+                        marker=".", ms=3, lw=1.0, label=f"{n} blades, {p.rpm:g} r/min (mean {1e6 * a.mean():.1f} um)")
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_xlabel("blade j / N")
+        ax.set_ylabel("blade amplitude / ring mean - 1 (%)")
+        ax.set_title(f"{c.label}: where the ring left the wave, blade by blade", fontsize=9)
+        ax.legend(fontsize=5.5, loc="best")
+    save(fig, out / "ring_tuned_blades.png")
+
+    with open_replacing(out / "ring_tuned_points.csv") as fh:
+        w = csv.writer(fh)
+        w.writerow(["case", "blades", "rpm", "min_amplitude_m", "max_amplitude_m", "period", "spread", "wave_m",
+                    "coexisting_waves", "largest_multiplier", "explanation"])
+        for c, p in result.points():
+            w.writerow([c.label, p.blades, p.rpm, min(p.amplitudes), max(p.amplitudes), p.period, p.spread,
+                        p.wave, len(p.coexisting), None if p.stability is None else p.stability.value,
+                        p.explanation()])
+    return ["ring_tuned.png", "ring_tuned_blades.png"]
+
+
+def _um(x: float | None) -> str:
+    return "-" if x is None else f"{1e6 * x:.3f}"
+
+
+def report(result: RingTunedComparison, scene, files: list[str]) -> str:
+    o = scene.options
+    concl = result.conclusions()
+    lines = [f"# {scene.title}\n",
+             f"Fig. 11 contact (alpha {scene.params.contact.alpha_deg:g} deg, kt {scene.params.contact.kt:g} N/m, "
+             f"mu {scene.params.contact.mu:g}), engine order {scene.params.load.ke}, model {o['model']}, "
+             f"H = {o['harmonics']}; the ring in time from rest over {scene.params.time.periods} periods with E "
+             f"scattered by {o['symmetry_break']:g} (symmetry broken); stability of the sector's wave against "
+             f"every nodal diameter for {', '.join(str(n) for n in o['stability_blades'])} blades "
+             f"(H = {2 * o['stability_harmonics']} against {o['stability_harmonics']}).\n"]
+    for c in result.cases:
+        rows = []
+        fixed_at = {p.rpm: crossings(c.fixed, p.rpm, True) for p in c.points}
+        for p in c.points:
+            v = p.agreement(result.agree)
+            rows.append((p.blades, f"{p.rpm:g}", f"{_um(min(p.amplitudes))} .. {_um(max(p.amplitudes))}",
+                         "-" if p.period is None else f"P{p.period}", f"{100 * p.spread:.2f}", _um(p.wave),
+                         len(p.coexisting), "-" if p.stability is None else
+                         f"{p.stability.value:.3f} +- {p.stability.margin:.3f}",
+                         "-" if v is None else f"{100 * v.value:.2f}", p.explanation(),
+                         "-" if p.pattern_nd is None else str(p.pattern_nd),
+                         ", ".join(_um(a) for a in fixed_at[p.rpm]) or "-"))
+        lines += [f"## {c.label}\n", markdown_table(
+            ["N", "r/min", "ring in time (um)", "period", "spread %", "sector wave (um)", "waves on branch",
+             "max |mu|", "HB diff %", "named", "spread's nd", "fixed neighbours, stable (um)"], rows), ""]
+        for n, why in c.failures.items():
+            lines.append(f"- {n} blades: no sector branch from {o['rpm_from']:g} r/min ({why}).")
+        lines.append("")
+    lines += ["## Conclusions\n",
+              f"- Where the ring settles on a travelling wave the sector's HB agrees within "
+              f"{100 * result.agree:g} %: {concl['hb_agrees_where_on_wave']}.",
+              f"- Where the ring settles on a travelling wave and the wave's stability was computed, the HB calls "
+              f"it stable: {concl['hb_stable_where_on_wave']} (a not-decided point is a multiplier within the "
+              "margin of 1).",
+              f"- Every departure from the wave explained by the HB (unstable wave or a coexisting branch): "
+              f"{concl['departures_explained']}.", ""]
+    lines += [f"![{f}]({f})" for f in files]
+    return "\n".join(lines) + "\n"
+
+
+run = study(compute, plot, report)
