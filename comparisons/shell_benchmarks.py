@@ -25,7 +25,10 @@ its margin, and the Richardson value (fine + (fine - coarse)/3) is reported.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
+
+from comparisons._study import study
 
 from shroud.analysis import api
 from shroud.base.errors import InputError
@@ -56,6 +59,7 @@ FV16 = {**STRIP, "blade.length": 10.0, "blade.width": 10.0, "blade.thickness": 0
         "material.E": 200e9, "material.nu": 0.3, "material.rho": 8000.0}
 FV16_HZ = (0.421, 1.029, 2.582, 3.306, 3.753, 6.555)
 FV16_TOLERANCE = 0.01
+FIGURE = "shell_benchmarks.png"
 
 
 def check(scene) -> None:
@@ -103,25 +107,43 @@ def fv16(size: float) -> dict:
     return {"size": 0.5 * size, "dofs": dofs, "modes": modes}
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class BenchmarksResult:
+    """The benchmark cases' numbers and verdicts (SI or the benchmark's own consistent units)."""
+
+    macneal_harder: list[dict]     # per load case: published, shell (fine, coarse), beam, verdict
+    fv16: dict                     # size, dofs and per mode: published, shell (fine, coarse), verdict
+    elapsed_s: float
+
+    @property
+    def conclusions(self) -> dict:
+        return {"macneal_harder": {r["case"]: r["verdict"] for r in self.macneal_harder},
+                "fv16": {f"mode {m['mode']}": m["verdict"] for m in self.fv16["modes"]}}
+
+    @property
+    def all_within(self) -> bool:
+        return all(r["verdict"]["answer"] == "within" for r in self.macneal_harder + self.fv16["modes"])
+
+    def to_json(self) -> dict:
+        return {"macneal_harder": self.macneal_harder, "fv16": self.fv16, "figures": [FIGURE],
+                "all_within": self.all_within, "conclusions": self.conclusions, "elapsed_s": self.elapsed_s}
+
+
+def compute(scene) -> BenchmarksResult:
+    """Both benchmarks, each on its two meshes."""
     check(scene)
     o = scene.options
     t0 = time.perf_counter()
     mh = macneal_harder(o["macneal_harder_size"])
     plate = fv16(o["fv16_size"])
+    return BenchmarksResult(macneal_harder=mh, fv16=plate, elapsed_s=time.perf_counter() - t0)
+
+
+def plot(result: BenchmarksResult, scene, out: Path) -> list[str]:
+    """The errors against the tolerances (one figure) and the two cases' tables (CSV)."""
+    mh, plate = result.macneal_harder, result.fv16
     write_records(out / "macneal_harder.csv", [{k: v for k, v in r.items() if k != "verdict"} for r in mh])
     write_records(out / "fv16.csv", [{k: v for k, v in m.items() if k != "verdict"} for m in plate["modes"]])
-    png = _figure(mh, plate, out)
-    conclusions = {"macneal_harder": {r["case"]: r["verdict"] for r in mh},
-                   "fv16": {f"mode {m['mode']}": m["verdict"] for m in plate["modes"]}}
-    results = {"macneal_harder": mh, "fv16": plate, "figures": [png.name],
-               "all_within": all(r["verdict"]["answer"] == "within" for r in mh + plate["modes"]),
-               "conclusions": conclusions, "elapsed_s": time.perf_counter() - t0}
-    _report(results, scene, out)
-    return results
-
-
-def _figure(mh: list[dict], plate: dict, out: Path) -> Path:
     fig, axes = figure(1, 2, width=9.0, height=3.4)
     ax = axes[0, 0]
     x = range(len(mh))
@@ -146,11 +168,11 @@ def _figure(mh: list[dict], plate: dict, out: Path) -> Path:
     ax.set_ylabel("frequency error (%)")
     ax.set_title("NAFEMS FV16 (a/h = 200)")
     ax.legend(fontsize=7)
-    return save(fig, out / "shell_benchmarks.png")
+    return [save(fig, out / FIGURE).name]
 
 
-def _report(results: dict, scene, out: Path) -> None:
-    mh, plate = results["macneal_harder"], results["fv16"]
+def report(result: BenchmarksResult, scene, files: list[str]) -> str:
+    mh, plate = result.macneal_harder, result.fv16
     lines = [f"# {scene.title}\n", scene.description.strip() + "\n", "## MacNeal-Harder twisted beam\n",
              markdown_table(["case", "size", "DOF", "published", "shell", "error", "extrapolated", "beam",
                              "beam error", "verdict"],
@@ -163,6 +185,9 @@ def _report(results: dict, scene, out: Path) -> None:
                             [(m["mode"], m["published_hz"], m["shell_hz"], f"{100 * m['error']:+.2f} %",
                               m["coarse_hz"], f"{100 * (m['extrapolated_hz'] / m['published_hz'] - 1):+.2f} %",
                               m["verdict"]["answer"]) for m in plate["modes"]]),
-             f"\nEvery number within its tolerance: {results['all_within']}.\n",
-             "\n![benchmarks](shell_benchmarks.png)\n"]
-    (out / "report.md").write_text("\n".join(lines))
+             f"\nEvery number within its tolerance: {result.all_within}.\n",
+             *[f"\n![benchmarks]({f})" for f in files], ""]
+    return "\n".join(lines)
+
+
+run = study(compute, plot, report)
