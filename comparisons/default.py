@@ -6,7 +6,8 @@ What ``bash scripts/main.sh`` runs on a fresh machine, in a few minutes:
    each model of ``modal_models`` (reduced Timoshenko beam, 5N DOF, and the
    solid FE on the scene's mesh), paired by mode label (flap1, chord1, ...:
    the beam restrains torsion, the solid does not), beside the paper's
-   Table 1 (beam N = 6 and its ANSYS reference).
+   Table 1 (beam N = 6 and its ANSYS reference); the shell (docs/shell.md)
+   beside them, the second FE formulation.
 2. The Fig. 8 transient (the scene's speed, 10000 r/min, N0 = 0, alpha =
    15 deg) from each model of ``transient_models``: the fig8 study
    (comparisons.fig8) run on this scene's parameters into ``fig8/``, with
@@ -44,8 +45,8 @@ from shroud.base.outputs import open_replacing, write_text
 OPTIONS = {
     "modal_rpm": 8500.0,                      # r/min, the speed of the paper's Table 1
     "n_modes": 5,                               # the solid has torsion1 among its first four
-    "modal_models": ["reduced", "extended", "fe"],
-    "transient_models": ["reduced", "full", "extended", "fe-reduced"],
+    "modal_models": ["reduced", "extended", "shell", "fe"],
+    "transient_models": ["reduced", "full", "extended", "shell-reduced", "fe-reduced"],
     "window_periods": 10,                      # excitation periods compared and plotted
 }
 
@@ -53,7 +54,7 @@ OPTIONS = {
 PAPER_TABLE1 = {"paper beam N=6": paper.TABLE1_REDUCED[6], "paper ANSYS": paper.TABLE1_FE}
 PAPER_TABLE1_LABELS = paper.TABLE1_LABELS
 # The most detailed model present is the reference of the transient comparison.
-FIDELITY = ("fe", "fe-reduced", "full", "extended", "reduced")
+FIDELITY = ("fe", "fe-reduced", "shell", "shell-reduced", "full", "extended", "reduced")
 
 
 def check(scene) -> None:
@@ -232,7 +233,7 @@ def _plot_frequencies(rows, models, reference, rpm, path: Path) -> Path:
                                 label=m)
         axes[0, 1].axhline(0, color="k", lw=0.6)
         axes[0, 1].set(xticks=x, xticklabels=labels, ylabel="difference to the solid FE (%)",
-                       title="beam model against the 3D solid")
+                       title="models against the 3D solid")
         axes[0, 1].legend()
     else:
         axes[0, 1].set_visible(False)

@@ -45,7 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from meshes.blade import check_msh_complete
-from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, section_frame
+from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, SweptBlade, section_frame
 from shroud.base.cache import cached
 from shroud.base.errors import InputError
 from shroud.base.resources import in_words, physical_memory
@@ -57,29 +57,16 @@ EDGE_TOLERANCE = 1e-6     # relative to b/2: far above the skin's error, far bel
 
 
 @dataclass(frozen=True)
-class ShellSpec:
-    """Everything that shapes the mid-surface mesh, SI units (m, rad)."""
+class ShellSpec(SweptBlade):
+    """Everything that shapes the mid-surface mesh: the blade's geometry (the shroud box's t_s the
+    plate's thickness) and the cells, SI units (m, rad)."""
 
-    disk_radius: float
-    length: float
-    width: float
-    thickness: float
-    stagger: float            # beta_1, rad
-    twist: float              # beta_t, rad
-    shroud_length: float      # l_s (along e_ws)
-    shroud_width: float       # b_s (along e_vs)
-    shroud_thickness: float   # t_s: the plate's thickness; 0 = no shroud
-    alpha: float              # shroud inclination, rad
     size: float               # target element size, m
     contact_points: int = 11  # segments (their midpoints the contact points) per contact edge
 
     @classmethod
     def from_params(cls, params: Parameters) -> "ShellSpec":
-        b, s = params.blade, params.shroud
-        return cls(disk_radius=b.disk_radius, length=b.length, width=b.width, thickness=b.thickness,
-                   stagger=math.radians(b.stagger_deg), twist=math.radians(b.twist_deg),
-                   shroud_length=s.length, shroud_width=s.width, shroud_thickness=s.thickness,
-                   alpha=math.radians(params.contact.alpha_deg), size=params.shell.mesh_size,
+        return cls(**SweptBlade.geometry(params), size=params.shell.mesh_size,
                    contact_points=params.shell.contact_points)
 
     @classmethod
@@ -89,22 +76,6 @@ class ShellSpec:
         return cls(disk_radius=0.0, length=length, width=width, thickness=thickness, stagger=stagger,
                    twist=twist, shroud_length=0.0, shroud_width=0.0, shroud_thickness=0.0, alpha=0.0,
                    size=size)
-
-    @property
-    def has_shroud(self) -> bool:
-        return self.shroud_thickness > 0
-
-    @property
-    def tip_x(self) -> float:
-        return self.disk_radius + self.length
-
-    @property
-    def beta_tip(self) -> float:
-        return self.stagger + self.twist
-
-    def beta(self, X):
-        """Section angle at global X (rad); numpy or UFL arguments."""
-        return self.stagger + self.twist * (X - self.disk_radius) / self.length
 
     @property
     def area(self) -> float:

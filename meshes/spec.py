@@ -1,8 +1,9 @@
 """What shapes the solid mesh (MeshSpec), its physical tags and the frames and tip points on it.
 
 Shared by both mesh builders (meshes.blade: tetrahedra; meshes.hexa:
-swept hexahedra) and by the solid (reference_fe). SI units (m, rad);
-frames as in docs/geometry.md.
+swept hexahedra) and by the solid (reference_fe). The swept blade's
+geometry (SweptBlade) is the solid's and the shell's (meshes.shell.ShellSpec)
+alike. SI units (m, rad); frames as in docs/geometry.md.
 
 Example
 -------
@@ -30,8 +31,9 @@ SHROUD = 2
 
 
 @dataclass(frozen=True)
-class MeshSpec:
-    """Everything that shapes the mesh, SI units (m, rad)."""
+class SweptBlade:
+    """The blade swept by its chord section from the disk (X = R_d) to the tip while it turns by
+    beta(x) = beta_1 + beta_t x / L, and the shroud box on its tip (docs/geometry.md), SI units (m, rad)."""
 
     disk_radius: float
     length: float
@@ -43,21 +45,15 @@ class MeshSpec:
     shroud_width: float       # b_s (along e_vs)
     shroud_thickness: float   # t_s (along X); 0 = no shroud
     alpha: float              # shroud inclination, rad
-    size: float               # target element size, m
-    order: int                # gmsh element order (geometry), 1 or 2
-    cell: str = "tet"         # "tet" (free tetrahedra) or "hex" (swept hexahedra, meshes.hexa)
-    span_ratio: float = 1.0   # hex: cell length along the span / size
 
-    @classmethod
-    def from_params(cls, params: Parameters) -> "MeshSpec":
-        b, s, fe = params.blade, params.shroud, params.fe
-        return cls(disk_radius=b.disk_radius, length=b.length, width=b.width,
-                   thickness=b.thickness, stagger=math.radians(b.stagger_deg),
-                   twist=math.radians(b.twist_deg), shroud_length=s.length,
-                   shroud_width=s.width, shroud_thickness=s.thickness,
-                   alpha=math.radians(params.contact.alpha_deg), size=fe.mesh_size,
-                   order=fe.order, cell=fe.cell,
-                   span_ratio=fe.hex_span_ratio if fe.cell == "hex" else 1.0)
+    @staticmethod
+    def geometry(params: Parameters) -> dict:
+        """The fields of this class from ``params`` (blade, shroud, contact.alpha_deg)."""
+        b, s = params.blade, params.shroud
+        return dict(disk_radius=b.disk_radius, length=b.length, width=b.width, thickness=b.thickness,
+                    stagger=math.radians(b.stagger_deg), twist=math.radians(b.twist_deg),
+                    shroud_length=s.length, shroud_width=s.width, shroud_thickness=s.thickness,
+                    alpha=math.radians(params.contact.alpha_deg))
 
     @property
     def has_shroud(self) -> bool:
@@ -71,6 +67,26 @@ class MeshSpec:
     def tip_x(self) -> float:
         """X of the blade tip section (blade/shroud interface), m."""
         return self.disk_radius + self.length
+
+    def beta(self, X):
+        """Section angle at global X (rad); numpy or UFL arguments."""
+        return self.stagger + self.twist * (X - self.disk_radius) / self.length
+
+
+@dataclass(frozen=True)
+class MeshSpec(SweptBlade):
+    """Everything that shapes the solid mesh: the blade's geometry and the cells, SI units (m, rad)."""
+
+    size: float               # target element size, m
+    order: int                # gmsh element order (geometry), 1 or 2
+    cell: str = "tet"         # "tet" (free tetrahedra) or "hex" (swept hexahedra, meshes.hexa)
+    span_ratio: float = 1.0   # hex: cell length along the span / size
+
+    @classmethod
+    def from_params(cls, params: Parameters) -> "MeshSpec":
+        fe = params.fe
+        return cls(**SweptBlade.geometry(params), size=fe.mesh_size, order=fe.order, cell=fe.cell,
+                   span_ratio=fe.hex_span_ratio if fe.cell == "hex" else 1.0)
 
     @property
     def elements_through_thickness(self) -> float:
@@ -93,7 +109,7 @@ def shroud_frame(spec: MeshSpec) -> tuple[np.ndarray, np.ndarray]:
     return section_frame(spec.beta_tip + spec.alpha)
 
 
-def tip_points(spec: MeshSpec) -> np.ndarray:
+def tip_points(spec: SweptBlade) -> np.ndarray:
     """(3, 3) points of the tip section x = L: its centre, then centre -/+ (b/4) e_w(L).
 
     They are mesh nodes (embedded in the tip face), so the tip kinematics

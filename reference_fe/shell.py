@@ -62,7 +62,7 @@ import ufl
 from dolfinx import fem
 
 from meshes.shell import TIP, ShellSpec, check_geometry, mesh_file
-from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, section_frame
+from meshes.spec import BLADE, ROOT, SHROUD, tip_points
 from reference_fe.solid import (FEModel, RotatingOperators, UnitOperators, assemble_vector, read_mesh,
                                 unit_operators_from)
 from shroud.base.log import info
@@ -75,21 +75,12 @@ DRILLING = 1.0      # drilling stiffness / (E h^3 / h_K^2)
 
 @dataclass(frozen=True, eq=False)      # identity hash: one per process and mesh
 class ShellModel(FEModel):
-    """Mesh, mixed space (u: P2, theta: CR) and clamp of one mid-surface (one per process and mesh)."""
+    """Mesh, mixed space (u: P2, theta: CR) and clamp of one mid-surface (spec: a ShellSpec; one per process
+    and mesh), and the fields the shell's forms read."""
 
-    spec: ShellSpec
-    material: Material
-    mesh: Any
-    V: Any
-    cell_tags: Any
-    facet_tags: Any
-    bcs: tuple
-    clamped_dofs: np.ndarray     # local indices of clamped DOFs (owned and ghost)
-    tip_dofs: np.ndarray         # (3, 3) displacement DOFs of the tip centre and centre -/+ b/4 e_w(L); -1 elsewhere
     thickness: Any               # DG0 field: blade.thickness on the blade, shroud.thickness on the plate
     offset: Any                  # DG0 field: how far out (along +X) the material sits from the cell: t_s/2 on the plate
     drilling: float = DRILLING
-    contact_tags: tuple[int, int] = (CONTACT_SIDE1, CONTACT_SIDE2)
 
 
 def shell_model(params: Parameters, drilling: float = DRILLING) -> ShellModel:
@@ -130,12 +121,9 @@ def _shell_model(spec: ShellSpec, material: Material, drilling: float, alone: bo
         offset.x.array[plate] = 0.5 * spec.shroud_thickness
     info(f"shell: {comm.allreduce(msh.topology.index_map(2).size_local)} triangles, "
          f"{V.dofmap.index_map.size_global} DOF (P2/CR, size {spec.size:g} m)")
-    _, e_w = section_frame(spec.beta_tip)
-    centre = np.array([spec.tip_x, 0.0, 0.0])
-    tips = np.array([centre, centre - 0.25 * spec.width * e_w, centre + 0.25 * spec.width * e_w])
     return ShellModel(spec=spec, material=material, mesh=msh, V=V, cell_tags=data.cell_tags,
                       facet_tags=data.facet_tags, bcs=tuple(bcs), clamped_dofs=np.unique(np.concatenate(clamped)),
-                      tip_dofs=nodal_dofs(V, 0, tips, spec.size), thickness=thickness, offset=offset,
+                      tip_dofs=nodal_dofs(V, 0, tip_points(spec), spec.size), thickness=thickness, offset=offset,
                       drilling=drilling)
 
 

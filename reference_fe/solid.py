@@ -62,19 +62,29 @@ from petsc4py import PETSc
 
 from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, check_geometry,
                           mesh_file, tip_points)
+from meshes.spec import SweptBlade
 from reference_fe.distributed import global_offset
 from shroud.base.log import info
 from shroud.base.parallel import in_task, task_comm
 from shroud.params import Material, Parameters
 
 
+@dataclass(frozen=True, eq=False)      # identity hash: one per process and mesh
 class FEModel:
-    """What the solid and the shell (reference_fe.shell) share: sizes and the tip nodes' values.
+    """What the solid and the shell (reference_fe.shell) share: the geometry, the mesh, the space and
+    its clamp, the tip nodes (and their values), the contact faces' tags."""
 
-    A subclass has ``mesh``, ``V`` (its space), ``clamped_dofs`` and
-    ``tip_dofs`` ((3, 3) indices in V of the displacement at the tip centre
-    and at centre -/+ (b/4) e_w(L); -1 on ranks that do not own them).
-    """
+    spec: SweptBlade             # meshes.spec.MeshSpec (solid) or meshes.shell.ShellSpec
+    material: Material
+    mesh: Any
+    V: Any
+    cell_tags: Any               # BLADE / SHROUD
+    facet_tags: Any              # ROOT, CONTACT_SIDE1 / 2 (the shell: TIP too)
+    bcs: tuple                   # the root clamp
+    clamped_dofs: np.ndarray     # local unrolled indices of clamped DOFs (owned and ghost)
+    tip_dofs: np.ndarray         # (3, 3) indices in V of the displacement at the tip centre and at
+                                 # centre -/+ (b/4) e_w(L); -1 on ranks that do not own them
+    contact_tags = (CONTACT_SIDE1, CONTACT_SIDE2)
 
     @property
     def comm(self):
@@ -102,18 +112,7 @@ class FEModel:
 
 @dataclass(frozen=True, eq=False)      # identity hash: one per process and mesh
 class SolidModel(FEModel):
-    """Mesh, space and clamp of one blade geometry (one per process and mesh)."""
-
-    spec: MeshSpec
-    material: Material
-    mesh: Any
-    V: Any
-    cell_tags: Any
-    facet_tags: Any
-    bcs: tuple
-    clamped_dofs: np.ndarray     # local unrolled indices of clamped DOFs (owned and ghost)
-    tip_dofs: np.ndarray         # (3, 3) unrolled local indices of the tip nodes, -1 if not owned here
-    contact_tags: tuple[int, int] = (CONTACT_SIDE1, CONTACT_SIDE2)
+    """Mesh, vector Lagrange space and clamp of one blade geometry (spec: a MeshSpec; one per process and mesh)."""
 
 
 @dataclass(frozen=True)

@@ -153,3 +153,40 @@ def test_shell_modal_and_static_on_two_ranks_give_the_serial_answers():
     serial, parallel = (json.loads(shroud(args, ranks=r)[0]) for r in (1, 2))
     for key in ("X", "Y", "Z", "v_L", "w_L"):
         assert parallel["tip"][key] == pytest.approx(serial["tip"][key], rel=1e-8, abs=1e-15)
+
+
+def _shell_scene(folder: Path, name: str, rpm: float) -> Path:
+    path = folder / f"{name}.toml"
+    path.write_text(f'study = "default"\ntitle = "{name}"\n[speed]\nrpm = {rpm}\n[time]\nperiods = 4\n'
+                    '[options]\nmodal_models = ["shell"]\ntransient_models = ["shell-reduced"]\nwindow_periods = 2\n')
+    return path
+
+
+@pytest.mark.fe
+def test_shell_campaign_and_sweep_on_two_ranks_give_the_serial_answers(tmp_path):
+    """The shell models where the solid's go, under mpirun: a campaign of two scenes with the shell's modes
+    and the reduced shell's transient (one scene per rank, each rank's shell on its own communicator), and a
+    time-domain sweep of the reduced shell (its speeds spread over the ranks), each equal to its serial run."""
+    for name, rpm in (("first", 9000), ("second", 10000)):
+        _shell_scene(tmp_path, name, rpm)
+    camp = tmp_path / "camp.toml"
+    camp.write_text('title = "shell on two ranks"\ncampaign = ["first", "second"]\n')
+    shroud(["run", str(camp), "--out", str(tmp_path / "out")], ranks=2, cwd=tmp_path)
+    assert json.loads((tmp_path / "out" / "results.json").read_text())["spread"] == "2 MPI ranks"
+    for rank, name in enumerate(("first", "second")):
+        shroud(["run", str(tmp_path / f"{name}.toml"), "--out", str(tmp_path / name)], cwd=tmp_path)
+        spread, serial = (json.loads((d / "results.json").read_text())
+                          for d in (tmp_path / "out" / name, tmp_path / name))
+        assert spread["status"] == "complete" and spread["host"]["mpi_rank"] == rank
+        for a, b in zip(spread["results"]["modal"]["rows"], serial["results"]["modal"]["rows"]):
+            assert a["label"] == b["label"] and a["shell"] == pytest.approx(b["shell"], rel=1e-9)
+        for key in ("v_L", "w_L"):
+            assert spread["results"]["fig8"]["amplitude"]["shell-reduced"][key] == pytest.approx(
+                serial["results"]["fig8"]["amplitude"]["shell-reduced"][key], rel=1e-9)
+    argv = ["sweep", "--model", "shell-reduced", "--rpm-from", "9500", "--rpm-to", "10500", "--rpm-count", "3",
+            "--set", "time.periods=4", "--json"]
+    serial = json.loads(shroud(argv)[0])            # first: it builds the reduction basis at each speed
+    parallel = json.loads(shroud(argv, ranks=2)[0])
+    assert parallel["rpm"] == serial["rpm"] and parallel["dofs"] == serial["dofs"]
+    for key in ("amplitude_v_L", "amplitude_w_L"):
+        assert parallel[key] == pytest.approx(serial[key], rel=1e-9)

@@ -24,7 +24,6 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
-from numba import njit
 
 
 @runtime_checkable
@@ -65,40 +64,6 @@ def dense(A) -> np.ndarray:
     [[1.0, 0.0], [0.0, 1.0]]
     """
     return A.toarray() if scipy.sparse.issparse(A) else np.asarray(A, dtype=float)
-
-
-@njit(cache=True)
-def lu_solve_in_place(A: np.ndarray, B: np.ndarray) -> None:
-    """B <- A^-1 B for a small dense A (n, n) and B (n, r), real or complex, by Gaussian elimination
-    with partial pivoting; A is overwritten. For compiled kernels that solve many tiny systems (a
-    6-DOF beam per harmonic, a contact receptance of order 2), where a library call's allocations
-    and dispatch cost more than the arithmetic."""
-    n, r = A.shape[0], B.shape[1]
-    for c in range(n):
-        p, big = c, abs(A[c, c])
-        for i in range(c + 1, n):
-            if abs(A[i, c]) > big:
-                p, big = i, abs(A[i, c])
-        if p != c:
-            for j in range(c, n):
-                A[c, j], A[p, j] = A[p, j], A[c, j]
-            for j in range(r):
-                B[c, j], B[p, j] = B[p, j], B[c, j]
-        inv = 1.0 / A[c, c]
-        for i in range(c + 1, n):
-            f = A[i, c] * inv
-            if f != 0:
-                for j in range(c + 1, n):
-                    A[i, j] -= f * A[c, j]
-                for j in range(r):
-                    B[i, j] -= f * B[c, j]
-    for c in range(n - 1, -1, -1):
-        inv = 1.0 / A[c, c]
-        for j in range(r):
-            acc = B[c, j]
-            for i in range(c + 1, n):
-                acc -= A[c, i] * B[i, j]
-            B[c, j] = acc * inv
 
 
 class DenseInverse:
