@@ -29,10 +29,11 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from comparisons import convergence, fig8, paper
+from comparisons import convergence, paper
 from comparisons._study import study
 from shroud.analysis import api
 from shroud.core import registry
@@ -41,6 +42,16 @@ from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.core.verdict import NOT_DECIDED, BandVerdict
 from shroud.base.markdown import demote, markdown_table, relink, seconds
 from shroud.base.outputs import open_replacing, write_text
+
+if TYPE_CHECKING:
+    from comparisons import fig8
+
+
+def _fig8():
+    """The fig8 study, imported only where a scene has transient models: it brings the contact law and the
+    integrator, which a modal-only scene does not build (tests/test_lean_build.py)."""
+    from comparisons import fig8
+    return fig8
 
 OPTIONS = {
     "modal_rpm": 8500.0,                      # r/min, the speed of the paper's Table 1
@@ -70,7 +81,7 @@ def check(scene) -> None:
         raise InputError("options.modal_rpm", f"{o['modal_rpm']} is out of range; allowed: a speed >= 0 r/min")
     if o["transient_models"]:
         scene.params.time_step       # refuses a speed of 0 (shroud.params)
-        fig8.check(_fig8_scene(scene))
+        _fig8().check(_fig8_scene(scene))
 
 
 @dataclass(frozen=True)
@@ -98,7 +109,7 @@ def compute(scene, out: Path) -> DefaultResult:
     if o["modal_models"]:
         modal = frequencies({m: api.modal(scene.params, m, rpm=o["modal_rpm"], n_modes=o["n_modes"])
                              for m in o["modal_models"]}, o["modal_rpm"])
-    transient = fig8.compute(_fig8_scene(scene), _fig8_folder(out)) if o["transient_models"] else None
+    transient = _fig8().compute(_fig8_scene(scene), _fig8_folder(out)) if o["transient_models"] else None
     return DefaultResult(modal=modal, transient=transient)
 
 
@@ -109,8 +120,8 @@ def plot(result: DefaultResult, scene, out: Path) -> list[str]:
         files.append(_write_frequencies(result.modal, out).name)
     if result.transient is not None:
         fig8_scene, folder = _fig8_scene(scene), _fig8_folder(out)
-        shown = fig8.plot(result.transient, fig8_scene, folder)
-        write_text(folder / "report.md", fig8.report(result.transient, fig8_scene, shown))
+        shown = _fig8().plot(result.transient, fig8_scene, folder)
+        write_text(folder / "report.md", _fig8().report(result.transient, fig8_scene, shown))
         files += [f"fig8/{f}" for f in shown]
     return files
 
@@ -269,7 +280,7 @@ def _frequency_report(modal: dict) -> str:
 def _fig8_scene(scene):
     """This scene as a fig8 scene: its models, the most detailed of them as reference."""
     models = scene.options["transient_models"]
-    options = {**fig8.OPTIONS, "models": models, "reference": next(m for m in FIDELITY if m in models),
+    options = {**_fig8().OPTIONS, "models": models, "reference": next(m for m in FIDELITY if m in models),
                "window_periods": scene.options["window_periods"]}
     return dataclasses.replace(scene, study="fig8", options=options)
 
@@ -282,5 +293,5 @@ def _fig8_folder(out: Path) -> Path:
 
 
 def _fig8_report(transient: fig8.Fig8Result, scene) -> str:
-    body = re.sub(r"\A# [^\n]*\n", "", fig8.report(transient, _fig8_scene(scene), []))
+    body = re.sub(r"\A# [^\n]*\n", "", _fig8().report(transient, _fig8_scene(scene), []))
     return "## The Fig. 8 transient and the paper's Table 3\n\n" + relink(demote(body), "fig8") + "\n"
