@@ -30,13 +30,13 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, SpeedModel, check_inputs, model_at_speed,
                                 point_details, run_hb)
-from shroud.analysis.ring import RING_MODELS, blade_parameters
+from shroud.analysis.ring import RING_MODELS, blade_parameters, pairing
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError, RunDiverged
 from shroud.core import floquet
@@ -63,6 +63,12 @@ class Sector:
     @property
     def phi(self) -> float:
         return 2.0 * math.pi * self.ke / self.N
+
+
+def ring_model_at_speed(params: Parameters, model: str) -> Callable[[float], StructuralSystem]:
+    """rpm -> ``model``'s blade at that speed with its faces paired for the ring (ring.pairing)."""
+    pair, at = pairing(params, model), model_at_speed(params, model)
+    return lambda rpm: pair(at(rpm))
 
 
 def sector_of(system: StructuralSystem, params: Parameters, H: int) -> Sector:
@@ -258,7 +264,7 @@ def run_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
         return run_whole_ring_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
     basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(model_at_speed(params, model), harmonics)
+    speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm_from)
     sector = sector_of(system, params, harmonics)
     X0 = sector_solve(lin, sector, basis)
@@ -283,7 +289,7 @@ def sector_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAU
     check_ring_hb(params, model)
     n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
     basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(model_at_speed(params, model), harmonics)
+    speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm)
     sector = sector_of(system, params, harmonics)
     X = sector_solve(lin, sector, basis)
@@ -323,8 +329,8 @@ class RingOverSpeed:
 
     def __init__(self, params: Parameters, model: str):
         self.model, self.ke = model, params.load.ke
-        self.tuned = model_at_speed(params, model)
-        self.blades = [None if d == 0.0 else model_at_speed(blade_parameters(params, j), model)
+        self.tuned = ring_model_at_speed(params, model)
+        self.blades = [None if d == 0.0 else ring_model_at_speed(blade_parameters(params, j), model)
                        for j, d in enumerate(params.ring.deviations)]
         self._last: tuple[float, Any] | None = None
 
