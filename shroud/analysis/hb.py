@@ -178,12 +178,9 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     st = orbit_stability(system, law, X.reshape(basis.nh, lin.nx) @ lin.Wx.T, basis, b.contact)
     near = None if previous is None or previous["refined_X"] is None else (previous["X"], previous["refined_X"])
     refined = refined_point(speeds, law, basis, X, rpm, near)
-    if refined is None:
-        error, amplitude_error, refined_X = float("inf"), float("nan"), None   # no state at 2 H: undecided
-    else:
-        error, amplitude_error = max(st.error, abs(refined[1] - st.largest)), abs(refined[0] - float(amp[0]))
-        refined_X = refined[2]
-    st = dataclasses.replace(st, error=error)
+    st = st.truncated(None if refined is None else refined[1])
+    amplitude_error = float("nan") if refined is None else abs(refined[0] - float(amp[0]))
+    refined_X = None if refined is None else refined[2]
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
             "multipliers": st.multipliers, "multiplier_error": st.error, "grazing": st.grazing,
