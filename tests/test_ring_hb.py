@@ -134,6 +134,19 @@ def test_mistuned_ring_by_hb_is_the_ring_in_time_blade_by_blade():
     assert np.abs(whole / sector - 1).max() < 1e-3
 
 
+def test_the_mistuned_24_blade_ring_by_hb_is_the_ring_in_time_where_it_settles():
+    """24 blades, E scattered by 1.3 % (seed 1), 9000 r/min, a preload of 20 N at every interface: the
+    ring from rest settles on P1 (without the preload it does not settle at all there: 7-10 % change a
+    period after 800 periods, docs/ring.md), and the whole ring by HB (H = 10) gives every blade within
+    1 % (measured 0.021 %)."""
+    p = Parameters().with_overrides(["ring.blades=24", "speed.rpm=9000", "time.periods=400", "contact.N0=20",
+                                     "ring.mistuning_std=0.013", "ring.seed=1"])
+    hb_amps = np.array(whole_ring_at(p, "reduced", 9000.0, harmonics=10, samples=256,
+                                     stability=False)["blades_amplitude_v_L"])
+    assert np.ptp(hb_amps) > 0.02 * hb_amps.mean()                 # the scatter shows
+    assert np.abs(_amplitudes(p) / hb_amps - 1).max() < 0.01
+
+
 @pytest.mark.parametrize("blades, rpm, answer", [(6, 6000.0, True), (6, 7200.0, False), (24, 10000.0, False)])
 def test_the_rings_stability_verdict_matches_the_ring_in_time(blades, rpm, answer):
     """The verdicts the time runs above show: stable at 6 blades / 6000 r/min (the ring settles on the

@@ -294,7 +294,7 @@ def run_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
     t0 = time.perf_counter()
     check_ring_hb(params, model)
     if not params.ring.tuned:
-        return run_whole_ring_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)
+        return run_whole_ring_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points, stability)
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
@@ -403,7 +403,7 @@ def blade_amplitudes(lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier
 
 
 def run_whole_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmonics: int,
-                      samples: int | None, min_points: int | None) -> RingHBResult:
+                      samples: int | None, min_points: int | None, stability: bool = True) -> RingHBResult:
     """The mistuned ring's branch by shroud.analysis.hb.run_hb on the whole ring condensed on its
     interfaces (RingOverSpeed), started on the state :func:`sector_solve` reaches at ``rpm_from``."""
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
@@ -414,9 +414,9 @@ def run_whole_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: f
     basis = hb.fourier(harmonics, n)
     X0 = sector_solve(lin, Sector(N=params.ring.blades, ke=params.load.ke, P=None, law=law), basis)
     branch = run_hb(params, model, rpm_from, rpm_to, harmonics=harmonics, samples=n, min_points=min_points,
-                    build=build, start=X0)
+                    build=build, start=X0, stability=stability)
     blades = [blade_amplitudes(speeds.linear(r)[0], law, basis, X) for r, X in zip(branch.rpm, branch.X)]
-    return RingHBResult(branch=branch, blades=params.ring.blades, amplitudes=blades)
+    return RingHBResult(branch=branch, blades=params.ring.blades, amplitudes=blades, stability=stability)
 
 
 def stability_verdict(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS):
