@@ -69,6 +69,13 @@ def face_geometry(params: Parameters) -> tuple[FaceGeometry, FaceGeometry]:
     return tuple(out)
 
 
+def contact_points(params: Parameters) -> tuple[np.ndarray, np.ndarray]:
+    """(positions (k, 3) m, the faces' normal e_vs (3,)) of the solid's contact elements, in their order
+    (side 1's nodes, then side 2's: reference_fe.system lists them so), for a ring's pairing."""
+    faces = face_geometry(params)
+    return np.concatenate([f.nodes for f in faces]), tip_frame(params).e_vs
+
+
 def split_by_side(faces: tuple[FaceGeometry, ...], per_element: np.ndarray) -> list[np.ndarray]:
     """Rows of ``per_element`` (one per contact element, side 1 first) for each face."""
     counts = [f.nodes.shape[0] for f in faces]

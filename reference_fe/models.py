@@ -36,6 +36,7 @@ MODELS = (
                description="full solid, quadratic cells"),
     ModelEntry("fe-reduced", build_system=lazy("reference_fe.system", "build_system", reduced=True),
                at_speed=lazy("reference_fe.frequency", "at_speed"), refined=twice_the_modes,
+               contact_points=lazy("reference_fe.contact_map", "contact_points"),
                description="solid reduced by free-interface CMS"),
     ModelEntry("shell", build_system=lazy("reference_fe.system", "build_system", reduced=False, kind="shell"),
                modal=lazy("reference_fe.modal", "modal_analysis", kind="shell"), sweepable=False,

@@ -58,7 +58,7 @@ def test_a_scatter_that_makes_some_E_negative_is_refused():
 
 @pytest.mark.parametrize("extra", [["--set", "ring.blades=1"],
                                    ["--set", "ring.blades=3", "--set", "ring.mistuning=0.1"],
-                                   ["--set", "ring.blades=3", "--model", "fe-reduced"],
+                                   ["--set", "ring.blades=3", "--model", "fe"],
                                    ["--set", "ring.blades=3", "--set", "contact.enabled=false"]])
 def test_bad_ring_input_exits_2_with_one_line(capsys, extra):
     assert main(["transient", "--json", *extra]) == 2

@@ -79,6 +79,9 @@ def test_an_unstable_wave_is_left_at_the_rate_of_its_floquet_multiplier():
     e = np.array([np.abs(x[k * spp:(k + 1) * spp] - x[(k - 1) * spp:k * spp]).max() for k in range(1, 55)])
     growth = (e[50] / e[30]) ** (1 / 20)
     assert e[30] > 1e3 * e[15] and growth == pytest.approx(mu, rel=0.02)
+    # the point's own error (the single blade's estimate: floor, half the samples, twice the harmonics)
+    # holds the growth the time domain measures
+    assert math.isfinite(d["multiplier_error"]) and abs(growth - mu) <= d["multiplier_error"]
 
 
 def test_ring_sweep_hb_json_and_refusals(capsys):
@@ -88,7 +91,7 @@ def test_ring_sweep_hb_json_and_refusals(capsys):
     assert out["blades"] == 6 and out["complete"]
     assert len(out["blades_amplitude_v_L"]) == len(out["rpm"]) == len(out["stable"])
     assert all(len(row) == 6 for row in out["blades_amplitude_v_L"])
-    assert main(["sweep", "--method", "hb", "--set", "ring.blades=3", "--model", "fe-reduced",
+    assert main(["sweep", "--method", "hb", "--set", "ring.blades=3", "--model", "shell-reduced",
                  "--rpm-from", "5000", "--rpm-to", "5600"]) == 2
     assert "ring.blades" in capsys.readouterr().err
 
@@ -106,7 +109,9 @@ def test_every_nodal_diameter_counts_a_symmetric_start_hides_the_fig8_rings_inst
     spp = p.time.steps_per_period
     x = tr.tip[:, :, 0]
     e = np.array([np.abs(x[k * spp:(k + 1) * spp] - x[(k - 1) * spp:k * spp]).max() for k in range(1, 110)])
-    assert (e[100] / e[30]) ** (1 / 70) == pytest.approx(mu, rel=0.01)
+    growth = (e[100] / e[30]) ** (1 / 70)
+    assert growth == pytest.approx(mu, rel=0.01)
+    assert abs(growth - mu) <= d["multiplier_error"] and d["stable"] is not True
 
 
 def test_mistuned_ring_by_hb_is_the_ring_in_time_blade_by_blade():
@@ -123,6 +128,19 @@ def test_mistuned_ring_by_hb_is_the_ring_in_time_blade_by_blade():
                                    stability=False)["blades_amplitude_v_L"])
     sector = sector_at(tuned, "reduced", 6000.0, harmonics=20, samples=1024, stability=False)["amplitude_v_L"]
     assert np.abs(whole / sector - 1).max() < 1e-3
+
+
+def test_the_mistuned_24_blade_ring_by_hb_is_the_ring_in_time_where_it_settles():
+    """24 blades, E scattered by 1.3 % (seed 1), 9000 r/min, a preload of 20 N at every interface: the
+    ring from rest settles on P1 (without the preload it does not settle at all there: 7-10 % change a
+    period after 800 periods, docs/ring.md), and the whole ring by HB (H = 10) gives every blade within
+    1 % (measured 0.021 %)."""
+    p = Parameters().with_overrides(["ring.blades=24", "speed.rpm=9000", "time.periods=400", "contact.N0=20",
+                                     "ring.mistuning_std=0.013", "ring.seed=1"])
+    hb_amps = np.array(whole_ring_at(p, "reduced", 9000.0, harmonics=10, samples=256,
+                                     stability=False)["blades_amplitude_v_L"])
+    assert np.ptp(hb_amps) > 0.02 * hb_amps.mean()                 # the scatter shows
+    assert np.abs(_amplitudes(p) / hb_amps - 1).max() < 0.01
 
 
 @pytest.mark.parametrize("blades, rpm, answer", [(6, 6000.0, True), (6, 7200.0, False), (24, 10000.0, False)])

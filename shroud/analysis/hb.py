@@ -15,6 +15,7 @@ derivative of the linear part is a central difference in the speed.
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from dataclasses import dataclass
 from typing import Callable
@@ -153,7 +154,7 @@ def residual_in_speed(speeds: SpeedModel, law, basis: hb.Fourier):
 
 
 def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm: float,
-                  evaluated: tuple | None = None, previous: dict | None = None) -> dict:
+                  evaluated: tuple | None = None, previous: dict | None = None, stability: bool = True) -> dict:
     """Amplitudes, spectral tail and Floquet multipliers (with their error) of a converged point.
 
     ``evaluated``: (X, rpm, Balance) of the latest evaluation of the residual; used where it is of this
@@ -167,6 +168,7 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     0.62 at H 20, 0.68 at H 30, where a run from rest settles on the state). ``amplitude_error``: the
     v_L amplitude's change there (m). ``X``, ``refined_X``: the point's harmonics and its 2 H ones (None
     where Newton found no 2 H state: the error is then infinite, the point undecided).
+    ``stability=False``: no multipliers, no 2 H solve (stable None, errors nan; a branch's amplitudes only).
     """
     system, lin, L, F = speeds.at(rpm)
     if evaluated is not None and evaluated[1] == rpm and np.array_equal(evaluated[0], X):
@@ -175,19 +177,19 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
         b = hb.balance(X, lin, law, basis, L, F.reshape(basis.nh, lin.nx), jacobian=False)
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.contact.Lam)
     amp = hb.amplitude_over_period(tip)
+    shape = {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
+             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)), "X": X}
+    if not stability:
+        return {**shape, "multipliers": np.array([np.nan]), "multiplier_error": math.nan, "grazing": 0,
+                "stable": None, "amplitude_error": math.nan, "refined_X": None}
     st = orbit_stability(system, law, X.reshape(basis.nh, lin.nx) @ lin.Wx.T, basis, b.contact)
     near = None if previous is None or previous["refined_X"] is None else (previous["X"], previous["refined_X"])
     refined = refined_point(speeds, law, basis, X, rpm, near)
-    if refined is None:
-        error, amplitude_error, refined_X = float("inf"), float("nan"), None   # no state at 2 H: undecided
-    else:
-        error, amplitude_error = max(st.error, abs(refined[1] - st.largest)), abs(refined[0] - float(amp[0]))
-        refined_X = refined[2]
-    st = dataclasses.replace(st, error=error)
-    return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
-            "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
-            "multipliers": st.multipliers, "multiplier_error": st.error, "grazing": st.grazing,
-            "stable": st.stable, "amplitude_error": amplitude_error, "X": X, "refined_X": refined_X}
+    st = st.truncated(None if refined is None else refined[1])
+    amplitude_error = float("nan") if refined is None else abs(refined[0] - float(amp[0]))
+    refined_X = None if refined is None else refined[2]
+    return {**shape, "multipliers": st.multipliers, "multiplier_error": st.error, "grazing": st.grazing,
+            "stable": st.stable, "amplitude_error": amplitude_error, "refined_X": refined_X}
 
 
 REFINED_ITERATIONS = 15    # Newton at 2 H from the point's own harmonics: at most this many iterations
@@ -255,7 +257,8 @@ def model_at_speed(params: Parameters, model: str) -> Callable[[float], Structur
 
 def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmonics: int = DEFAULT_HARMONICS,
            samples: int | None = None, min_points: int | None = None,
-           build: Callable[[float], StructuralSystem] | None = None, start: np.ndarray | None = None) -> HBResult:
+           build: Callable[[float], StructuralSystem] | None = None, start: np.ndarray | None = None,
+           stability: bool = True) -> HBResult:
     """The steady-state branch of ``model`` from ``rpm_from`` to ``rpm_to`` (r/min) by harmonic balance.
 
     ``min_points``: the least number of points on the branch (bounds the
@@ -281,7 +284,8 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     progress = Progress(f"HB branch {model} {rpm_from:g}-{rpm_to:g} r/min", 1)
 
     def on_point(X, rpm):
-        details.append(point_details(speeds, law, basis, X, rpm, residual.last, details[-1] if details else None))
+        details.append(point_details(speeds, law, basis, X, rpm, residual.last, details[-1] if details else None,
+                                     stability))
         progress.update((rpm - rpm_from) / (rpm_to - rpm_from),       # turning points step back: a share of the range
                         f"{len(details)} points, at {rpm:.0f} r/min, amplitude {details[-1]['amplitude_v_L']:.3g} m")
 

@@ -10,6 +10,7 @@ side 1 is interface N-1, its side 2 interface 0) plus ``blades``
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,11 +25,12 @@ from shroud.core import registry, signals
 from shroud.core.contact import ContactLaw, contact_law
 from shroud.core.newmark import NewmarkScheme, Trajectory
 from shroud.core.results import TransientResult
-from shroud.core.ring import BladeRing, ring_of, with_rayleigh
+from shroud.core.ring import BladeRing, paired_by_position, ring_of, with_rayleigh
+from shroud.core.system import StructuralSystem
 from shroud.core.ring_newmark import RingTrajectory, integrate_ring
 from shroud.params import Parameters
 
-RING_MODELS = ("reduced", "full", "extended")
+RING_MODELS = ("reduced", "full", "extended", "fe-reduced")
 
 
 def blade_parameters(params: Parameters, j: int) -> Parameters:
@@ -46,11 +48,26 @@ def build_ring(params: Parameters, model: str) -> BladeRing:
         raise InputError("ring.blades", "the blades of a ring meet only at their shrouds; allowed: "
                                         "contact.enabled = true and shroud.thickness > 0")
     build = registry.model(model).build_system
-    tuned = build(params)
+    pair = pairing(params, model)
+    tuned = pair(build(params))
     blades = []
     for j, d in enumerate(params.ring.deviations):
-        blades.append(tuned if d == 0.0 else with_rayleigh(build(blade_parameters(params, j)), tuned.rayleigh))
+        blades.append(tuned if d == 0.0 else with_rayleigh(pair(build(blade_parameters(params, j))), tuned.rayleigh))
     return ring_of(blades, params.load.ke)
+
+
+def pairing(params: Parameters, model: str):
+    """system -> the system with its faces' points paired across the interface (the solid's face nodes by
+    their positions: shroud.core.ring.paired_by_position); the beams list them paired already. A blade's
+    mistuning changes E only, so every blade's faces sit where the tuned blade's do."""
+    where = registry.model(model).contact_points
+    if where is None:
+        return lambda system: system
+    points, normal = where(params)
+
+    def paired(system: StructuralSystem) -> StructuralSystem:
+        return dataclasses.replace(system, contact=paired_by_position(system.contact, points, normal))
+    return paired
 
 
 def ring_law(ring: BladeRing, params: Parameters) -> ContactLaw:

@@ -30,13 +30,13 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
-from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, SpeedModel, check_inputs, model_at_speed,
-                                point_details, run_hb)
-from shroud.analysis.ring import RING_MODELS, blade_parameters
+from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, REFINED_ITERATIONS, SpeedModel, check_inputs,
+                                model_at_speed, point_details, run_hb)
+from shroud.analysis.ring import RING_MODELS, blade_parameters, pairing
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError, RunDiverged
 from shroud.core import floquet
@@ -63,6 +63,12 @@ class Sector:
     @property
     def phi(self) -> float:
         return 2.0 * math.pi * self.ke / self.N
+
+
+def ring_model_at_speed(params: Parameters, model: str) -> Callable[[float], StructuralSystem]:
+    """rpm -> ``model``'s blade at that speed with its faces paired for the ring (ring.pairing)."""
+    pair, at = pairing(params, model), model_at_speed(params, model)
+    return lambda rpm: pair(at(rpm))
 
 
 def sector_of(system: StructuralSystem, params: Parameters, H: int) -> Sector:
@@ -170,31 +176,69 @@ def sector_solve(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, sof
     return path.x[-1]
 
 
-def ring_multipliers(system: StructuralSystem, sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray,
-                     basis: hb.Fourier) -> np.ndarray:
-    """Floquet multipliers of the whole ring about the travelling wave X (the sector's unknowns), every
-    nodal diameter's perturbations included: interface j's states are interface 0's shifted by j ke / N of
-    the period, sampled at a multiple of N / gcd(N, ke) instants (at least the AFT's)."""
-    N, ke = sector.N, sector.ke
-    unit = N // math.gcd(N, ke)
-    samples = unit * math.ceil(basis.samples / unit)
+def _ring_samples(sector: Sector, samples: int) -> int:
+    """The least multiple of N / gcd(N, ke) at or above ``samples``: interface j's states are then interface
+    0's shifted by a whole number of samples (j ke / N of the period)."""
+    unit = sector.N // math.gcd(sector.N, sector.ke)
+    return unit * math.ceil(samples / unit)
+
+
+def _ring_orbit(sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray, basis: hb.Fourier, samples: int):
+    """(state, F, y_rate) of every interface of the ring on the travelling wave X, the law sampled at
+    ``samples`` instants (a multiple of N / gcd(N, ke)): interface 0's, shifted for interface j."""
     fine = hb.fourier(basis.H, samples)
     nh = basis.nh
     Pa = sector.P if lin.condensed else sector.P @ np.kron(np.eye(nh), lin.Wx)
     Y = (Pa @ X).reshape(nh, -1)
     ch = hb.contact_harmonics(Y, np.eye(Y.shape[1]), sector.law, fine, jacobian=False)
     rate = fine.rates(Y, lin.omega)                          # (samples, c)
-    shifts = ring_shifts(samples, N, ke)
-    state = np.vstack([np.roll(ch.state, -s, axis=1) for s in shifts])
-    F = np.vstack([np.roll(ch.F, -s, axis=1) for s in shifts])
-    y_rate = np.hstack([np.roll(rate, -s, axis=0) for s in shifts])
-    ring = ring_of([system] * N, ke)
+    shifts = ring_shifts(samples, sector.N, sector.ke)
+    return (np.vstack([np.roll(ch.state, -s, axis=1) for s in shifts]),
+            np.vstack([np.roll(ch.F, -s, axis=1) for s in shifts]),
+            np.hstack([np.roll(rate, -s, axis=0) for s in shifts]))
+
+
+def _ring_flow(system: StructuralSystem, sector: Sector) -> tuple:
+    """(M, C, K, W, law) of the whole tuned ring of ``system``'s blade: every interface's points."""
+    ring = ring_of([system] * sector.N, sector.ke)
     M, C, K = ring.assembled()
     elements = ring.contact()
     law = replace(sector.law, rows=np.column_stack([elements.normal_row, elements.tangent_row]),
-                  props=np.tile(sector.law.props, (N, 1)), side=elements.side, weight=elements.weight,
+                  props=np.tile(sector.law.props, (sector.N, 1)), side=elements.side, weight=elements.weight,
                   m=elements.W.shape[0])
-    return floquet.orbit_multipliers(M, C, K, elements.W, law, state, F, lin.omega, y_rate)
+    return M, C, K, elements.W, law
+
+
+def ring_multipliers(system: StructuralSystem, sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray,
+                     basis: hb.Fourier) -> np.ndarray:
+    """Floquet multipliers of the whole ring about the travelling wave X (the sector's unknowns), every
+    nodal diameter's perturbations included: interface j's states are interface 0's shifted by j ke / N of
+    the period, sampled at a multiple of N / gcd(N, ke) instants (at least the AFT's)."""
+    orbit = _ring_orbit(sector, lin, X, basis, _ring_samples(sector, basis.samples))
+    return floquet.orbit_multipliers(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2])
+
+
+def ring_stability(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarray,
+                   rpm: float) -> floquet.Stability:
+    """:func:`ring_multipliers` with the error the single blade's points carry (shroud.analysis.hb
+    .point_details): the largest of floquet.MULTIPLIER_FLOOR, the change at half the samples and the change
+    when the wave is solved again with twice the harmonics (Newton from X, at most
+    REFINED_ITERATIONS; no state there: the error is infinite, the point undecided)."""
+    system, lin, _, _ = speeds.at(rpm)
+    samples = _ring_samples(sector, basis.samples)
+    half = _ring_samples(sector, max(samples // 2, 2 * basis.H + 1))
+    orbit, coarse = (_ring_orbit(sector, lin, X, basis, n) for n in (samples, half))
+    st = floquet.orbit_stability(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2], coarse)
+    fine = speeds.refined()
+    fine_basis = hb.fourier(fine.H, max(basis.samples, 4 * fine.H + 1))
+    fine_lin = fine.linear(rpm)[0]
+    S1, S2, _ = face_selectors(system.contact)
+    fine_sector = replace(sector, P=sector_projection(S1, S2, fine.H, sector.phi))
+    X0 = np.zeros((fine_basis.nh, X.size // basis.nh))
+    X0[:basis.nh] = X.reshape(basis.nh, -1)
+    X2, ok = sector_newton(X0.ravel(), fine_lin, fine_sector, fine_basis, max_iterations=REFINED_ITERATIONS)
+    refined = float(np.abs(ring_multipliers(system, fine_sector, fine_lin, X2, fine_basis)).max()) if ok else None
+    return st.truncated(refined)
 
 
 def _details(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarray, rpm: float,
@@ -203,16 +247,11 @@ def _details(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarra
     b = sector_balance(X, lin, sector.law, basis, sector.P, L, F.reshape(basis.nh, lin.nx), jacobian=False)
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.Lam_y)
     amp = hb.amplitude_over_period(tip)
-    mult = ring_multipliers(speeds.system(rpm), sector, lin, X, basis) if stability else np.array([np.nan])
-    # A branch point's multipliers carry the least error floquet knows of (Hill against the monodromy);
-    # the sampling and truncation checks (2 H) cost the ring's monodromy again per point, so they are
-    # left to the one-speed verdict (stability_verdict), which says when they matter.
-    error = floquet.MULTIPLIER_FLOOR if stability else math.nan
-    largest = float(np.abs(mult).max(initial=0.0))
+    st = ring_stability(speeds, sector, basis, X, rpm) if stability else None
     return {"amplitude_v_L": float(amp[0]), "amplitude_w_L": float(amp[1]),
             "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)),
-            "multipliers": mult, "multiplier_error": error,
-            "stable": floquet.verdict(largest, error) if stability else None}
+            "multipliers": st.multipliers if st else np.array([np.nan]),
+            "multiplier_error": st.error if st else math.nan, "stable": st.stable if st else None}
 
 
 @dataclass(frozen=True)
@@ -255,10 +294,10 @@ def run_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
     t0 = time.perf_counter()
     check_ring_hb(params, model)
     if not params.ring.tuned:
-        return run_whole_ring_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points)
+        return run_whole_ring_hb(params, model, rpm_from, rpm_to, harmonics, samples, min_points, stability)
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
     basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(model_at_speed(params, model), harmonics)
+    speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm_from)
     sector = sector_of(system, params, harmonics)
     X0 = sector_solve(lin, sector, basis)
@@ -283,7 +322,7 @@ def sector_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAU
     check_ring_hb(params, model)
     n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
     basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(model_at_speed(params, model), harmonics)
+    speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm)
     sector = sector_of(system, params, harmonics)
     X = sector_solve(lin, sector, basis)
@@ -323,8 +362,8 @@ class RingOverSpeed:
 
     def __init__(self, params: Parameters, model: str):
         self.model, self.ke = model, params.load.ke
-        self.tuned = model_at_speed(params, model)
-        self.blades = [None if d == 0.0 else model_at_speed(blade_parameters(params, j), model)
+        self.tuned = ring_model_at_speed(params, model)
+        self.blades = [None if d == 0.0 else ring_model_at_speed(blade_parameters(params, j), model)
                        for j, d in enumerate(params.ring.deviations)]
         self._last: tuple[float, Any] | None = None
 
@@ -364,7 +403,7 @@ def blade_amplitudes(lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier
 
 
 def run_whole_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmonics: int,
-                      samples: int | None, min_points: int | None) -> RingHBResult:
+                      samples: int | None, min_points: int | None, stability: bool = True) -> RingHBResult:
     """The mistuned ring's branch by shroud.analysis.hb.run_hb on the whole ring condensed on its
     interfaces (RingOverSpeed), started on the state :func:`sector_solve` reaches at ``rpm_from``."""
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
@@ -375,9 +414,9 @@ def run_whole_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: f
     basis = hb.fourier(harmonics, n)
     X0 = sector_solve(lin, Sector(N=params.ring.blades, ke=params.load.ke, P=None, law=law), basis)
     branch = run_hb(params, model, rpm_from, rpm_to, harmonics=harmonics, samples=n, min_points=min_points,
-                    build=build, start=X0)
+                    build=build, start=X0, stability=stability)
     blades = [blade_amplitudes(speeds.linear(r)[0], law, basis, X) for r, X in zip(branch.rpm, branch.X)]
-    return RingHBResult(branch=branch, blades=params.ring.blades, amplitudes=blades)
+    return RingHBResult(branch=branch, blades=params.ring.blades, amplitudes=blades, stability=stability)
 
 
 def stability_verdict(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS):

@@ -46,7 +46,7 @@ doubling, a complex pair a Neimark-Sacker bifurcation.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg
@@ -484,6 +484,14 @@ class Stability:
     @property
     def stable(self) -> bool | None:
         return None if self.grazing else verdict(self.largest, self.error)
+
+    def truncated(self, refined: float | None) -> "Stability":
+        """The same with the harmonics' truncation in the error: ``refined``, the largest |multiplier| of
+        the orbit solved again with twice the harmonics (None: no such state found: the error is
+        infinite, the point undecided). The error is then the largest of MULTIPLIER_FLOOR, the change at
+        half the samples and the change at twice the harmonics (docs/hb-stability.md)."""
+        error = math.inf if refined is None else max(self.error, abs(refined - self.largest))
+        return replace(self, error=error)
 
 
 def verdict(largest: float, error: float) -> bool | None:

@@ -52,6 +52,11 @@ class ModelEntry:
     # (params, rpm, force (3,) N along X, Y, Z) -> shroud.core.results.StaticResult: the static response
     # to a force at the blade tip on top of the centrifugal state; None: the model has no static solve.
     static: Callable[..., Any] | None = None
+    # params -> (points (k, 3) m, normal (3,)): where each contact element sits (in the contact elements'
+    # order) and the faces' normal e_vs, for a ring to pair each side-2 point with the neighbour's
+    # side-1 point it touches (shroud.core.ring.paired_by_position); None: the builder lists both faces'
+    # points in the same order (the beams).
+    contact_points: Callable[[Any], tuple] | None = None
 
 
 ENTRY_POINTS = "shroud.models"          # the metadata group where builders declare their models

@@ -137,6 +137,34 @@ def face_selectors(contact: ContactElements) -> tuple[np.ndarray, np.ndarray, np
     return S1, S2, np.asarray(contact.weight[i2], dtype=float)
 
 
+def paired_by_position(contact: ContactElements, points: np.ndarray, normal: np.ndarray) -> ContactElements:
+    """``contact`` with its side-1 points listed in the order of the side-2 points they touch on a ring.
+
+    The neighbour's side-1 face, turned by 2 pi / N into blade j's sector frame, lies against blade j's
+    side-2 face: a side-2 point p touches the neighbour's image of the side-1 point q that sits at the
+    same place in the face plane, (p - q) along the normal e_vs. ``points`` (k, 3): each element's
+    position, m; ``normal``: e_vs. The blade itself is unchanged (its law does not depend on the order);
+    :func:`face_selectors` then pairs in order. Faces whose points do not match (a mesh not conforming
+    across the interface) are refused: an image between points would need interpolation.
+    """
+    points, n = np.asarray(points, float), np.asarray(normal, float) / np.linalg.norm(normal)
+    if points.shape != (contact.count, 3):
+        raise ValueError(f"{points.shape[0]} contact points given for {contact.count} contact elements")
+    i1, i2 = np.flatnonzero(contact.side == 1), np.flatnonzero(contact.side == 2)
+    plane = points - np.outer(points @ n, n)                   # position in the face plane
+    extent = np.ptp(plane[i2], axis=0).max()
+    gap = np.linalg.norm(plane[i2][:, None, :] - plane[i1][None, :, :], axis=2)    # (side 2, side 1)
+    nearest = gap.argmin(axis=1)
+    if i1.size != i2.size or np.unique(nearest).size != i2.size or gap.min(axis=1).max() > 1e-6 * extent:
+        raise ValueError("a ring pairs each side-2 contact point with the neighbour's side-1 point at the same "
+                         "place of the face; this blade's faces do not match point for point")
+    order = np.arange(contact.count)
+    order[i1] = i1[nearest]                # the e-th side-1 slot now holds the point facing side 2's e-th
+    return ContactElements(W=contact.W, normal_row=contact.normal_row[order],
+                           tangent_row=contact.tangent_row[order], side=contact.side[order],
+                           weight=contact.weight[order])
+
+
 def faces(contact: ContactElements) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(side-1 rows, side-2 rows, weights) of one blade's contact points, paired in order: each face's
     rows of W (c, nb), [normal, tangent] per point (:func:`face_selectors`)."""

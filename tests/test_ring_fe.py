@@ -1,0 +1,111 @@
+"""The ring of fe-reduced blades (geometry.md, "Moving neighbours"): the solid's face nodes paired with
+the neighbour's images, each blade its own reduced basis, the contact coupled around the ring.
+
+Truths: the single fe-reduced blade against fixed neighbours (a ring blade whose neighbours are held
+still), the stuck ring assembled as one model here (springs between face nodes paired by the shroud's
+geometry: a side-2 node sits b_s along e_vs from the side-1 node it faces), and the faces' positions
+for the pairing.
+"""
+
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from reference_fe.contact_map import face_geometry
+from reference_fe.contact_faces import tip_frame
+from shroud.analysis.api import build_system
+from shroud.analysis.limits import interface_modal
+from shroud.analysis.ring import build_ring, run_ring
+from shroud.analysis.transient import run
+from shroud.core.ring import face_selectors, paired_by_position
+from shroud.core.system import ContactElements
+from shroud.params import Parameters
+
+
+def test_a_fe_ring_blade_with_its_neighbours_held_still_is_the_single_fe_blade():
+    """Blade 0 of 3 with blades 1 and 2 held: its 198 face nodes against still neighbours are the
+    paper's fixed neighbours, on both sides (interface 0: its side 2; interface 2: its side 1)."""
+    p = Parameters().with_overrides(["ring.blades=3", "time.periods=4", "speed.rpm=9000"])
+    ring = run_ring(build_ring(p, "fe-reduced"), p, held=(1, 2))
+    paper = run(build_system(p, "fe-reduced"), p)
+    scale_tip, scale_N = np.abs(paper.tip).max(), np.abs(paper.normal).max()
+    assert scale_N > 1.0
+    assert np.abs(ring.tip[:, 0] - paper.tip).max() <= 1e-11 * scale_tip
+    assert np.abs(ring.normal[:, 0] - paper.normal[:, 1]).max() <= 1e-10 * scale_N
+    assert np.abs(ring.normal[:, 2] - paper.normal[:, 0]).max() <= 1e-10 * scale_N
+    assert np.abs(ring.friction[:, 0] - paper.friction[:, 1]).max() <= 1e-10 * scale_N
+    assert np.abs(-ring.friction[:, 2] - paper.friction[:, 0]).max() <= 1e-10 * scale_N
+    assert np.all(ring.tip[:, 1:] == 0.0)
+
+
+def _geometric_pairs(p: Parameters) -> tuple[np.ndarray, np.ndarray]:
+    """(side-1 element, side-2 element) index pairs of the solid's faces: side-2 node at the side-1 node
+    moved b_s along e_vs (the shroud's width), found from the mesh's node positions."""
+    f1, f2 = face_geometry(p)
+    shift = p.shroud.width * tip_frame(p).e_vs
+    d = np.linalg.norm((f1.nodes + shift)[:, None, :] - f2.nodes[None, :, :], axis=2)
+    assert d.min(axis=1).max() < 1e-9                      # every side-1 node has its partner
+    i2 = d.argmin(axis=1)
+    order = np.argsort(i2)                                 # listed by side-2 node
+    return order, len(f1.nodes) + i2[order]
+
+
+@pytest.mark.parametrize("N", [4, 5])
+def test_stuck_fe_ring_nodal_diameters_are_the_whole_rings_frequencies(N):
+    """The stuck ring by one Bloch sector per nodal diameter (modal --interface stuck) against N reduced
+    blades assembled as one model with springs kn w_e, kt w_e between each pair of facing nodes."""
+    p = Parameters().with_overrides([f"ring.blades={N}", "speed.rpm=9000"])
+    blade = build_system(p, "fe-reduced")
+    i1, i2 = _geometric_pairs(p)
+    c = blade.contact
+    nb = blade.dofs
+    W = np.asarray(c.W)
+    rows = []
+    for j in range(N):                                     # interface j: blade j's side 2 - blade j+1's side 1
+        k = (j + 1) % N
+        for e1, e2 in zip(i1, i2):
+            for row1, row2, stiff in ((c.normal_row[e1], c.normal_row[e2], p.contact.kn),
+                                      (c.tangent_row[e1], c.tangent_row[e2], p.contact.kt)):
+                r = np.zeros(N * nb)
+                r[j * nb:(j + 1) * nb] += W[row2]
+                r[k * nb:(k + 1) * nb] -= W[row1]
+                rows.append(math.sqrt(stiff * c.weight[e2]) * r)
+    R = np.array(rows)
+    M, K = np.kron(np.eye(N), blade.M), np.kron(np.eye(N), blade.K) + R.T @ R
+    whole = np.sqrt(scipy.linalg.eigh(K, M, eigvals_only=True)) / (2 * math.pi)
+    limit = interface_modal(p, "fe-reduced", 9000.0, nb, False, "stuck")
+    sector = []
+    for d in limit.nodal_diameters:                        # n and N - n share their frequencies
+        sector += [m["f_hz"] for m in d["modes"]] * (1 if d["nd"] in (0, N / 2) else 2)
+    assert len(sector) == N * nb
+    assert np.allclose(np.sort(sector), whole, rtol=1e-8, atol=0)
+    free = interface_modal(p, "fe-reduced", 9000.0, nb, False, "free")
+    assert np.sort(sector)[nb] > 1.5 * free.nodal_diameters[1]["modes"][0]["f_hz"]     # the springs act
+
+
+def test_the_faces_points_are_paired_by_position_whatever_their_order():
+    """The solid's side-1 elements listed in a scrambled order: the pairing puts back, for each side-2
+    node, the side-1 node b_s behind it along e_vs."""
+    p = Parameters()
+    blade = build_system(p, "fe-reduced")
+    c = blade.contact
+    f1, f2 = face_geometry(p)
+    points = np.concatenate([f1.nodes, f2.nodes])
+    k1 = len(f1.nodes)
+    order = np.concatenate([np.random.default_rng(3).permutation(k1), k1 + np.arange(len(f2.nodes))])
+    scrambled = ContactElements(W=c.W, normal_row=c.normal_row[order], tangent_row=c.tangent_row[order],
+                                side=c.side[order], weight=c.weight[order])
+    S1, S2, _ = face_selectors(paired_by_position(scrambled, points[order], tip_frame(p).e_vs))
+    i1, i2 = _geometric_pairs(p)
+    truth_S1, truth_S2, _ = face_selectors(ContactElements(
+        W=c.W, normal_row=c.normal_row[np.concatenate([i1, i2])], tangent_row=c.tangent_row[np.concatenate([i1, i2])],
+        side=np.repeat([1, 2], k1), weight=c.weight[np.concatenate([i1, i2])]))
+    assert np.array_equal(S1, truth_S1) and np.array_equal(S2, truth_S2)
+    with pytest.raises(ValueError, match="equal weight"):      # in order, nodes of unequal area would face
+        face_selectors(scrambled)
+    shifted = points.copy()
+    shifted[:k1] += 1e-4 * tip_frame(p).e_ws                # faces that do not match point for point
+    with pytest.raises(ValueError, match="do not match"):
+        paired_by_position(c, shifted, tip_frame(p).e_vs)
