@@ -46,6 +46,11 @@ def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) 
     return out
 
 
+def states_on(branches, params, model: str, rpm: float) -> list[tuple[float, bool | None]]:
+    """Every P1 state at ``rpm`` of every branch of one case (:func:`states_at` of each)."""
+    return [s for b in branches for s in states_at(b, params, model, rpm)]
+
+
 def starts_at(branch, rpm: float) -> list[tuple[np.ndarray, bool]]:
     """Every crossing of ``branch`` with ``rpm``: its coefficients interpolated there, and whether the two
     branch points around it are both stable (True, not undecided)."""
@@ -81,6 +86,14 @@ def landed_on(states: list[tuple[float, bool | None]], amplitude: float, period,
     if any(s is False for _, s in states) and not stable:
         return "beside an unstable P1 branch"
     return "off the P1 branches"
+
+
+def named_points(sweep, states, match: float, **labels) -> list[dict]:
+    """Every point of a time-domain ``sweep`` with the P1 state it landed on (:func:`landed_on`; ``states(rpm)``
+    gives the states there, :func:`states_at`): ``labels`` (case, model, ...), rpm, amplitude_m, period, branch."""
+    return [{**labels, "rpm": float(r), "amplitude_m": float(a), "period": per,
+             "branch": landed_on(states(r), a, per, match)}
+            for r, a, per in zip(sweep.rpm, sweep.amplitude_v_L, sweep.period)]
 
 
 def on_stable(name: str) -> bool:
