@@ -103,12 +103,15 @@ def on_stable(name: str) -> bool:
 
 def resonance_of(branch) -> dict:
     """A branch's resonance as conclusions hold it (HBResult.resonance: on the points not shown unstable):
-    rpm (r/min) and amplitude_m with their errors, its stability (True, or None: undecided), and the larger
-    unstable peak beside it (rpm, amplitude_m) or None."""
+    rpm (r/min) and amplitude_m with their errors (amplitude_error_m: truncation plus the rise between
+    points, null at a branch's end; truncation_error_m: the amplitude's change at twice the harmonics there
+    alone), its stability (True, or None: undecided), and the larger unstable peak beside it (rpm,
+    amplitude_m) or None."""
     r = branch.resonance
     other = r["unstable_peak"]
     return {"rpm": r["rpm"], "rpm_error": r["rpm_error"], "amplitude_m": r["amplitude"],
-            "amplitude_error_m": r["amplitude_error"], "stable": r["stable"],
+            "amplitude_error_m": r["amplitude_error"], "truncation_error_m": r["truncation_error"],
+            "stable": r["stable"],
             "unstable_peak": None if other is None else {"rpm": other["rpm"], "amplitude_m": other["amplitude"]}}
 
 
