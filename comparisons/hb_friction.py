@@ -138,8 +138,8 @@ def compute_variant(name: str, params, opts: dict) -> Variant:
     branches = [run_hb(p, opts["model"], opts["rpm_from"], opts["rpm_to"], harmonics=int(opts["harmonics"]),
                        samples=int(opts["samples"]), min_points=int(opts["branch_points"])) for _, _, _, p in cs]
     preload = peak.track(params, {**opts, "n0_from": 0.0},
-                           {value: br for (_, kind, value, _), br in zip(cs, branches)
-                            if kind == "preload" and value >= 0})
+                         {value: br for (_, kind, value, _), br in zip(cs, branches)
+                          if kind == "preload" and value >= 0})
     sweeps = (run_sweeps([p for _, _, _, p in cs], opts["model"],
                          np.linspace(opts["rpm_from"], opts["td_rpm_to"], int(opts["td_rpm_count"])))
               if opts["time_domain"] else None)

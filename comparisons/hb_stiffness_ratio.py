@@ -22,7 +22,6 @@ explained after its report.
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from comparisons import hb_friction
