@@ -46,6 +46,11 @@ def states_at(branch, params, model: str, rpm: float, multipliers: bool = True) 
     return out
 
 
+def states_on(branches, params, model: str, rpm: float) -> list[tuple[float, bool | None]]:
+    """Every P1 state at ``rpm`` of every branch of one case (:func:`states_at` of each)."""
+    return [s for b in branches for s in states_at(b, params, model, rpm)]
+
+
 def starts_at(branch, rpm: float) -> list[tuple[np.ndarray, bool]]:
     """Every crossing of ``branch`` with ``rpm``: its coefficients interpolated there, and whether the two
     branch points around it are both stable (True, not undecided)."""
@@ -83,6 +88,14 @@ def landed_on(states: list[tuple[float, bool | None]], amplitude: float, period,
     return "off the P1 branches"
 
 
+def named_points(sweep, states, match: float, **labels) -> list[dict]:
+    """Every point of a time-domain ``sweep`` with the P1 state it landed on (:func:`landed_on`; ``states(rpm)``
+    gives the states there, :func:`states_at`): ``labels`` (case, model, ...), rpm, amplitude_m, period, branch."""
+    return [{**labels, "rpm": float(r), "amplitude_m": float(a), "period": per,
+             "branch": landed_on(states(r), a, per, match)}
+            for r, a, per in zip(sweep.rpm, sweep.amplitude_v_L, sweep.period)]
+
+
 def on_stable(name: str) -> bool:
     """Whether a name from :func:`landed_on` is a stable P1 branch."""
     return name.endswith("stable") or name.startswith("stable")
@@ -90,12 +103,15 @@ def on_stable(name: str) -> bool:
 
 def resonance_of(branch) -> dict:
     """A branch's resonance as conclusions hold it (HBResult.resonance: on the points not shown unstable):
-    rpm (r/min) and amplitude_m with their errors, its stability (True, or None: undecided), and the larger
-    unstable peak beside it (rpm, amplitude_m) or None."""
+    rpm (r/min) and amplitude_m with their errors (amplitude_error_m: truncation plus the rise between
+    points, null at a branch's end; truncation_error_m: the amplitude's change at twice the harmonics there
+    alone), its stability (True, or None: undecided), and the larger unstable peak beside it (rpm,
+    amplitude_m) or None."""
     r = branch.resonance
     other = r["unstable_peak"]
     return {"rpm": r["rpm"], "rpm_error": r["rpm_error"], "amplitude_m": r["amplitude"],
-            "amplitude_error_m": r["amplitude_error"], "stable": r["stable"],
+            "amplitude_error_m": r["amplitude_error"], "truncation_error_m": r["truncation_error"],
+            "stable": r["stable"],
             "unstable_peak": None if other is None else {"rpm": other["rpm"], "amplitude_m": other["amplitude"]}}
 
 

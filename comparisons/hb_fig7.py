@@ -19,25 +19,29 @@ states, their stability (the full solid's orbit, perturbations projected on
 the reduced solid's basis and on one twice as large:
 shroud.analysis.hb.projected_multipliers; filled diamonds stable, open
 unstable) and their cost.
+
+The study is compute (:func:`compute` -> :class:`HBFig7Result`) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from comparisons import _families as fam
-from comparisons._hb import (landed_on, notes_line, on_stable, resonance_of, same_resonance, starts_at,
-                             states_at)
+from comparisons._hb import named_points, notes_line, on_stable, resonance_of, same_resonance, starts_at, states_at
+from comparisons._study import study
 from shroud.analysis.hb import checkpoint, run_hb
 from shroud.base.errors import InputError
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
+from shroud.core.results import HBResult, SweepResult
 from shroud.base.tables import write_records
-from shroud.base.outputs import write_text
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "small_gap_um": 1.0, "preloads_N": [0.0, 10.0, 50.0],
            "rpm_from": 6000.0, "rpm_to": 14000.0, "td_rpm_count": 17, "harmonics": 7, "samples": 256,
@@ -89,7 +93,57 @@ def conclusions(cases, branches: dict, checks: list[dict]) -> dict:
     return out
 
 
-def run(scene, out: Path) -> dict:
+@dataclass(frozen=True)
+class HBFig7Result:
+    """The beam's and the reduced solid's branches per case, the reduced solid's sweeps with every point named
+    by the state it landed on, the full-solid checkpoints, and the one basis' error against per-speed ones."""
+
+    cases: list[fam.Case]                      # comparisons._families.cases
+    branches: dict[str, list[HBResult]]        # LINE / POINTS -> branch per case
+    sweeps: list[SweepResult]                  # the reduced solid's time-domain sweep per case
+    points: list[dict]                         # the sweep points named (comparisons._hb.named_points)
+    checks: list[dict]                         # :func:`full_solid_checkpoints`
+    basis_error: list[dict]                    # reference_fe.frequency.basis_error
+    per_speed_bases_s: float                   # building the time domain's per-speed bases
+
+    def rows(self) -> list[dict]:
+        """Per case: both resonances and their difference, folds, sweep points on a stable branch, costs."""
+        rows = []
+        for k, c in enumerate(self.cases):
+            line, solid, sw = self.branches[LINE][k], self.branches[POINTS][k], self.sweeps[k]
+            mine = [p for p in self.points if p["case"] == c.label]
+            a_l, a_s = line.resonance["amplitude"], solid.resonance["amplitude"]
+            rows.append({"case": c.label, "beam_resonance": line.resonance, "solid_resonance": solid.resonance,
+                         "resonance_difference": abs(a_l / a_s - 1),
+                         "solid_folds_rpm": [float(b["rpm"]) for b in solid.bifurcations if b["kind"] == "fold"],
+                         "beam_folds_rpm": [float(b["rpm"]) for b in line.bifurcations if b["kind"] == "fold"],
+                         "td_on_stable": sum(on_stable(p["branch"]) for p in mine), "td_points": len(mine),
+                         "beam_hb_s": line.elapsed_s, "solid_hb_s": solid.elapsed_s, "solid_td_cpu_s": sw.cpu_s,
+                         "complete": line.complete and solid.complete})
+        return rows
+
+    def cost_s(self) -> dict:
+        rows, checks = self.rows(), self.checks
+        return {"beam_hb_s": sum(r["beam_hb_s"] for r in rows), "solid_hb_s": sum(r["solid_hb_s"] for r in rows),
+                "solid_td_cpu_s": sum(r["solid_td_cpu_s"] for r in rows), "per_speed_bases_s": self.per_speed_bases_s,
+                "full_solid_condensation_s": sum(p["linear_s"] for p in checks),
+                "full_solid_newton_s": sum(p["start_s"] + p["newton_s"] for p in checks),
+                "full_solid_stability_s": sum(p["stability_s"] for p in checks)}
+
+    def conclusions(self) -> dict:
+        return conclusions(self.cases, self.branches, self.checks)
+
+    def to_json(self) -> dict:
+        return {"conclusions": self.conclusions(), "cases": self.rows(),
+                "branches": {c.label: {LINE: self.branches[LINE][k].to_json(),
+                                       POINTS: self.branches[POINTS][k].to_json()} for k, c in enumerate(self.cases)},
+                "time_domain_points": self.points, "basis_error": self.basis_error, "cost_s": self.cost_s(),
+                "full_solid_checkpoints": self.checks}
+
+
+def compute(scene) -> HBFig7Result:
+    """Both models' branches per case, the reduced solid's sweeps on per-speed bases (each point read against
+    its branch), the full-solid checkpoints, and the one basis' error against the per-speed ones."""
     from reference_fe.frequency import basis_error
     from reference_fe.system import reduced_operators
     params, o = scene.params, scene.options
@@ -104,61 +158,57 @@ def run(scene, out: Path) -> dict:
     branches = {m: [run_hb(c.params, m, o["rpm_from"], o["rpm_to"], **hb_kw) for c in cases] for m in (LINE, POINTS)}
     sweeps = run_sweeps([c.params for c in cases], POINTS, td_rpms)
     checks = full_solid_checkpoints(cases, branches[POINTS], o)
+    points = [pt for c, solid, sw in zip(cases, branches[POINTS], sweeps)
+              for pt in named_points(sw, partial(states_at, solid, c.params, POINTS, multipliers=False), o["match"],
+                                     case=c.label)]
+    return HBFig7Result(cases=cases, branches=branches, sweeps=sweeps, points=points, checks=checks,
+                        basis_error=errors, per_speed_bases_s=build_s)
+
+
+def plot(result: HBFig7Result, scene, out: Path) -> list[str]:
+    """Both panels (gaps; the small gap and preloads): beam thick, reduced solid thin, its sweep as circles,
+    the full-solid checkpoints as diamonds; the named sweep points and the checkpoints as CSV."""
     fig, axes = figure(1, 2, width=10.0, height=4.2)
-    rows, points, curves = [], [], {}
-    for k, c in enumerate(cases):
+    for k, c in enumerate(result.cases):
         ax = axes[0][0 if c.kind == "gap" else 1]
         colour = f"C{k % 10}"
-        line, solid, sw = branches[LINE][k], branches[POINTS][k], sweeps[k]
+        line, solid, sw = result.branches[LINE][k], result.branches[POINTS][k], result.sweeps[k]
         line.plot(ax, label=f"{c.label} beam", colour=colour, linewidth=2.0, alpha=0.6)
         solid.plot(ax, label=f"{c.label} solid (reduced)", colour=colour, linewidth=0.8)
         ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, "o", ms=3.5, mfc="none", color=colour)
-        mine = [p for p in checks if p["case"] == c.label and p["converged"]]
+        mine = [p for p in result.checks if p["case"] == c.label and p["converged"]]
         for stable, fill, word in ((True, colour, "stable"), (False, "none", "unstable"),
                                    (None, "0.85", "undecided")):
             these = [p for p in mine if p["stable"] is stable]
             if these:
                 ax.plot([p["rpm"] for p in these], [p["amplitude_v_L"] * 1e3 for p in these], "D", ms=6,
                         color=colour, mfc=fill, mec="k", label=f"{c.label} full solid (HB checkpoints, {word})")
-        names = [landed_on(states_at(solid, c.params, POINTS, r, multipliers=False), a, per, o["match"])
-                 for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
-        points += [{"case": c.label, "rpm": float(r), "amplitude_m": float(a), "period": per, "branch": n}
-                   for r, a, per, n in zip(sw.rpm, sw.amplitude_v_L, sw.period, names)]
-        a_l, a_s = line.resonance["amplitude"], solid.resonance["amplitude"]
-        rows.append({"case": c.label, "beam_resonance": line.resonance, "solid_resonance": solid.resonance,
-                     "resonance_difference": abs(a_l / a_s - 1),
-                     "solid_folds_rpm": [float(b["rpm"]) for b in solid.bifurcations if b["kind"] == "fold"],
-                     "beam_folds_rpm": [float(b["rpm"]) for b in line.bifurcations if b["kind"] == "fold"],
-                     "td_on_stable": sum(on_stable(n) for n in names), "td_points": len(names),
-                     "beam_hb_s": line.elapsed_s, "solid_hb_s": solid.elapsed_s, "solid_td_cpu_s": sw.cpu_s,
-                     "complete": line.complete and solid.complete})
-        curves[c.label] = {LINE: line.to_json(), POINTS: solid.to_json()}
     for ax, title in zip(axes[0], ("(a) initial gaps", "(b) small gap and initial preloads")):
         ax.set_title(f"{title}\n(beam thick, solid thin, o solid TD, \u25c6/\u25c7 full solid HB stable/unstable;"
                      " dotted: undecided)",
                      fontsize=9)
         ax.legend(fontsize=6, ncol=2)
     save(fig, out / "hb_fig7.png")
-    write_records(out / "td_points_by_branch.csv", points)
+    write_records(out / "td_points_by_branch.csv", result.points)
     write_records(out / "full_solid_checkpoints.csv",
                   [{k: p[k] for k in ("case", "rpm", "amplitude_v_L", "amplitude_w_L", "start_amplitude_v_L",
                                       "difference", "converged", "iterations", "stable", "reduced_branch_stable",
                                       "linear_s", "newton_s", "stability_s")}
-                   for p in checks])
-    cost = {"beam_hb_s": sum(r["beam_hb_s"] for r in rows), "solid_hb_s": sum(r["solid_hb_s"] for r in rows),
-            "solid_td_cpu_s": sum(r["solid_td_cpu_s"] for r in rows), "per_speed_bases_s": build_s,
-            "full_solid_condensation_s": sum(p["linear_s"] for p in checks),
-            "full_solid_newton_s": sum(p["start_s"] + p["newton_s"] for p in checks),
-            "full_solid_stability_s": sum(p["stability_s"] for p in checks)}
-    concl = conclusions(cases, branches, checks)
+                   for p in result.checks])
+    return ["hb_fig7.png"]
+
+
+def report(result: HBFig7Result, scene, files: list[str]) -> str:
+    params, o = scene.params, scene.options
+    rows, cost, concl, errors = result.rows(), result.cost_s(), result.conclusions(), result.basis_error
     lines = [f"# {scene.title}\n",
              f"Harmonic balance H = {o['harmonics']}, {o['samples']} samples, {o['rpm_from']:g}-{o['rpm_to']:g} r/min; "
              f"the reduced solid on one basis built at {params.speed.rpm:g} r/min. Against the per-speed bases: "
              f"frequencies within {max(e['frequency_error'] for e in errors):.2e}, linear tip response within "
              f"{max(e['response_error'] for e in errors):.2e} (at {', '.join(f'{e['rpm']:.0f}' for e in errors)} r/min).\n",
              f"Cost: HB beam {seconds(cost['beam_hb_s'])}, HB solid {seconds(cost['solid_hb_s'])}; the solid's time "
-             f"domain {seconds(cost['solid_td_cpu_s'])} CPU for {len(td_rpms)} speeds per curve (plus "
-             f"{seconds(build_s)} for its per-speed bases).\n",
+             f"domain {seconds(cost['solid_td_cpu_s'])} CPU for {int(o['td_rpm_count'])} speeds per curve (plus "
+             f"{seconds(cost['per_speed_bases_s'])} for its per-speed bases).\n",
              markdown_table(["case", "beam resonance (r/min, um)", "solid resonance (r/min, um)", "difference (%)",
                              "beam folds (r/min)", "solid folds (r/min)", "solid TD points on a stable solid branch"],
                             [(r["case"], f"{r['beam_resonance']['rpm']:.0f}, {r['beam_resonance']['amplitude'] * 1e6:.2f}",
@@ -169,12 +219,13 @@ def run(scene, out: Path) -> dict:
                               f"{r['td_on_stable']}/{r['td_points']}") for r in rows]),
              "", "Same resonance (beam against reduced solid): " + "; ".join(
                  f"{label}: {c['same_resonance']['answer']}" for label, c in concl.items()) + ". "
-             + notes_line([(f"{m} {c.label}", branches[m][k]) for m in (LINE, POINTS) for k, c in enumerate(cases)]),
-             "", "![hb_fig7.png](hb_fig7.png)", "", *checkpoint_report(checks, cost)]
-    write_text(out / "report.md", "\n".join(lines) + "\n")
-    return {"conclusions": concl, "cases": rows, "branches": curves, "time_domain_points": points,
-            "basis_error": errors, "cost_s": cost,
-            "full_solid_checkpoints": checks}
+             + notes_line([(f"{m} {c.label}", result.branches[m][k]) for m in (LINE, POINTS)
+                           for k, c in enumerate(result.cases)]),
+             "", *[f"![{f}]({f})" for f in files], "", *checkpoint_report(result.checks, cost)]
+    return "\n".join(lines) + "\n"
+
+
+run = study(compute, plot, report)
 
 
 def checkpoint_report(checks: list[dict], cost: dict) -> list[str]:

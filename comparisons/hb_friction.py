@@ -16,19 +16,23 @@ resonant speed rises with mu; the optimal preload falls as mu grows while
 the smallest resonant amplitude stays nearly the same; once the shroud
 stays stuck through the resonance mu no longer matters; and (Sect. 3.1)
 the resonant speed rises as the gap closes.
+
+The study is compute (:func:`compute` -> :class:`HBFamilyResult`; :func:`compute_variants` for any varied
+contact parameter, comparisons.hb_stiffness_ratio) -> plot -> report.
 """
 
 from __future__ import annotations
 
 import math
-
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from comparisons import hb_optimal_preload as peak
-from comparisons._hb import landed_on, notes_line, on_stable, rises, states_at, verdict_text
+from comparisons._hb import named_points, notes_line, on_stable, rises, states_at, verdict_text
+from comparisons._study import study
 from comparisons.hb_gap_preload import cases as fig11_cases
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
@@ -38,7 +42,6 @@ from shroud.base.tables import write_records
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult
 from shroud.core.verdict import NOT_DECIDED, Verdict
-from shroud.base.outputs import write_text
 
 OPTIONS = {
     "values": [0.1, 0.3, 0.5],
@@ -88,7 +91,7 @@ def peak_covered(branch: HBResult) -> bool:
                                     and branch.amplitude_v_L[-1] < 0.5 * branch.amplitude_v_L[i]))
 
 
-@dataclass
+@dataclass(frozen=True)
 class Variant:
     """One value of the varied parameter: its branches (gap and preload cases), the tracked resonance over
     N0, and the time-domain sweeps (or None)."""
@@ -134,9 +137,9 @@ def compute_variant(name: str, params, opts: dict) -> Variant:
     cs = fig11_cases(params, opts)
     branches = [run_hb(p, opts["model"], opts["rpm_from"], opts["rpm_to"], harmonics=int(opts["harmonics"]),
                        samples=int(opts["samples"]), min_points=int(opts["branch_points"])) for _, _, _, p in cs]
-    preload = peak.compute(params, {**opts, "n0_from": 0.0},
-                           {value: br for (_, kind, value, _), br in zip(cs, branches)
-                            if kind == "preload" and value >= 0})
+    preload = peak.track(params, {**opts, "n0_from": 0.0},
+                         {value: br for (_, kind, value, _), br in zip(cs, branches)
+                          if kind == "preload" and value >= 0})
     sweeps = (run_sweeps([p for _, _, _, p in cs], opts["model"],
                          np.linspace(opts["rpm_from"], opts["td_rpm_to"], int(opts["td_rpm_count"])))
               if opts["time_domain"] else None)
@@ -227,6 +230,33 @@ def conclusions(variants: list[Variant]) -> dict:
     return out
 
 
+@dataclass(frozen=True)
+class HBFamilyResult:
+    """The variants of one contact parameter, every time-domain point named by the state it landed on, and a
+    study's own data computed from the variants (``explanation``, or None)."""
+
+    describe: str                    # the varied parameter, as the report names it
+    variants: list[Variant]
+    points: list[dict]               # the sweep points named (comparisons._hb.named_points)
+    explanation: list[dict] | None = None
+
+    def conclusions(self) -> dict:
+        return conclusions(self.variants)
+
+    def to_json(self) -> dict:
+        return {"conclusions": self.conclusions(),
+                **({"explanation": self.explanation} if self.explanation is not None else {}),
+                "variants": {v.name: {"gaps": v.gap_rows(), "preloads": v.preload_rows(),
+                                      "peak_curve": v.preload.curve.to_json(),
+                                      "branches": {c[0]: b.to_json() for c, b in zip(v.cases, v.branches)}}
+                             for v in self.variants},
+                "time_domain_points": self.points,
+                "cost_s": {v.name: {"branches": sum(b.elapsed_s for b in v.branches),
+                                    "peak_tracking": v.preload.curve.elapsed_s,
+                                    "time_domain_cpu": sum(s.cpu_s for s in v.sweeps) if v.sweeps else None}
+                           for v in self.variants}}
+
+
 def _trend_word(t, up: str = "rises", down: str = "falls") -> str:
     return {1: up, -1: down, 0: "stays the same"}.get(t, NOT_DECIDED)
 
@@ -236,9 +266,10 @@ def _answer_word(answer, yes: str = "yes", no: str = "no") -> str:
     return yes if answer is True else no if answer is False else NOT_DECIDED
 
 
-def plot(out: Path, variants: list[Variant]) -> list[str]:
+def plot(result: HBFamilyResult, scene, out: Path) -> list[str]:
     """Fig. 12/16 (branches per variant: gaps, then the small gap and preloads) and Fig. 13/17 (resonant
-    speed and amplitude over gap and preload)."""
+    speed and amplitude over gap and preload); the named sweep points and the resonances as CSV."""
+    variants = result.variants
     fig, axes = figure(len(variants), 2, width=11.0, height=3.2 * len(variants) + 0.4)
     for i, v in enumerate(variants):
         for k, ((label, kind, _, _), br) in enumerate(zip(v.cases, v.branches)):
@@ -274,23 +305,22 @@ def plot(out: Path, variants: list[Variant]) -> list[str]:
     axes[0][0].set_ylabel("resonant speed (r/min)")
     axes[1][0].set_ylabel("resonant amplitude of v_L (mm)")
     files.append(save(fig, out / "resonance_characteristics.png").name)
+    write_records(out / "td_points_by_branch.csv", result.points)
+    write_records(out / "resonances_over_gap.csv", [r for v in variants for r in v.gap_rows()])
+    write_records(out / "resonances_over_preload.csv", [r for v in variants for r in v.preload_rows()])
     return files
 
 
 def time_domain_points(variants: list[Variant], opts: dict) -> list[dict]:
     """Every time-domain point with the HB state it landed on."""
-    points = []
-    for v in variants:
-        for (label, _, _, p), br, sw in zip(v.cases, v.branches, v.sweeps or []):
-            for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period):
-                name = landed_on(states_at(br, p, opts["model"], r), a, per, opts["match"])
-                points.append({"variant": v.name, "case": label, "rpm": float(r), "amplitude_m": float(a),
-                               "period": per, "branch": name})
-    return points
+    return [pt for v in variants for (label, _, _, p), br, sw in zip(v.cases, v.branches, v.sweeps or [])
+            for pt in named_points(sw, partial(states_at, br, p, opts["model"]), opts["match"], variant=v.name,
+                                   case=label)]
 
 
-def report(scene, variants: list[Variant], concl: dict, points: list[dict], files: list[str], describe: str) -> str:
-    opts = scene.options
+def report(result: HBFamilyResult, scene, files: list[str]) -> str:
+    opts, variants, points, describe = scene.options, result.variants, result.points, result.describe
+    concl = result.conclusions()
     hb_s = {v.name: sum(b.elapsed_s for b in v.branches) for v in variants}
     track_s = {v.name: v.preload.curve.elapsed_s for v in variants}
     td_s = {v.name: sum(s.cpu_s for s in v.sweeps) for v in variants if v.sweeps is not None}
@@ -368,35 +398,19 @@ def report(scene, variants: list[Variant], concl: dict, points: list[dict], file
     return "\n".join(lines) + "\n"
 
 
-def run_variants(scene, out: Path, variants: dict, describe: str, explain=None) -> dict:
-    """compute -> plot -> report for the variants (name -> Parameters) of one contact parameter.
-
-    ``explain(variants, conclusions) -> (report lines, results)``: a study's own section after the
-    report, its data under "explanation" in the results.
-    """
+def compute_variants(scene, variants: dict, describe: str, explain=None) -> HBFamilyResult:
+    """The variants (name -> Parameters) of one contact parameter, their time-domain points named;
+    ``explain(variants) -> list[dict]``: a study's own data from them (its ``explanation``)."""
     opts = scene.options
     done = [compute_variant(name, p, opts) for name, p in variants.items()]
-    concl = conclusions(done)
-    files = plot(out, done)
-    points = time_domain_points(done, opts)
-    write_records(out / "td_points_by_branch.csv", points)
-    write_records(out / "resonances_over_gap.csv", [r for v in done for r in v.gap_rows()])
-    write_records(out / "resonances_over_preload.csv", [r for v in done for r in v.preload_rows()])
-    lines, explained = explain(done, concl) if explain is not None else ([], None)
-    write_text(out / "report.md", report(scene, done, concl, points, files, describe)
-                                  + "".join(line + "\n" for line in lines))
-    return {"conclusions": concl, **({"explanation": explained} if explained is not None else {}),
-            "variants": {v.name: {"gaps": v.gap_rows(), "preloads": v.preload_rows(),
-                                  "peak_curve": v.preload.curve.to_json(),
-                                  "branches": {c[0]: b.to_json() for c, b in zip(v.cases, v.branches)}}
-                         for v in done},
-            "time_domain_points": points,
-            "cost_s": {v.name: {"branches": sum(b.elapsed_s for b in v.branches),
-                                "peak_tracking": v.preload.curve.elapsed_s,
-                                "time_domain_cpu": sum(s.cpu_s for s in v.sweeps) if v.sweeps else None}
-                       for v in done}}
+    return HBFamilyResult(describe=describe, variants=done, points=time_domain_points(done, opts),
+                          explanation=explain(done) if explain is not None else None)
 
 
-def run(scene, out: Path) -> dict:
+def compute(scene) -> HBFamilyResult:
+    """The coefficient of friction's variants (mu over ``values``)."""
     variants = {f"mu {v:g}": scene.params.updated({"contact.mu": v}) for v in scene.options["values"]}
-    return run_variants(scene, out, variants, "mu")
+    return compute_variants(scene, variants, "mu")
+
+
+run = study(compute, plot, report)

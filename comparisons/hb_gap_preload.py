@@ -21,21 +21,27 @@ on a stable stretch of the continued branch seeds one
 rest over ``time.periods``, as the sweep ran it), and the points are named by
 every branch found. The conclusions say how many branches each case has and
 from which seeds.
+
+The study is compute (:func:`compute` -> :class:`HBGapPreloadResult`) -> plot -> report.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
-from comparisons._hb import landed_on, notes_line, on_stable, resonance_of, rises, states_at, verdict_text
-from shroud.analysis.hb import run_hb, run_hb_family
+from comparisons._hb import (landed_on, named_points, notes_line, on_stable, resonance_of, rises, states_at,
+                             states_on, verdict_text)
+from comparisons._study import study
+from shroud.analysis.hb import HBFamily, run_hb, run_hb_family
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
+from shroud.core.results import HBResult, SweepResult
 from shroud.base.tables import write_records
-from shroud.base.outputs import write_text
 
 OPTIONS = {
     "gaps_um": [600.0, 300.0, 100.0, 50.0, 10.0],
@@ -90,6 +96,63 @@ def seeds_text(found: dict | None) -> str:
                 + (f", {len(f['seeds_rpm'])} seeds" if f["seeds_rpm"] else "") for label, f in found.items()) + ".")
 
 
+@dataclass(frozen=True)
+class HBGapPreloadResult:
+    """Every case's branch (and with ``seed_from_sweep`` the branches seeded from its sweep), its from-rest
+    sweep, and every sweep point named by the state it landed on."""
+
+    cases: list[tuple[str, str, float, object]]     # (label, kind, value, params): :func:`cases`
+    branches: list[HBResult]                        # the branch continued from rpm_from, per case
+    sweeps: list[SweepResult]                       # the time-domain sweep per case
+    families: list[HBFamily] | None                 # seed_from_sweep: every branch found per case, else None
+    points: list[dict]                              # the sweep points named (comparisons._hb.named_points)
+    rpm_range: tuple[float, float]                  # rpm_from, rpm_to
+
+    def found(self, i: int) -> list[HBResult]:
+        """Every branch of case i: the continued one first."""
+        return self.families[i].branches if self.families else [self.branches[i]]
+
+    def rows(self) -> list[dict]:
+        """Per case: both methods' resonances, the sweep points on a stable branch, stability changes, costs."""
+        rows = []
+        for i, ((label, kind, value, _), br, sw) in enumerate(zip(self.cases, self.branches, self.sweeps)):
+            mine = [p for p in self.points if p["case"] == label]
+            rows.append({"case": label, "kind": kind, "value": value,
+                         "hb_resonance_rpm": br.resonance["rpm"], "hb_resonance_amplitude_m": br.resonance["amplitude"],
+                         "td_resonance_rpm": sw.resonance["rpm"], "td_resonance_amplitude_m": sw.resonance["amplitude"],
+                         "td_points_on_a_stable_branch": sum(on_stable(p["branch"]) for p in mine),
+                         "td_points": len(mine),
+                         "stability_changes": [dict(b, rpm=float(b["rpm"]), amplitude=float(b["amplitude"]))
+                                               for b in br.bifurcations],
+                         "hb_points": len(br.rpm), "hb_complete": br.complete, "hb_stopped": br.stopped,
+                         "hb_s": br.elapsed_s + (self.families[i].elapsed_s if self.families else 0.0),
+                         "hb_branches": len(self.found(i)), "td_cpu_s": sw.cpu_s, "td_wall_s": sw.elapsed_s,
+                         "spectral_tail": br.spectral_tail})
+        return rows
+
+    def best(self) -> dict | None:
+        """The row of the preload with the smallest resonant amplitude among those peaking inside the range."""
+        lo, hi = self.rpm_range
+        pre = [r for r in self.rows() if r["kind"] == "preload" and r["value"] >= 0
+               and lo < r["hb_resonance_rpm"] < hi]
+        return min(pre, key=lambda r: r["hb_resonance_amplitude_m"]) if pre else None
+
+    def conclusions(self) -> dict:
+        return conclusions(self.cases, self.branches, self.best(), self.families)
+
+    def to_json(self) -> dict:
+        rows, best = self.rows(), self.best()
+        curves = {}
+        for i, ((label, _, _, _), br) in enumerate(zip(self.cases, self.branches)):
+            curves[label] = br.to_json()
+            if self.families:
+                curves[label]["seeded_branches"] = [b.to_json() for b in self.found(i)[1:]]
+        return {"conclusions": self.conclusions(), "cases": rows, "branches": curves,
+                "time_domain_points": self.points, "optimal_preload_N": best["value"] if best else None,
+                "cost_s": {"harmonic_balance_wall": sum(r["hb_s"] for r in rows),
+                           "time_domain_cpu": sum(r["td_cpu_s"] for r in rows)}}
+
+
 def conclusions(cs, branches, best: dict | None, families=None) -> dict:
     """What the study concludes, as data: every case's resonance (on points not shown unstable, with its
     errors and stability: comparisons._hb.resonance_of); whether the resonant speed rises as the gap closes
@@ -107,7 +170,9 @@ def conclusions(cs, branches, best: dict | None, families=None) -> dict:
     return out
 
 
-def run(scene, out: Path) -> dict:
+def compute(scene) -> HBGapPreloadResult:
+    """Every case's branch by continuation, its from-rest sweep (with ``seed_from_sweep``: the branches seeded
+    from it), and every sweep point read against the branches found."""
     opts, params = scene.options, scene.params
     cs = cases(params, opts)
     branches = [run_hb(p, opts["model"], opts["rpm_from"], opts["rpm_to"], harmonics=int(opts["harmonics"]),
@@ -116,54 +181,46 @@ def run(scene, out: Path) -> dict:
     sweeps = run_sweeps([p for _, _, _, p in cs], opts["model"], rpms)
     families = ([seeded(p, opts, sw, br) for (_, _, _, p), sw, br in zip(cs, sweeps, branches)]
                 if opts["seed_from_sweep"] else None)
+    found = [families[i].branches if families else [br] for i, br in enumerate(branches)]
+    points = [pt for (label, _, _, p), sw, brs in zip(cs, sweeps, found)
+              for pt in named_points(sw, partial(states_on, brs, p, opts["model"]), opts["match"], case=label)]
+    return HBGapPreloadResult(cases=cs, branches=branches, sweeps=sweeps, families=families, points=points,
+                              rpm_range=(float(opts["rpm_from"]), float(opts["rpm_to"])))
+
+
+def plot(result: HBGapPreloadResult, scene, out: Path) -> list[str]:
+    """Both panels (gaps; the small gap and preloads): every branch found, the sweep as dots; the named
+    sweep points as CSV."""
     fig, axes = figure(1, 2, width=10.0, height=4.2)
-    rows, points, curves = [], [], {}
-    in_panel = [kind for _, kind, _, _ in cs]
-    for i, ((label, kind, value, p), br, sw) in enumerate(zip(cs, branches, sweeps)):
+    in_panel = [kind for _, kind, _, _ in result.cases]
+    for i, ((label, kind, _, _), br, sw) in enumerate(zip(result.cases, result.branches, result.sweeps)):
         ax = axes[0][0 if kind == "gap" else 1]
         colour = f"C{i % 10}"
         # widest first: a curve that lies on an earlier one (the preloaded blade stuck alike at 25 and
         # 100 N) shows as a line within a line; dashes mean unstable here, so they cannot tell them apart
-        later = in_panel[i + 1:].count(kind)
-        br.plot(ax, label=label, colour=colour, linewidth=1.0 + 0.9 * later)
-        found = families[i].branches if families else [br]
-        for extra in found[1:]:
+        br.plot(ax, label=label, colour=colour, linewidth=1.0 + 0.9 * in_panel[i + 1:].count(kind))
+        for extra in result.found(i)[1:]:
             extra.plot(ax, colour=colour, linewidth=1.0)
         ax.plot(sw.rpm, sw.amplitude_v_L * 1e3, ".", color=colour, ms=4)
-        names = [landed_on([s for b in found for s in states_at(b, p, opts["model"], r)], a, per, opts["match"])
-                 for r, a, per in zip(sw.rpm, sw.amplitude_v_L, sw.period)]
-        on = sum(on_stable(n) for n in names)
-        for r, a, per, n in zip(sw.rpm, sw.amplitude_v_L, sw.period, names):
-            points.append({"case": label, "rpm": float(r), "amplitude_m": float(a), "period": per, "branch": n})
-        rows.append({"case": label, "kind": kind, "value": value,
-                     "hb_resonance_rpm": br.resonance["rpm"], "hb_resonance_amplitude_m": br.resonance["amplitude"],
-                     "td_resonance_rpm": sw.resonance["rpm"], "td_resonance_amplitude_m": sw.resonance["amplitude"],
-                     "td_points_on_a_stable_branch": on, "td_points": len(names),
-                     "stability_changes": [dict(b, rpm=float(b["rpm"]), amplitude=float(b["amplitude"]))
-                                           for b in br.bifurcations],
-                     "hb_points": len(br.rpm), "hb_complete": br.complete, "hb_stopped": br.stopped,
-                     "hb_s": br.elapsed_s + (families[i].elapsed_s if families else 0.0), "hb_branches": len(found),
-                     "td_cpu_s": sw.cpu_s, "td_wall_s": sw.elapsed_s,
-                     "spectral_tail": br.spectral_tail})
-        curves[label] = br.to_json()
-        if families:
-            curves[label]["seeded_branches"] = [b.to_json() for b in found[1:]]
     for j, title in enumerate(("(a) initial gaps", "(b) 1 um gap and initial preloads")):
         ax = axes[0][j]
         ax.set_title(f"{title}: HB stable -, unstable --, undecided :x; time domain .")
         ax.legend(ncol=2)
     save(fig, out / "hb_fig11.png")
-    pre = [r for r in rows if r["kind"] == "preload" and r["value"] >= 0
-           and opts["rpm_from"] < r["hb_resonance_rpm"] < opts["rpm_to"]]      # peaks inside the range only
-    best = min(pre, key=lambda r: r["hb_resonance_amplitude_m"]) if pre else None
-    write_records(out / "td_points_by_branch.csv", points)
-    concl = conclusions(cs, branches, best, families)
+    write_records(out / "td_points_by_branch.csv", result.points)
+    return ["hb_fig11.png"]
+
+
+def report(result: HBGapPreloadResult, scene, files: list[str]) -> str:
+    opts, params = scene.options, scene.params
+    rows, best, concl, points = result.rows(), result.best(), result.conclusions(), result.points
     hb_total, td_total = sum(r["hb_s"] for r in rows), sum(r["td_cpu_s"] for r in rows)
     off = [p for p in points if not on_stable(p["branch"])]
     lines = [f"# {scene.title}\n",
              f"Model {opts['model']}; harmonic balance H = {opts['harmonics']}, {opts['samples']} samples per "
              f"period, continuation from {opts['rpm_from']:g} to {opts['rpm_to']:g} r/min with the Floquet "
-             f"multipliers of every point; time domain {len(rpms)} speeds x {params.time.periods} periods from rest.\n",
+             f"multipliers of every point; time domain {int(opts['td_rpm_count'])} speeds x {params.time.periods} "
+             "periods from rest.\n",
              f"Cost: harmonic balance {seconds(hb_total)} wall for all branches (one process) against "
              f"{seconds(td_total)} CPU for the time-domain sweeps.\n",
              markdown_table(["case", "HB resonance (r/min)", "HB amplitude (mm)", "TD resonance (r/min)",
@@ -189,11 +246,11 @@ def run(scene, out: Path) -> dict:
              "", seeds_text(concl.get("branches_found")),
              "", "Resonant speed rises as the gap closes (its smallest rise from one gap to the next): "
              + verdict_text(concl["resonant_speed_rises_as_gap_closes"], unit=" r/min") + ". "
-             + notes_line([(label, br) for (label, _, _, _), br in zip(cs, branches)]),
-             "", "![hb_fig11.png](hb_fig11.png)", "",
+             + notes_line([(label, br) for (label, _, _, _), br in zip(result.cases, result.branches)]),
+             "", *[f"![{f}]({f})" for f in files], "",
              "Each panel's curves are drawn widest first: where two coincide (a preloaded blade stuck all "
              "period responds alike at every preload), the later one runs inside the earlier one."]
-    write_text(out / "report.md", "\n".join(lines) + "\n")
-    return {"conclusions": concl, "cases": rows, "branches": curves, "time_domain_points": points,
-            "optimal_preload_N": best["value"] if best else None,
-            "cost_s": {"harmonic_balance_wall": hb_total, "time_domain_cpu": td_total}}
+    return "\n".join(lines) + "\n"
+
+
+run = study(compute, plot, report)

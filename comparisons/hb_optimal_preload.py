@@ -13,6 +13,9 @@ largest amplitude: the brute-force answer) are drawn with the curve and
 overlaid on it as markers, with their difference from it. Where the curve
 turns flat the shroud stays stuck through the resonance: from there the
 preload (and the coefficient of friction) no longer matters.
+
+The study is compute (:func:`compute` -> :class:`PreloadResonance`) -> plot -> report; :func:`track` is the
+computation alone, for the studies that follow the resonance per variant (comparisons.hb_friction).
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from comparisons._study import study
 from shroud.analysis.hb import run_hb
 from shroud.analysis.peak import PeakCurve, track_peak
 from shroud.base.errors import InputError
@@ -30,7 +34,6 @@ from shroud.base.tables import write_records
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult
 from shroud.core.verdict import NOT_DECIDED, Verdict
-from shroud.base.outputs import write_text
 
 OPTIONS = {"preloads_N": [0.0, 10.0, 20.0, 50.0, 100.0, 200.0, 300.0],   # brute-force speed branches (markers)
            "n0_from": 0.0, "n0_to": 300.0,          # the tracked curve, N
@@ -59,12 +62,13 @@ def check(scene) -> None:
             raise InputError(f"options.{key}", f"{o[key]}: allowed: an integer >= 3")
 
 
-@dataclass
+@dataclass(frozen=True)
 class PreloadResonance:
     """The tracked resonance over N0 and the brute-force speed branches of some preloads."""
 
     curve: PeakCurve
     branches: dict[float, HBResult]          # N0 -> speed branch
+    rpm_to: float                            # the speed branches' last speed, r/min
 
     def rows(self, rpm_to: float) -> list[dict]:
         """Per brute-force preload: the branch's largest amplitude against the tracked curve's point there."""
@@ -113,8 +117,14 @@ class PreloadResonance:
                 "brute_force_agrees": agrees.answer, "brute_force_agrees_verdict": agrees.to_json(),
                 "complete": self.curve.complete}
 
+    def to_json(self) -> dict:
+        rows = self.rows(self.rpm_to)
+        return {"conclusions": self.conclusions(), "peak_curve": self.curve.to_json(), "resonances": rows,
+                "branches": {f"N0 {n0:g} N": br.to_json() for n0, br in self.branches.items()},
+                "cost_s": {"peak_tracking": self.curve.elapsed_s, "speed_branches": sum(r["branch_s"] for r in rows)}}
 
-def compute(params, opts: dict, branches: dict[float, HBResult] | None = None) -> PreloadResonance:
+
+def track(params, opts: dict, branches: dict[float, HBResult] | None = None) -> PreloadResonance:
     """The tracked curve from ``opts["n0_from"]`` to ``opts["n0_to"]`` with a point at every brute-force
     preload, and the brute-force speed branches (``branches``, N0 -> branch, where already computed)."""
     preloads = list(branches) if branches is not None else [float(n) for n in opts["preloads_N"]]
@@ -125,7 +135,12 @@ def compute(params, opts: dict, branches: dict[float, HBResult] | None = None) -
         branches = {n0: run_hb(params.updated({"contact.N0": n0}), opts["model"], opts["rpm_from"],
                                opts["rpm_to"], harmonics=int(opts["harmonics"]), samples=int(opts["samples"]),
                                min_points=int(opts["branch_points"])) for n0 in preloads}
-    return PreloadResonance(curve=curve, branches=branches)
+    return PreloadResonance(curve=curve, branches=branches, rpm_to=float(opts["rpm_to"]))
+
+
+def compute(scene) -> PreloadResonance:
+    """The scene's resonance tracked over N0 and the speed branches of ``preloads_N`` (:func:`track`)."""
+    return track(scene.params, scene.options)
 
 
 def plot_over_preload(ax_amplitude, ax_speed, result: PreloadResonance, label: str, colour) -> None:
@@ -153,10 +168,10 @@ def optimum_text(best: dict) -> str:
             f"{best['bracket'][1]:.1f} N), {best['amplitude'] * 1e3:.4g} mm at {best['rpm']:.0f} r/min")
 
 
-def run(scene, out: Path) -> dict:
-    opts, params = scene.options, scene.params
-    result = compute(params, opts)
-    curve, rows = result.curve, result.rows(opts["rpm_to"])
+def plot(result: PreloadResonance, scene, out: Path) -> list[str]:
+    """(a) the speed branches with the tracked resonance, (b) its amplitude and (c) its speed over N0; the
+    branch peaks and the tracked curve as CSV."""
+    curve = result.curve
     fig, axes = figure(1, 3, width=13.0, height=4.2)
     for i, (n0, br) in enumerate(result.branches.items()):
         br.plot(axes[0][0], label=f"N0 {n0:g} N", colour=f"C{i % 10}")
@@ -167,10 +182,16 @@ def run(scene, out: Path) -> dict:
     axes[0][1].set_title("(b) resonant amplitude (o: branch peaks, *: optimum)")
     axes[0][2].set_title("(c) resonant speed (o: branch peaks)")
     save(fig, out / "hb_optimal_preload.png")
-    write_records(out / "resonances.csv", rows)
+    write_records(out / "resonances.csv", result.rows(result.rpm_to))
     write_records(out / "peak_curve.csv", [{"N0": float(n), "rpm": float(r), "amplitude_v_L_m": float(a),
                                             "stable": bool(s)} for n, r, a, s in
                                            zip(curve.n0, curve.rpm, curve.amplitude_v_L, curve.stable)])
+    return ["hb_optimal_preload.png"]
+
+
+def report(result: PreloadResonance, scene, files: list[str]) -> str:
+    opts = scene.options
+    curve, rows = result.curve, result.rows(result.rpm_to)
     concl = result.conclusions()
     branch_s = sum(r["branch_s"] for r in rows)
     stuck = concl["stuck_from_N0"]
@@ -204,8 +225,8 @@ def run(scene, out: Path) -> dict:
                               "yes" if r["tracked_stable"] else "no", seconds(r["branch_s"])) for r in rows]),
              "",
              "" if curve.complete else f"The tracked curve is incomplete: {curve.stopped}.\n",
-             "![hb_optimal_preload.png](hb_optimal_preload.png)"]
-    write_text(out / "report.md", "\n".join(lines) + "\n")
-    return {"conclusions": concl, "peak_curve": curve.to_json(), "resonances": rows,
-            "branches": {f"N0 {n0:g} N": br.to_json() for n0, br in result.branches.items()},
-            "cost_s": {"peak_tracking": curve.elapsed_s, "speed_branches": branch_s}}
+             *[f"![{f}]({f})" for f in files]]
+    return "\n".join(lines) + "\n"
+
+
+run = study(compute, plot, report)

@@ -14,15 +14,18 @@ first-harmonic tangential stiffness k' = -Re(F_1 / w_1) the friction
 element shows along the orbit, beside the closed form of a Jenkins element
 at the same amplitude (shroud.core.contact.harmonic_stiffness), which
 falls as kt grows once the element slides.
+
+The study is comparisons.hb_friction's (compute -> :class:`comparisons.hb_friction.HBFamilyResult` -> plot ->
+report) over xi, the friction elements at the tracked resonances computed with it (its ``explanation``) and
+explained after its report.
 """
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from comparisons import hb_friction
+from comparisons._study import study
 from shroud.analysis.hb import model_at_speed
 from shroud.analysis.transient import contact_law_for
 from shroud.base.markdown import markdown_table
@@ -34,11 +37,21 @@ OPTIONS = {**hb_friction.OPTIONS, "values": [0.2, 0.5, 1.0]}
 check = hb_friction.check
 
 
-def run(scene, out: Path) -> dict:
-    kn = scene.params.contact.kn
-    variants = {f"xi {v:g}": scene.params.updated({"contact.kt": v * kn}) for v in scene.options["values"]}
-    return hb_friction.run_variants(scene, out, variants, "xi",
-                                    explain=lambda done, concl: explain(done, concl, scene.options))
+def compute(scene) -> hb_friction.HBFamilyResult:
+    """The stiffness ratio's variants (kt = xi kn over ``values``), with side 1's friction element along every
+    tracked resonance at the preloads (:func:`friction_at_resonance`) as its explanation."""
+    kn, opts = scene.params.contact.kn, scene.options
+    variants = {f"xi {v:g}": scene.params.updated({"contact.kt": v * kn}) for v in opts["values"]}
+    return hb_friction.compute_variants(scene, variants, "xi", explain=lambda done: friction_rows(done, opts))
+
+
+plot = hb_friction.plot
+
+
+def report(result: hb_friction.HBFamilyResult, scene, files: list[str]) -> str:
+    """comparisons.hb_friction's report, then why the resonant speed need not rise with xi."""
+    return hb_friction.report(result, scene, files) + "".join(
+        line + "\n" for line in explain(result.explanation, result.conclusions()))
 
 
 def friction_at_resonance(variant, case: str, value: float, params, opts: dict) -> dict | None:
@@ -73,11 +86,16 @@ def _trend(values: list[float]) -> str:
     return "falls" if values[-1] < values[0] else "rises"
 
 
-def explain(done, concl: dict, opts: dict) -> tuple[list[str], list[dict]]:
-    rows = [r for v in done for label, kind, value, p in v.cases if kind == "preload" and value >= 0
+def friction_rows(done, opts: dict) -> list[dict]:
+    """:func:`friction_at_resonance` at every preload (N0 >= 0) of every variant where the curve holds it."""
+    return [r for v in done for label, kind, value, p in v.cases if kind == "preload" and value >= 0
             for r in [friction_at_resonance(v, label, value, p, opts)] if r is not None]
+
+
+def explain(rows: list[dict], concl: dict) -> list[str]:
+    """The report's section on why the resonant speed need not rise with xi, from :func:`friction_rows`."""
     if not rows:
-        return [], []
+        return []
     falls = [c for c, t in concl["preload_cases"].items() if t["speed_trend"] != 1]
     lines = ["", "## Why the resonant speed need not rise with xi", "",
              "The shroud's friction element stiffens the blade by its tangential stiffness over a cycle, the "
@@ -112,4 +130,7 @@ def explain(done, concl: dict, opts: dict) -> tuple[list[str], list[dict]]:
                      f"{mine[0]['N0'] / mine[0]['kn'] * 1e6:.3g} um of normal travel), and the friction limit "
                      "with it, which the constant-N element leaves out.")
                   + " The paper's rise holds where the contact mostly sticks (the other cases)."]
-    return lines, rows
+    return lines
+
+
+run = study(compute, plot, report)

@@ -35,7 +35,7 @@ import numpy as np
 from comparisons import paper
 from comparisons._hb import starts_at
 from shroud.analysis.api import build_system
-from shroud.analysis.hb import SpeedModel, check_inputs, model_at_speed, point_details, run_hb
+from shroud.analysis.hb import SpeedModel, check_inputs, checkpoint, model_at_speed, point_details, run_hb
 from shroud.analysis.sweep import Settling, run_sweeps
 from shroud.analysis.transient import contact_law_for, simulate
 from shroud.base.markdown import markdown_table, seconds
@@ -282,9 +282,10 @@ class _Orbits:
         return point_details(self.speeds, self.law, self.basis, X, rpm)
 
     def state(self, X0: np.ndarray, rpm: float, source: str) -> HBState | None:
-        """The P1 state Newton reaches from ``X0`` at exactly ``rpm``, or None."""
-        system, lin, _, _ = self.speeds.at(rpm)
-        sol = hb.solve(system, self.law, self.H, self.n, X0=X0, condense=lin.condensed, lin=lin)
+        """The P1 state Newton reaches from ``X0`` at exactly ``rpm`` (shroud.analysis.hb.checkpoint, not
+        started again from elsewhere), or None; its multipliers in full, for the kind of their crossing."""
+        sol = checkpoint(self.params, "reduced", rpm, harmonics=self.H, samples=self.n, start=X0, retry=False,
+                         multipliers=False)
         if not sol.converged:
             return None
         d = self.details(sol.X, rpm)

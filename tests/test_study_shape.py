@@ -17,17 +17,13 @@ import pytest
 
 from workbench.scene import available_studies
 
-# Split by the harmonic-balance work of issue 23 (another branch): held here once that lands.
-HB_PENDING = {"hb_fig4", "hb_fig7", "hb_friction", "hb_gap_preload", "hb_optimal_preload", "hb_stiffness_ratio"}
 # Studies main gained after this shape branched (merged in with it): still one run(), to be split next.
 MERGED_PENDING: set[str] = set()
 
 
 def _cases() -> list:
-    marks = {**{name: pytest.mark.xfail(strict=True, reason="split on the harmonic-balance branch")
-                for name in HB_PENDING},
-             **{name: pytest.mark.xfail(strict=True, reason="came from main after the split; not split yet")
-                for name in MERGED_PENDING}}
+    marks = {name: pytest.mark.xfail(strict=True, reason="came from main after the split; not split yet")
+             for name in MERGED_PENDING}
     return [pytest.param(name, marks=[marks[name]] if name in marks else [], id=name)
             for name in available_studies()]
 
@@ -52,4 +48,5 @@ def test_the_list_of_studies_is_the_one_the_runner_uses():
     names = set(available_studies())
     assert {"table1", "fig3", "fig4", "fig7", "fig8", "default", "campbell", "convergence", "error_vs_time",
             "gap_preload", "stiffness_ratio", "calculix", "friction", "stability"} <= names
-    assert HB_PENDING <= names and MERGED_PENDING <= names
+    assert {"hb_fig4", "hb_fig7", "hb_friction", "hb_gap_preload", "hb_optimal_preload",
+            "hb_stiffness_ratio"} <= names and MERGED_PENDING <= names

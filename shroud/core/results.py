@@ -431,7 +431,9 @@ class HBResult:
         plus how far the top may rise between the points: for a parabolic top a quarter of its drop to the
         lower neighbour (the top at d from the point, |d| <= h / 2: rise c d^2 <= c h^2 / 4, drop to the
         far neighbour c (h^2 + 2 h |d|) >= c h^2). inf where the change at 2 H was not taken, or where the
-        point has fewer than two neighbours (a peak at the branch's end: the top may lie beyond it)."""
+        point has fewer than two neighbours (a peak at the branch's end: the top may lie beyond it).
+        ``truncation_error`` (m): the change at 2 H alone, the amplitude's error at that very point (nan
+        where not taken): what two branches' amplitudes read at one speed (a range's end) may differ by."""
         if not points.any():
             return None
         i = int(np.flatnonzero(points)[np.argmax(self.amplitude_v_L[points])])
@@ -444,12 +446,14 @@ class HBResult:
             error = float(truncation + max(rise, 0.0))
         return {"rpm": float(self.rpm[i]), "amplitude": float(self.amplitude_v_L[i]), "stable": self.stable[i],
                 "max_multiplier": float(self.max_multiplier[i]), "rpm_error": float(rpm_error),
-                "amplitude_error": error}
+                "amplitude_error": error,
+                "truncation_error": float(truncation) if np.isfinite(truncation) else float("nan")}
 
     @property
     def resonance(self) -> dict:
         """The largest v_L amplitude on the points not shown unstable: {"rpm", "amplitude" (m), "stable"
-        (True, or None where undecided), "max_multiplier", "rpm_error", "amplitude_error" (:meth:`_peak`),
+        (True, or None where undecided), "max_multiplier", "rpm_error", "amplitude_error", "truncation_error"
+        (:meth:`_peak`),
         "unstable_peak"}: ``unstable_peak`` the largest on unstable points where larger (else None). rpm and
         amplitude are nan where every point is unstable."""
         shown_unstable = np.array([s is False for s in self.stable], bool)
@@ -458,7 +462,7 @@ class HBResult:
         if kept is None:
             nan = float("nan")
             kept = {"rpm": nan, "amplitude": nan, "stable": None, "max_multiplier": nan, "rpm_error": nan,
-                    "amplitude_error": nan}
+                    "amplitude_error": nan, "truncation_error": nan}
         larger = other is not None and not other["amplitude"] <= kept["amplitude"]
         return {**kept, "unstable_peak": other if larger else None}
 
