@@ -17,18 +17,8 @@ import pytest
 
 from workbench.scene import available_studies
 
-# Studies main gained after this shape branched (merged in with it): still one run(), to be split next.
-MERGED_PENDING: set[str] = set()
 
-
-def _cases() -> list:
-    marks = {name: pytest.mark.xfail(strict=True, reason="came from main after the split; not split yet")
-             for name in MERGED_PENDING}
-    return [pytest.param(name, marks=[marks[name]] if name in marks else [], id=name)
-            for name in available_studies()]
-
-
-@pytest.mark.parametrize("name", _cases())
+@pytest.mark.parametrize("name", available_studies())
 def test_study_is_compute_plot_report(name):
     module = importlib.import_module(f"comparisons.{name}")
     for part in ("compute", "plot", "report", "run"):
@@ -48,5 +38,5 @@ def test_the_list_of_studies_is_the_one_the_runner_uses():
     names = set(available_studies())
     assert {"table1", "fig3", "fig4", "fig7", "fig8", "default", "campbell", "convergence", "error_vs_time",
             "gap_preload", "stiffness_ratio", "calculix", "friction", "stability"} <= names
-    assert {"hb_fig4", "hb_fig7", "hb_friction", "hb_gap_preload", "hb_optimal_preload",
-            "hb_stiffness_ratio"} <= names and MERGED_PENDING <= names
+    assert {"hb_fig4", "hb_fig7", "hb_friction", "hb_gap_preload", "hb_optimal_preload", "hb_stiffness_ratio",
+            "interference", "ring_mistuning", "ring_tuned", "shell_benchmarks", "periodicity"} <= names
