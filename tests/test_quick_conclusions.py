@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.core.verdict import NOT_DECIDED, TIME_RATIO, answer_of, contradicts, is_verdict
+from shroud.core.verdict import NOT_DECIDED, answer_of, contradicts, is_timing_record, is_verdict
 from workbench import records
 from workbench.runner import run_scene
 
@@ -46,7 +46,7 @@ def step(options: dict) -> float:
 def agrees(got, full) -> bool:
     """Whether a quick conclusion agrees with the full one: verdicts and plain values by their answers
     (contradicts), tables entry by entry where both have it; a verdict drawn from run times always agrees."""
-    if is_verdict(got) and got["unit"] == TIME_RATIO:
+    if is_timing_record(got):
         return True
     if isinstance(got, dict) and not is_verdict(got) and isinstance(full, dict) and not is_verdict(full):
         return all(agrees(got[k], full[k]) for k in got.keys() & full.keys())
