@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -82,10 +83,13 @@ def compare(base: Path, new: Path, outcome: Outcome) -> Outcome:
     return outcome
 
 
-def check_scene(scene: str, work: Path, identical: bool, ranks: list[int], timeout: float) -> SceneRow:
+def check_scene(scene: str, work: Path, identical: bool, ranks: list[int], timeout: float, reuse: bool) -> SceneRow:
     row = SceneRow(scene)
     base = work / scene / "serial"
-    row.outcomes.append(run_scene(scene, base, None, timeout))
+    if reuse and (base / "results.json").is_file():      # the serial run of an earlier call of this script
+        row.outcomes.append(Outcome("serial", 0, math.nan))
+    else:
+        row.outcomes.append(run_scene(scene, base, None, timeout))
     if row.outcomes[0].run_exit not in (0, 3):      # 3: a gate of the scene failed; its numbers still compare
         return row
     if identical:
@@ -115,7 +119,7 @@ def table(rows: list[SceneRow]) -> str:
                 cells.append(f"run exit {o.run_exit} ({o.seconds:.0f} s)" if o.run_exit >= 0
                              else f"timeout ({o.seconds:.0f} s)")
             elif o.compare_exit is None:
-                cells.append(f"{o.seconds:.0f} s")
+                cells.append("(earlier run)" if math.isnan(o.seconds) else f"{o.seconds:.0f} s")
             else:
                 cells.append(f"{o.compare_exit} ({o.seconds:.0f} s)")
                 if o.first_drift:
@@ -124,21 +128,42 @@ def table(rows: list[SceneRow]) -> str:
     return "\n".join(lines)
 
 
+def logged(log: Path) -> list[SceneRow]:
+    """The scenes of a log, in first-seen order, each with its outcomes by label (a later line's replace
+    an earlier's, a reused baseline never replaces a measured one)."""
+    rows: dict[str, dict[str, Outcome]] = {}
+    for line in log.read_text().splitlines():
+        entry = json.loads(line)
+        mine = rows.setdefault(entry["scene"], {})
+        for o in entry["outcomes"]:
+            outcome = Outcome(**o)
+            if not (math.isnan(outcome.seconds) and outcome.label in mine):
+                mine[outcome.label] = outcome
+    return [SceneRow(scene, list(outcomes.values())) for scene, outcomes in rows.items()]
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("scenes", nargs="+", help="scene names (scenes/NAME.toml)")
+    parser.add_argument("scenes", nargs="*", help="scene names (scenes/NAME.toml)")
     parser.add_argument("--identical", action="store_true", help="a second serial run against the first")
     parser.add_argument("--ranks", default="", help="comma-separated rank counts for mpirun, e.g. 1,2,3")
     parser.add_argument("--work", type=Path, default=Path("out/reproducibility"), help="run folders")
     parser.add_argument("--log", type=Path, default=None, help="append one JSON line per scene (default WORK/log.jsonl)")
     parser.add_argument("--timeout", type=float, default=1800.0, help="per run (s)")
+    parser.add_argument("--reuse", action="store_true",
+                        help="keep a serial run WORK/SCENE/serial of an earlier call as the baseline")
+    parser.add_argument("--table", action="store_true",
+                        help="only print the table of the log's lines (a scene's later lines add to its earlier)")
     args = parser.parse_args(argv)
     ranks = [int(n) for n in args.ranks.split(",") if n]
     log = args.log or args.work / "log.jsonl"
+    if args.table:
+        print(table(logged(log)))
+        return 0
     log.parent.mkdir(parents=True, exist_ok=True)
     rows = []
     for scene in args.scenes:
-        row = check_scene(scene, args.work, args.identical, ranks, args.timeout)
+        row = check_scene(scene, args.work, args.identical, ranks, args.timeout, args.reuse)
         rows.append(row)
         with log.open("a") as stream:
             stream.write(json.dumps(asdict(row)) + "\n")
