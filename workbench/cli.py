@@ -115,8 +115,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"absolute tolerance (default {DEFAULT_ATOL:g})")
     p.add_argument("--ignore", action="append", default=[], metavar="PATTERN",
                    help="also ignore values whose dotted path matches this glob (repeatable); "
-                        "ignored always: run times (keys ending in _s or _time_ratio, verdicts drawn from "
-                        "run times) and " + " ".join(DEFAULT_IGNORE))
+                        "ignored always: run times (keys ending in _s or _time_ratio, values and verdicts "
+                        "of unit 'time ratio': drawn from run times) and " + " ".join(DEFAULT_IGNORE))
     p.add_argument("--junit", metavar="FILE", help="write the comparison as JUnit XML")
     p.add_argument("--json", action="store_true", help="print the comparison as one JSON object on stdout")
 
