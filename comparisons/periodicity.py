@@ -198,7 +198,9 @@ class PeriodicityResult:
         return {"conclusions": self.conclusions(),
                 "periods": {f"mu {r.mu:g}, {r.label}": r.result.period for r in self.runs},
                 "shown": {f"{mu:g}": r.label for mu, r in self.shown().items()},
-                "rows": [list(row) for row in _case_rows(self.runs)],
+                "rows": [dict(zip(CASE_KEYS, (r.mu, r.label, r.result.period, r.result.amplitude["v_L"] * 1e3,
+                                              r.result.peak["N1"], r.result.peak["Ff1"], r.result.elapsed_s)))
+                         for r in self.runs],
                 "confirmed": [c.row for c in self.confirmed],
                 "period_map": {"rpm": [float(r) for r in self.map_rpm],
                                "cases": {label: {"period": list(sw.period),
@@ -221,6 +223,11 @@ class PeriodicityResult:
 def waveform_case(runs: list[CaseRun]) -> CaseRun:
     """The run with the longest period found (no period up to P10 ranks highest; ties: the first)."""
     return max(runs, key=lambda r: r.result.period or NO_PERIOD_RANK)
+
+
+# One case's run in results.json: numbers, the run time under a timing key (shroud compare skips it);
+# the report's and the CSV's rows (_case_rows) are the same, worded.
+CASE_KEYS = ("mu", "case", "period", "amplitude_v_L_mm", "peak_N1", "peak_Ff1", "elapsed_s")
 
 
 def _case_rows(runs: list[CaseRun]) -> list[tuple]:

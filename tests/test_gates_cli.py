@@ -21,7 +21,7 @@ import pytest
 
 from workbench import gates
 from workbench.cli import main
-from shroud.core.verdict import TIME_RATIO, RatioVerdict, Verdict
+from shroud.core.verdict import TIME_RATIO, RatioVerdict, Verdict, timing
 
 FLAP1 = "results.modal.rows.flap1.reduced"
 BEAM = 'study = "default"\ntitle = "beam frequencies"\n' \
@@ -227,18 +227,23 @@ def test_a_flipped_verdict_or_word_is_a_drift_that_exits_3_naming_it(two_runs):
 
 
 def test_run_times_are_skipped_by_what_they_are(two_runs):
-    """Keys ending in _s (and everything under them), _time_ratio keys and verdicts drawn from run
-    times differ between identical runs and are never drift; the same change to a physical number is."""
+    """Keys ending in _s (and everything under them), _time_ratio keys, and values whose unit declares
+    them drawn from run times (verdicts, a fit of run times as convergence's cost_growth.*.time_slope)
+    differ between identical runs and are never drift; the same change to a physical number is, also
+    to one beside them with a unit of its own."""
     def found(scale):
         cost = RatioVerdict(scale * 1.0, 10.0, factor=3.0, noise=2.0, above="costlier", below="cheaper",
                             between="comparable", reason="timing noise", unit=TIME_RATIO)
         return {"cost": cost.to_json(), "solve_s": {"4": scale * 0.003}, "reduced_to_full_time_ratio": scale,
-                "time_step": scale * 1e-5}
+                "cost_growth": {"hex": {"time_slope": timing(1.8 * scale), "memory_slope": 1.2 * scale}},
+                "gap": {"value": scale * 1e-4, "unit": "m"}, "time_step": scale * 1e-5}
     base = _with_conclusions(two_runs, "timed_base", found(1.0))
     slower = _with_conclusions(two_runs, "timed_slower", found(5.0))
     proc = shroud("compare", base, slower, "--json")
     assert proc.returncode == 3
-    assert [d["path"] for d in json.loads(proc.stdout)["drifted"]] == ["results.conclusions.time_step"]
+    assert sorted(d["path"] for d in json.loads(proc.stdout)["drifted"]) == [
+        "results.conclusions.cost_growth.hex.memory_slope", "results.conclusions.gap.value",
+        "results.conclusions.time_step"]
 
 
 # --- gates on yes/no and words -------------------------------------------------

@@ -260,6 +260,12 @@ def test_an_incomplete_harmonic_balance_branch_exits_1(capsys, monkeypatch):
       "--samples", "100000000000"], "--samples", "Fourier basis"),
     (["transient", "--set", "time.steps_per_period=100000000"], "time.steps_per_period",
      "steps per period"),                                   # was "at most 0 periods" on time.periods
+    # --rpm-count 100000000 hung while its speeds were checked one by one (refused here: 55.9 GiB
+    # against 23.5 GiB); 10**10 speeds (5.5 TiB) exceed any machine's memory
+    (["sweep", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "10000000000"], "--rpm-count",
+     "speeds would hold"),
+    (["sweep", "--method", "hb", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "10000000000"],
+     "--rpm-count", "speeds would hold"),
 ])
 def test_more_resolution_than_the_machine_holds(tmp_path, capsys, argv, key, words):
     out = tmp_path / "out"

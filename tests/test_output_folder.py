@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.core.verdict import TIME_RATIO, is_verdict
+from shroud.core.verdict import is_timing_record
 from workbench.compare import is_timing
 
 from workbench.cli import main
@@ -39,10 +39,10 @@ def _files(folder: Path) -> dict[str, bytes]:
 
 def _numbers(value):
     """``value`` without its timings (what the machine took, not results), recognised as `shroud compare`
-    recognises them (workbench.compare.is_timing, and verdicts drawn from run times)."""
+    recognises them (workbench.compare.is_timing, and values whose unit says they were drawn from run times)."""
     if isinstance(value, dict):
         return {k: _numbers(v) for k, v in value.items()
-                if not (is_timing(k) or (is_verdict(v) and v["unit"] == TIME_RATIO))}
+                if not (is_timing(k) or is_timing_record(v))}
     if isinstance(value, list):
         return [_numbers(v) for v in value]
     return value

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.core.verdict import NOT_DECIDED, TIME_RATIO, answer_of, contradicts, is_verdict
+from shroud.core.verdict import NOT_DECIDED, answer_of, contradicts, is_timing_record, is_verdict
 from workbench import records
 from workbench.runner import run_scene
 
@@ -45,9 +45,9 @@ def step(options: dict) -> float:
 
 def agrees(got, full) -> bool:
     """Whether a quick conclusion agrees with the full one: verdicts and plain values by their answers
-    (contradicts), tables entry by entry where both have it; a verdict drawn from run times always agrees."""
-    if is_verdict(got) and got["unit"] == TIME_RATIO:
-        return True
+    (contradicts), tables entry by entry where both have it. A verdict drawn from run times is never
+    held (timing noise decides it): a test that hands one over is refused, not passed."""
+    assert not (is_timing_record(got) or is_timing_record(full)), f"a verdict drawn from run times: {got}"
     if isinstance(got, dict) and not is_verdict(got) and isinstance(full, dict) and not is_verdict(full):
         return all(agrees(got[k], full[k]) for k in got.keys() & full.keys())
     if isinstance(got, list) and isinstance(full, list):
@@ -142,8 +142,8 @@ def test_error_vs_time_quick_agrees_with_full(tmp_path):
     got, _ = quick("error_vs_time", tmp_path)
     full = full_conclusions("error_vs_time")
     # Costs of harmonic balance against the time domain are verdicts drawn from run times (TIME_RATIO):
-    # agrees() never holds them; their order is benchmarks/bench_hb.py's to measure.
-    shared = got.keys() & full.keys()
+    # never held; their order is benchmarks/bench_hb.py's to measure.
+    shared = {key for key in got.keys() & full.keys() if not is_timing_record(got[key])}
     assert len(shared) >= 3
     for key in shared:
         assert agrees(got[key], full[key]), (key, got[key], full[key])
@@ -206,8 +206,10 @@ def test_table1_quick_agrees_with_full(tmp_path):
         assert agrees(got[key], full[key]), key
 
 
+# Not "cost": the models' cost verdicts are drawn from run times (TIME_RATIO), which decide nothing a test
+# may assert; benchmarks/ measure costs.
 FIG8_VERDICTS = ("pairs_met", "settled", "closer_to_reference", "amplitude_vs_reference", "slip_vs_reference",
-                 "state_order", "cost")
+                 "state_order")
 
 
 @pytest.mark.fe

@@ -115,8 +115,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"absolute tolerance (default {DEFAULT_ATOL:g})")
     p.add_argument("--ignore", action="append", default=[], metavar="PATTERN",
                    help="also ignore values whose dotted path matches this glob (repeatable); "
-                        "ignored always: run times (keys ending in _s or _time_ratio, verdicts drawn from "
-                        "run times) and " + " ".join(DEFAULT_IGNORE))
+                        "ignored always: run times (keys ending in _s or _time_ratio, values and verdicts "
+                        "of unit 'time ratio': drawn from run times) and " + " ".join(DEFAULT_IGNORE))
     p.add_argument("--junit", metavar="FILE", help="write the comparison as JUnit XML")
     p.add_argument("--json", action="store_true", help="print the comparison as one JSON object on stdout")
 
@@ -213,12 +213,14 @@ def cmd_sweep(args) -> int | None:
                                     f"sweep; allowed: {', '.join(registry.names('sweep'))}, or --method hb "
                                     "--checkpoints")
     from shroud.analysis.api import sweep
+    from shroud.analysis.checks import check_speed_count
     if args.rpm_count is None:
         raise InputError("command line", "the following arguments are required: --rpm-count "
                                          "(with --method time)")
     params = _params(args)
     if args.rpm_count < 1:
         raise InputError("--rpm-count", f"{args.rpm_count} is out of range; allowed: an integer >= 1")
+    check_speed_count(args.rpm_count, "--rpm-count")
     if not 0 < args.rpm_from <= args.rpm_to:
         raise InputError("--rpm-from", "allowed: 0 < rpm-from <= rpm-to")
     result = sweep(params, args.model, np.linspace(args.rpm_from, args.rpm_to, args.rpm_count))
@@ -232,6 +234,7 @@ def cmd_sweep(args) -> int | None:
 
 
 def _sweep_hb(args) -> int:
+    from shroud.analysis.checks import check_speed_count
     from shroud.analysis.hb import DEFAULT_HARMONICS, check_inputs, run_hb, run_hb_to_tail
     if args.tail is not None and args.harmonics is not None:
         raise InputError("--tail", "give --harmonics or --tail, not both")
@@ -242,6 +245,8 @@ def _sweep_hb(args) -> int:
     if args.rpm_count is not None and args.rpm_count < 2:
         raise InputError("--rpm-count", f"{args.rpm_count} is out of range; allowed: an integer >= 2 "
                                         "(the least number of points on the branch)")
+    if args.rpm_count is not None:
+        check_speed_count(args.rpm_count, "--rpm-count")
     params = _params(args)
     if params.speed.rpm_per_s != 0:
         raise InputError("speed.rpm_per_s", "harmonic balance seeks periodic states at constant speed; "

@@ -9,8 +9,9 @@ Timings are recognised by what they are, not by a list of names
 (:func:`is_timing`): a key ending in ``_s`` holds wall or CPU times of the
 run's machine (the runner refuses anything but numbers under such a key,
 :func:`check_timings`), a key ending in ``_time_ratio`` a ratio of them, and
-a verdict whose unit is ``shroud.core.verdict.TIME_RATIO`` was drawn from
-them; these vary from run to run and are skipped, with the paths matching a
+an object whose unit is ``shroud.core.verdict.TIME_RATIO`` (a verdict, or a
+number the study declared with ``shroud.core.verdict.timing``: a fit of run
+times) was drawn from them; these vary from run to run and are skipped, with the paths matching a
 pattern of ``DEFAULT_IGNORE`` (where and how the run was made) or of
 ``--ignore``. Physical times (a time step) are named otherwise
 (``time_step``). Paths are those of gates (workbench.gates): lists of
@@ -35,7 +36,7 @@ from typing import Any, Sequence
 from workbench import junit
 from workbench.gates import children, is_number
 from shroud.base.errors import InputError
-from shroud.core.verdict import TIME_RATIO, is_verdict
+from shroud.core.verdict import is_timing_record
 
 DEFAULT_RTOL = 1e-6
 DEFAULT_ATOL = 1e-12
@@ -113,11 +114,11 @@ def is_timing(path: str) -> bool:
 
 
 def timing_paths(document: Any, prefix: str = "") -> set[str]:
-    """Paths of the values drawn from run times: under a timing key, or in a verdict whose unit is TIME_RATIO."""
+    """Paths of the values drawn from run times: under a timing key, or in an object whose unit is TIME_RATIO."""
     found: set[str] = set()
     for segment, value in children(document):
         path = f"{prefix}.{segment}" if prefix else segment
-        if is_timing(segment) or (is_verdict(value) and value["unit"] == TIME_RATIO):
+        if is_timing(segment) or is_timing_record(value):
             found |= set(scalars(value, path)) if isinstance(value, (dict, list)) else {path}
         elif isinstance(value, (dict, list)):
             found |= timing_paths(value, path)

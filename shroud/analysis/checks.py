@@ -1,6 +1,6 @@
-"""What a time integration is refused before it starts, naming the bound.
+"""What a time integration (or a sweep of them) is refused before it starts, naming the bound.
 
-Two limits no choice of parameters can get past:
+Three limits no choice of parameters can get past:
 
 * memory: a run records one row per step (tip displacements, contact forces,
   slider positions, states: :class:`shroud.core.newmark.Trajectory`) and its
@@ -15,7 +15,10 @@ Two limits no choice of parameters can get past:
   It is at least the static stiffness 1 / (w K^-1 w^T) that the contact
   really meets, so the bound is where the structure is certainly lost;
   below it the contact forces keep about -log10(eps k_c / k_static) digits
-  (the energy balance of the run shows what is left).
+  (the energy balance of the run shows what is left);
+* memory, again: a sweep holds a task, a result row and its results.json
+  entries for every speed it is asked for (or, by harmonic balance, every
+  point its branch must have at least), so its size grows with the count.
 """
 
 from __future__ import annotations
@@ -33,6 +36,9 @@ RECORD_BYTES_PER_STEP = 4 * 2 * 8 + 2
 # ... and the time-series CSV's 11 float64 columns, stacked before writing
 # (shroud.core.results.write_trajectory_csv).
 CSV_BYTES_PER_STEP = 11 * 8
+# Per speed of a sweep: its task, result row, SweepResult entries and their JSON text (tracemalloc
+# peak 610 B a speed for 200 000 speeds, the worker processes' copies not counted).
+SWEEP_BYTES_PER_SPEED = 600
 # Share of the machine's memory one run's records may take: the model, its
 # solver and the other processes of a sweep or campaign need the rest.
 MEMORY_SHARE = 0.5
@@ -66,6 +72,21 @@ def check_records(params: Parameters) -> None:
                      f"{in_words(need)} (one row of {RECORD_BYTES_PER_STEP + CSV_BYTES_PER_STEP} bytes per step, "
                      f"CSV included), more than {MEMORY_SHARE:.0%} of this machine's {in_words(physical_memory())}; "
                      f"allowed: at most {most} periods here")
+
+
+def check_speed_count(count: int, key: str) -> None:
+    """Refuse (InputError on ``key``) a sweep of ``count`` speeds whose results this machine cannot hold.
+
+    >>> check_speed_count(10**12, "--rpm-count")
+    Traceback (most recent call last):
+    ...
+    shroud.base.errors.InputError: --rpm-count: 1000000000000 speeds would hold 545.7 TiB of results (600 B a speed), ...
+    """
+    need, limit = count * SWEEP_BYTES_PER_SPEED, MEMORY_SHARE * physical_memory()
+    if need > limit:
+        raise InputError(key, f"{count} speeds would hold {in_words(need)} of results ({SWEEP_BYTES_PER_SPEED} B a "
+                              f"speed), more than {MEMORY_SHARE:.0%} of this machine's {in_words(physical_memory())}; "
+                              f"allowed: at most {int(limit // SWEEP_BYTES_PER_SPEED)} speeds here")
 
 
 def structural_stiffness(system: StructuralSystem, rows) -> dict[int, float]:

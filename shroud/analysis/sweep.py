@@ -24,7 +24,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from shroud.analysis.checks import check_run
+from shroud.analysis.checks import check_run, check_speed_count
 from shroud.analysis.transient import contact_law_for, run
 from shroud.base.errors import InputError
 from shroud.base.log import Progress
@@ -130,9 +130,14 @@ def run_sweeps(cases: Sequence[Parameters], model: str, rpms: Sequence[float],
     ``params.time.periods`` and is extended as ``settling`` says.
     """
     rpms = np.asarray(rpms, dtype=float)
-    for p in cases:             # every speed checked before any runs (the rule: Parameters.time_step)
-        for r in rpms:
-            p.updated({"speed.rpm": float(r)}).time_step
+    check_speed_count(len(cases) * rpms.size, "speeds")
+    # Every speed checked before any runs (the rules: Parameters.time_step and the root strain's bound).
+    # The speeds allowed form one interval (0, max_rpm], so the lowest and highest decide for all
+    # (a NaN among them is the lowest's and highest's: np.min and np.max return it).
+    ends = (float(np.min(rpms)), float(np.max(rpms))) if rpms.size else ()
+    for p in cases:
+        for r in ends:
+            p.updated({"speed.rpm": r}).time_step
     tasks = [(p, model, float(r), build, settling) for p in cases for r in rpms]
     progress = Progress(f"sweep {model} ({len(cases)} x {len(rpms)} speeds)", len(tasks))
     t0 = time.perf_counter()

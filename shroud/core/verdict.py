@@ -33,7 +33,7 @@ from typing import Any
 
 NOT_DECIDED = "not decided"
 KEYS = ("answer", "value", "threshold", "margin", "unit", "reason")   # a verdict's JSON, in this order
-TIME_RATIO = "time ratio"   # the unit of a verdict drawn from run times: a timing, whatever its answer
+TIME_RATIO = "time ratio"   # the unit of a number or verdict drawn from run times: a timing, whatever its answer
 
 
 @dataclass(frozen=True)
@@ -200,6 +200,23 @@ def is_verdict(document: Any) -> bool:
     """Whether a JSON value is a verdict's record (the keys of :meth:`Verdict.to_json`, in any order: a JSON
     object is unordered, and records are written with sorted keys)."""
     return isinstance(document, dict) and len(document) == len(KEYS) and set(document) == set(KEYS)
+
+
+def timing(value: Any) -> dict:
+    """A value drawn from run times (a ratio or a fit of them, the points a time axis ranks: anything the
+    machine's speed and load decide) as a results.json holds it, its unit declared:
+    ``{"value": value, "unit": TIME_RATIO}``.
+
+    >>> timing(1.86), timing(["reduced nr = 4"])
+    ({'value': 1.86, 'unit': 'time ratio'}, {'value': ['reduced nr = 4'], 'unit': 'time ratio'})
+    """
+    return {"value": value, "unit": TIME_RATIO}
+
+
+def is_timing_record(document: Any) -> bool:
+    """Whether a JSON value was drawn from run times by its declared unit: an object (a verdict, or a
+    number of :func:`timing`) whose ``unit`` is :data:`TIME_RATIO`. ``shroud compare`` skips such values."""
+    return isinstance(document, dict) and document.get("unit") == TIME_RATIO
 
 
 def answer_of(document: Any) -> Any:
