@@ -329,6 +329,19 @@ def test_shell_benchmarks_quick_agree_with_full(tmp_path):
         assert agrees(got[group], full[group]), group
 
 
+@pytest.mark.fe
+def test_calculix_quick_agrees_with_full(tmp_path):
+    """The quick scene runs one of the full scene's meshes (the 5 mm bricks): the two codes' agreement there
+    is the full scene's answer."""
+    from reference_fe.calculix import ccx
+    if ccx() is None:
+        pytest.skip("CalculiX (ccx) is not installed: bash scripts/install_calculix.sh")
+    got, _ = quick("calculix", tmp_path)
+    full = full_conclusions("calculix")
+    assert got.keys() <= full.keys() and got
+    assert all(agrees(got[mesh], full[mesh]) for mesh in got)
+
+
 def test_interference_quick_agrees_with_full(tmp_path):
     """The ring's stuck flap family at the engine order's nodal diameter against fixed neighbours: the
     eigenvalues at the scene's speed do not depend on the Campbell grid the quick version thins."""
