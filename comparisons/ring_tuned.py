@@ -54,7 +54,7 @@ from shroud.base.errors import InputError, RunDiverged
 from shroud.base.markdown import markdown_table
 from shroud.base.outputs import open_replacing
 from shroud.core import floquet, signals
-from shroud.core.plotting import figure, save
+from shroud.core.plotting import figure, plain_log, save
 from shroud.core.verdict import NOT_DECIDED, Verdict
 
 OPTIONS = {
@@ -314,7 +314,7 @@ def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
         ax.set_xlabel("speed (r/min)")
         ax.set_xticks(np.linspace(scene.options["rpm_from"], scene.options["rpm_to"], 5))
         ax.set_ylabel("v_L amplitude (um)")
-        ax.set_yscale("log")
+        plain_log(ax, "y")
         ax.plot([], [], "ko", ms=5, label="ring in time on a wave (bar: its blades)")
         ax.plot([], [], "kx", ms=5, label="ring in time off the wave")
         ax.plot([], [], "k^", mfc="white", ms=5, label="sector wave there: stable")

@@ -34,6 +34,16 @@ def figure(nrows: int = 1, ncols: int = 1, width: float = 6.4, height: float | N
     return plt.subplots(nrows, ncols, figsize=(width, height), squeeze=False)
 
 
+def plain_log(ax, which: str = "y") -> None:
+    """A log scale on ``ax``'s ``which`` ("x" or "y") axis labelled in plain numbers: an axis spanning less than
+    a decade has no power-of-ten tick, and matplotlib's default then labels its minor ticks as "4 x 10^0"."""
+    from matplotlib.ticker import LogFormatter
+    getattr(ax, f"set_{which}scale")("log")
+    axis = getattr(ax, f"{which}axis")
+    axis.set_major_formatter(LogFormatter())
+    axis.set_minor_formatter(LogFormatter(labelOnlyBase=False, minor_thresholds=(2, 0.5)))
+
+
 def save(fig, path: Path, top: float = 1.0) -> Path:
     """Lay out and write ``fig``; ``top`` < 1 keeps the strip above it free (a legend for every panel).
 
