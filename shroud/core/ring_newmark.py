@@ -11,6 +11,12 @@ and j, and the contact compliance Cc = W S W^T is cyclic block-tridiagonal
 implicit step solves y = W q_pred + Cc lam(y) for every interface at once
 (shroud.core.contact.solve_contact: the coupled problem, not N separate
 ones), then q_j = q_pred,j + S_j (side2_j^T lam_j - side1_j^T lam_j-1).
+Where the ring has fewer DOFs than half its contact coordinates (the
+fe-reduced ring: 3 blades of 33 modes against 594 face coordinates) that
+solve works in the blades' space, Cc = W Phi with Phi = S W^T (the core's
+low-rank path: an N nb system instead of one on the active coordinates);
+the beams (6 DOF a blade, 2 or 4 coordinates an interface) stay in the
+contact coordinates.
 
 Blades listed in ``held`` are held still (rigid and fixed, as the paper's
 neighbours): their operators are zero, so they neither move nor yield.
