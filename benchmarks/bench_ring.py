@@ -9,6 +9,9 @@ HB curve under 10 s (``--mistuned``). Times are medians of
 CPU time over repeated runs (other processes share the cores; the wall
 time is printed too).
 
+The fe-reduced ring (contact solved in the blades' space, docs/ring.md):
+``--blades 3 --periods 20 --models fe-reduced``.
+
     python benchmarks/bench_ring.py [--repeat 5] [--blades 24] [--periods 400] [--models reduced extended]
                                     [--hb --rpm-from 6000 --rpm-to 14000] [--mistuned]
 """

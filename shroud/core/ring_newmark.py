@@ -11,6 +11,12 @@ and j, and the contact compliance Cc = W S W^T is cyclic block-tridiagonal
 implicit step solves y = W q_pred + Cc lam(y) for every interface at once
 (shroud.core.contact.solve_contact: the coupled problem, not N separate
 ones), then q_j = q_pred,j + S_j (side2_j^T lam_j - side1_j^T lam_j-1).
+Where the ring has fewer DOFs than half its contact coordinates (the
+fe-reduced ring: 3 blades of 33 modes against 594 face coordinates) that
+solve works in the blades' space, Cc = W Phi with Phi = S W^T (the core's
+low-rank path: an N nb system instead of one on the active coordinates);
+the beams (6 DOF a blade, 2 or 4 coordinates an interface) stay in the
+contact coordinates.
 
 Blades listed in ``held`` are held still (rigid and fixed, as the paper's
 neighbours): their operators are zero, so they neither move nor yield.
@@ -71,6 +77,18 @@ class RingStep:
     Phi1: np.ndarray     # (N, nb, c): S_j side1_j^T
     Phi2: np.ndarray     # (N, nb, c): S_j side2_j^T
     Cc: np.ndarray       # (m, m) = W S W^T
+    W: np.ndarray        # (m, N nb): the relative projection
+    Phi: np.ndarray      # (N nb, m) = S W^T: Cc = W Phi
+
+    @property
+    def low_rank(self) -> bool:
+        """The ring has fewer DOFs than half its contact coordinates (the fe-reduced ring: 3 x 33 against
+        594): its contact is solved in the blades' space, Cc = W Phi (shroud.core.contact.workspace)."""
+        return 2 * self.Phi.shape[0] <= self.Cc.shape[0]
+
+    def contact_workspace(self, law: ContactLaw):
+        """shroud.core.contact.workspace for this compliance (factored as W Phi when low rank)."""
+        return workspace(law, self.W, self.Phi) if self.low_rank else workspace(law)
 
 
 def factorize(ring: BladeRing, scheme: NewmarkScheme, held: tuple[int, ...] = ()) -> RingStep:
@@ -97,7 +115,7 @@ def factorize(ring: BladeRing, scheme: NewmarkScheme, held: tuple[int, ...] = ()
         Phi[j * nb:(j + 1) * nb, j * c:(j + 1) * c] += Phi2[j]
         i = (j - 1) % N
         Phi[j * nb:(j + 1) * nb, i * c:(i + 1) * c] -= Phi1[j]
-    return RingStep(A=A, S=S, Phi1=Phi1, Phi2=Phi2, Cc=W @ Phi)
+    return RingStep(A=A, S=S, Phi1=Phi1, Phi2=Phi2, Cc=W @ Phi, W=W, Phi=Phi)
 
 
 @njit(cache=True, _nrt=False)
@@ -275,7 +293,7 @@ def integrate_ring(ring: BladeRing, law: ContactLaw, scheme: NewmarkScheme, step
     done, status, iterations, unconverged = _ring_kernel(
         step.A, step.S, f_const, f_sin, f_cos, ring.side1, ring.side2, step.Phi1, step.Phi2, step.Cc, M, C,
         ring.tip(), law.rows, law.props, e, float(ring.omega_e), scheme.dt, scheme.gamma, c0, c2, c3, steps,
-        implicit, bound, window, x, r_tip, r_N, r_F, r_r, r_state, energy, snap, workspace(law))
+        implicit, bound, window, x, r_tip, r_N, r_F, r_r, r_state, energy, snap, step.contact_workspace(law))
     balance = None
     if status == OK and energy_window:
         s = snap.reshape(N, 3 * nb)
