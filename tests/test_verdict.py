@@ -36,6 +36,9 @@ def test_a_rounding_is_declared_only_for_the_record_s_own_numbers_and_keeps_a_ve
     assert is_verdict(declared) and answer_of(declared) == "within"
     assert declared_rounding(declared) == {"value": 1e-4, "margin": 7e-5}
     assert declared_rounding(record) == {}
+    twice = with_rounding(with_rounding(record, "ordering", value=1e-4), "Newton", margin=1e-10)
+    assert declared_rounding(twice) == {"value": 1e-4, "margin": 1e-10}
+    assert twice["rounding"]["reason"] == "ordering; Newton"
     with pytest.raises(ValueError, match="lacks"):
         with_rounding(record, "", tip=1e-7)
     with pytest.raises(ValueError, match=">= 0"):

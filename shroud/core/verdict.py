@@ -229,6 +229,8 @@ def with_rounding(record: dict, reason: str, **spreads: float) -> dict:
     to it instead of its default tolerance, and says so. A verdict drawn
     from such a number has a margin that covers its spread.
 
+    A record declared before keeps its declarations, the reasons joined.
+
     >>> with_rounding({"tip": 5.2208e-3, "case": "thin"}, "orderings", tip=5e-7)
     {'tip': 0.0052208, 'case': 'thin', 'rounding': {'tip': 5e-07, 'reason': 'orderings'}}
     """
@@ -237,7 +239,10 @@ def with_rounding(record: dict, reason: str, **spreads: float) -> dict:
             raise ValueError(f"a rounding declared for {key!r}, which the record lacks ({sorted(record)})")
         if not (math.isfinite(spread) and spread >= 0.0):
             raise ValueError(f"the rounding of {key!r} is a finite spread >= 0 (got {spread})")
-    return {**record, ROUNDING: {**{k: float(v) for k, v in spreads.items()}, "reason": reason}}
+    earlier = record.get(ROUNDING, {})              # a record declared before keeps its spreads and reason
+    reasons = "; ".join(r for r in (earlier.get("reason", ""), reason) if r)
+    return {**record, ROUNDING: {**declared_rounding(record), **{k: float(v) for k, v in spreads.items()},
+                                 "reason": reasons}}
 
 
 def declared_rounding(document: Any) -> dict[str, float]:
