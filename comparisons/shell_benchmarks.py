@@ -42,7 +42,7 @@ from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
 from shroud.base.tables import write_records
 from shroud.core.plotting import figure, save
-from shroud.core.verdict import Verdict, with_rounding
+from shroud.core.verdict import ROUNDING, Verdict, with_rounding
 from shroud.params import Parameters
 
 OPTIONS = {
@@ -75,7 +75,7 @@ FV16 = {**STRIP, "blade.length": 10.0, "blade.width": 10.0, "blade.thickness": 0
 FV16_HZ = (0.421, 1.029, 2.582, 3.306, 3.753, 6.555)
 FV16_TOLERANCE = 0.01
 FIGURE = "shell_benchmarks.png"
-DECLARATIONS = ("verdict", "rounding")      # a row's keys that are no table column
+DECLARATIONS = ("verdict", ROUNDING)        # a row's keys that are no table column
 
 
 def check(scene) -> None:
