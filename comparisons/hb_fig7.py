@@ -35,12 +35,13 @@ import numpy as np
 from comparisons import _families as fam
 from comparisons._hb import named_points, notes_line, on_stable, resonance_of, same_resonance, starts_at, states_at
 from comparisons._study import study
-from shroud.analysis.hb import checkpoint, run_hb
+from shroud.analysis.hb import Checkpoint, checkpoint, run_hb
 from shroud.base.errors import InputError
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.markdown import markdown_table, seconds
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult
+from shroud.core.verdict import with_rounding
 from shroud.base.tables import write_records
 
 OPTIONS = {"gaps_um": [600.0, 100.0, 50.0], "small_gap_um": 1.0, "preloads_N": [0.0, 10.0, 50.0],
@@ -71,10 +72,20 @@ def full_solid_checkpoints(cases, solids, o) -> list[dict]:
                 continue
             for X, stable in starts_at(solid, rpm):
                 cp = checkpoint(c.params, CHECK, rpm, harmonics=solid.harmonics, samples=solid.samples, start=X)
-                out.append({"case": c.label, "reduced_branch_stable": stable, **cp.to_json(),
-                            "difference": (cp.start_amplitude_v_L / cp.amplitude_v_L - 1
-                                           if cp.start_amplitude_v_L is not None else None)})
+                row = {"case": c.label, "reduced_branch_stable": stable, **cp.to_json(),
+                       "difference": (cp.start_amplitude_v_L / cp.amplitude_v_L - 1
+                                      if cp.start_amplitude_v_L is not None else None)}
+                out.append(_rounded(row, cp))
     return out
+
+
+def _rounded(row: dict, cp: Checkpoint) -> dict:
+    """The checkpoint's row with its ``difference`` (-2.7e-5, a ratio of two amplitudes less 1, so it keeps
+    few of their digits) declared rounding where both are converged to Newton's tolerance: held to twice it."""
+    if row["difference"] is None or not cp.converged or cp.short:
+        return row
+    return with_rounding(row, "the difference of two amplitudes each solved to Newton's tolerance: held to "
+                              "twice the tolerance", difference=2.0 * cp.tolerance)
 
 
 def conclusions(cases, branches: dict, checks: list[dict]) -> dict:

@@ -77,14 +77,18 @@ def normal_modes(K, M, count: int, lu=None) -> tuple[np.ndarray, np.ndarray]:
 
     Shift-invert about zero with a factorization of ``K`` (a
     shroud.core.linear_solvers.Factorization; SuperLU by default; K must be
-    nonsingular: the clamped root makes it so). Returns ``(omega2, Phi)`` sorted ascending.
+    nonsingular: the clamped root makes it so). Returns ``(omega2, Phi)`` sorted ascending, the same to the
+    last bit on every call.
     """
     n = K.shape[0]
     if not 1 <= count < n - 1:
         raise ValueError(f"cannot compute {count} modes of a {n}-DOF structure")
     lu = lu or default_factorization(K)
     op = spla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
-    omega2, Phi = spla.eigsh(K, k=count, M=M, sigma=0.0, which="LM", OPinv=op)
+    # A fixed start vector: ARPACK's default one is drawn from the system's entropy, so each call (each run,
+    # each rank) rounded the eigenpairs differently, and with them everything built on them.
+    start = np.random.default_rng(0).uniform(-1.0, 1.0, n)
+    omega2, Phi = spla.eigsh(K, k=count, M=M, sigma=0.0, which="LM", OPinv=op, v0=start)
     order = np.argsort(omega2)
     omega2, Phi = omega2[order], Phi[:, order]
     Phi /= np.sqrt(np.einsum("ij,ij->j", Phi, M @ Phi))

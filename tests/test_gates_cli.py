@@ -21,7 +21,7 @@ import pytest
 
 from workbench import gates
 from workbench.cli import main
-from shroud.core.verdict import TIME_RATIO, RatioVerdict, Verdict, timing
+from shroud.core.verdict import TIME_RATIO, RatioVerdict, Verdict, timing, with_rounding
 
 FLAP1 = "results.modal.rows.flap1.reduced"
 BEAM = 'study = "default"\ntitle = "beam frequencies"\n' \
@@ -244,6 +244,52 @@ def test_run_times_are_skipped_by_what_they_are(two_runs):
     assert sorted(d["path"] for d in json.loads(proc.stdout)["drifted"]) == [
         "results.conclusions.cost_growth.hex.memory_slope", "results.conclusions.gap.value",
         "results.conclusions.time_step"]
+
+
+def test_a_declared_rounding_holds_its_numbers_to_their_spread_and_no_others(two_runs):
+    """A study declares the round-off of some numbers (with_rounding; e.g. MacNeal-Harder's thin beam, whose
+    tip deflection MUMPS's ordering moves by up to 6.3e-5): compare holds them to the declared spread instead
+    of rtol 1e-6 and says so; a move beyond it drifts, named with its spread; the same move of a number beside
+    them that declares nothing drifts; a verdict's answer is held for equality whatever its rounding."""
+    spread = 1e-4                                   # relative, of the tip deflection
+
+    def found(tip_scale=1.0, beside_scale=1.0, threshold=0.015):
+        tip, published = 5.2208e-3 * tip_scale, 5.256e-3
+        error = tip / published - 1.0
+        verdict = Verdict.of(abs(error), threshold=threshold, margin=0.002 + spread, below="within",
+                             above="outside", reason="mesh and round-off")
+        row = {"case": "thin", "shell": tip, "error": error,
+               "verdict": with_rounding(verdict.to_json(), "orderings", value=spread)}
+        return {"thin": with_rounding(row, "orderings", shell=spread * 5.2208e-3, error=spread),
+                "thick": 5.42e-3 * beside_scale}
+    base = _with_conclusions(two_runs, "rounded_base", found())
+    within = _with_conclusions(two_runs, "rounded_within", found(tip_scale=1 + 0.5 * spread))
+    beyond = _with_conclusions(two_runs, "rounded_beyond", found(tip_scale=1 + 3 * spread))
+    beside = _with_conclusions(two_runs, "rounded_beside", found(beside_scale=1 + 0.5 * spread))
+    flipped = _with_conclusions(two_runs, "rounded_flipped", found(threshold=0.004))
+
+    proc = shroud("compare", base, within, "--json")
+    assert proc.returncode == 0, proc.stdout
+    rounded = json.loads(proc.stdout)["rounded"]
+    assert rounded["results.conclusions.thin.shell"] == pytest.approx(spread * 5.2208e-3)
+    assert rounded["results.conclusions.thin.verdict.value"] == spread
+    assert "results.conclusions.thick" not in rounded
+    assert "held to the rounding their study declares" in shroud("compare", base, within).stdout
+
+    proc = shroud("compare", base, beyond, "--json")
+    assert proc.returncode == 3
+    drifted = {d["path"]: d["note"] for d in json.loads(proc.stdout)["drifted"]}
+    assert set(drifted) == {"results.conclusions.thin.shell", "results.conclusions.thin.error",
+                            "results.conclusions.thin.verdict.value"}
+    assert drifted["results.conclusions.thin.shell"] == "beyond its declared rounding 5.22e-07"
+
+    proc = shroud("compare", base, beside, "--json")
+    assert proc.returncode == 3
+    assert [d["path"] for d in json.loads(proc.stdout)["drifted"]] == ["results.conclusions.thick"]
+
+    proc = shroud("compare", base, flipped, "--json")
+    assert proc.returncode == 3
+    assert {d["path"] for d in json.loads(proc.stdout)["drifted"]} >= {"results.conclusions.thin.verdict.answer"}
 
 
 # --- gates on yes/no and words -------------------------------------------------

@@ -2,7 +2,8 @@
 
 import pytest
 
-from shroud.core.verdict import NOT_DECIDED, RatioVerdict, Verdict
+from shroud.core.verdict import (NOT_DECIDED, RatioVerdict, Verdict, answer_of, declared_rounding, is_verdict,
+                                 with_rounding)
 
 
 @pytest.mark.parametrize("value, answer", [(0.030, "no effect"), (0.049, NOT_DECIDED), (0.051, NOT_DECIDED),
@@ -24,3 +25,21 @@ def test_ratio_verdict_has_a_dead_band_and_a_margin_at_its_edges(a, answer):
     v = RatioVerdict(a, 1.0, factor=3.0, noise=1.5, above="costlier", below="cheaper", between="comparable",
                      reason="run times vary 1.5x between identical runs")
     assert v.answer == answer
+
+
+def test_a_rounding_is_declared_only_for_the_record_s_own_numbers_and_keeps_a_verdict_a_verdict():
+    """A declared spread names a key of the record and is >= 0; a verdict's record with its rounding
+    declared is still read as a verdict (its answer, by gates and answer_of)."""
+    record = Verdict.of(0.0067, threshold=0.015, margin=0.002, below="within", above="outside",
+                        reason="mesh").to_json()
+    declared = with_rounding(record, "MUMPS orderings", value=1e-4, margin=7e-5)
+    assert is_verdict(declared) and answer_of(declared) == "within"
+    assert declared_rounding(declared) == {"value": 1e-4, "margin": 7e-5}
+    assert declared_rounding(record) == {}
+    twice = with_rounding(with_rounding(record, "ordering", value=1e-4), "Newton", margin=1e-10)
+    assert declared_rounding(twice) == {"value": 1e-4, "margin": 1e-10}
+    assert twice["rounding"]["reason"] == "ordering; Newton"
+    with pytest.raises(ValueError, match="lacks"):
+        with_rounding(record, "", tip=1e-7)
+    with pytest.raises(ValueError, match=">= 0"):
+        with_rounding(record, "", value=-1e-4)

@@ -18,6 +18,14 @@ pattern of ``DEFAULT_IGNORE`` (where and how the run was made) or of
 tables are named by their elements' label, name or model
 (``results.modal.rows.flap1.reduced``), other lists by index.
 
+Numbers whose last digits the solver's rounding sets are declared so by the
+study (``shroud.core.verdict.with_rounding``: an object's ``rounding`` gives
+a measured spread per key, absolute, with its reason, e.g. a thin shell's
+deflection under another factor ordering, or a residual below Newton's
+tolerance): such a number is held to |new - base| <= its spread (the larger
+of BASE's and NEW's declarations, never less than the default tolerance)
+instead, and the output says how many were and to what.
+
 A results.json without a ``status``, or two runs of different studies, are
 refused in one line. On campaign folders each scene's results.json is
 compared; paths start with the scene's name (``fig8/results.fig8.rpm``) and
@@ -36,7 +44,7 @@ from typing import Any, Sequence
 from workbench import junit
 from workbench.gates import children, is_number
 from shroud.base.errors import InputError
-from shroud.core.verdict import is_timing_record
+from shroud.core.verdict import ROUNDING, declared_rounding, is_timing_record
 
 DEFAULT_RTOL = 1e-6
 DEFAULT_ATOL = 1e-12
@@ -87,10 +95,18 @@ class Comparison:
     compared: list[str]              # paths held (in BASE order, then NEW's own)
     ignored: int                     # by pattern or as timings
     drifts: list[Drift]              # changed words and yes/no first, then largest relative change
+    rounded: dict[str, float]        # path -> declared rounding spread it was held to instead of rtol/atol
+
+    def tolerance(self, path: str) -> str:
+        """How a path was held, in words."""
+        if path in self.rounded:
+            return f"declared rounding {self.rounded[path]:.3g}"
+        return f"rtol {self.rtol:g}, atol {self.atol:g}"
 
     def to_json(self) -> dict:
         return {"base": self.base, "new": self.new, "rtol": self.rtol, "atol": self.atol,
                 "ignore": list(self.ignore), "compared": len(self.compared), "ignored": self.ignored,
+                "rounded": self.rounded,
                 "drifted": [{"path": d.path, "base": d.base, "new": d.new,
                              "relative_change": None if math.isinf(d.relative) else d.relative,
                              "note": d.note} for d in self.drifts]}
@@ -125,6 +141,22 @@ def timing_paths(document: Any, prefix: str = "") -> set[str]:
     return found
 
 
+def rounding_spreads(document: Any, prefix: str = "") -> dict[str, float]:
+    """Path -> declared spread of every number an object declares rounded (``shroud.core.verdict.with_rounding``):
+    the numbers under a declared key, and the declaration's own spreads (held to themselves)."""
+    found: dict[str, float] = {}
+    declared = declared_rounding(document)
+    for segment, value in children(document):
+        path = f"{prefix}.{segment}" if prefix else segment
+        if segment in declared:
+            spread = declared[segment]
+            found.update({p: spread for p in (scalars(value, path) if isinstance(value, (dict, list)) else [path])})
+        elif isinstance(value, (dict, list)):
+            found.update(rounding_spreads(value, path))
+    found.update({f"{prefix}.{ROUNDING}.{k}" if prefix else f"{ROUNDING}.{k}": v for k, v in declared.items()})
+    return found
+
+
 def check_timings(document: Any, prefix: str = "") -> None:
     """Refuse (ValueError) a value under a timing key that is not a number or null: a verdict or a word
     named like a time would never be compared."""
@@ -147,24 +179,37 @@ def _read(path: Path, key: str) -> dict:
     return document
 
 
-def run_values(folder: str | Path, key: str) -> tuple[bool, dict[str, Any], set[str], str]:
-    """(is a campaign, values, timing paths, study or campaign title) of an output folder; a campaign's
-    scenes prefixed ``<scene>/``."""
+@dataclass(frozen=True)
+class RunValues:
+    """What an output folder holds for compare; a campaign's paths prefixed ``<scene>/``."""
+
+    campaign: bool
+    values: dict[str, Any]           # path -> number, yes/no, word or null
+    timings: set[str]                # paths drawn from run times
+    rounded: dict[str, float]        # path -> declared rounding spread
+    name: str                        # study or campaign title
+
+
+def run_values(folder: str | Path, key: str) -> RunValues:
+    """The values of an output folder's results.json (a campaign's: of each scene's)."""
     folder = Path(folder)
     if not folder.is_dir():
         raise InputError(key, f"{str(folder)!r} is not a folder; allowed: an output folder of shroud run")
     document = _record(folder / "results.json", key)
     if "campaign" not in document:
-        return False, scalars(document), timing_paths(document), str(document.get("study"))
+        return RunValues(False, scalars(document), timing_paths(document), rounding_spreads(document),
+                         str(document.get("study")))
     found: dict[str, Any] = {}
     timings: set[str] = set()
+    rounded: dict[str, float] = {}
     for scene in document.get("scenes", []):
         record = folder / scene["results"]
         if record.is_file():          # a scene that never ran has no numbers: each of BASE's drifts
             run = _record(record, key)
             found.update({f"{scene['name']}/{p}": v for p, v in scalars(run).items()})
             timings |= {f"{scene['name']}/{p}" for p in timing_paths(run)}
-    return True, found, timings, str(document["campaign"])
+            rounded.update({f"{scene['name']}/{p}": v for p, v in rounding_spreads(run).items()})
+    return RunValues(True, found, timings, rounded, str(document["campaign"]))
 
 
 def _record(path: Path, key: str) -> dict:
@@ -181,7 +226,7 @@ def _ignored(path: str, patterns: Sequence[str], campaign: bool) -> bool:
     return any(fnmatch.fnmatchcase(path, p) or fnmatch.fnmatchcase(local, p) for p in patterns)
 
 
-def _drift(path: str, base: Any, new: Any, rtol: float, atol: float) -> Drift | None:
+def _drift(path: str, base: Any, new: Any, rtol: float, atol: float, spread: float = 0.0) -> Drift | None:
     for value, where in ((base, "BASE"), (new, "NEW")):
         if value is _ABSENT:
             return Drift(path, None if base is _ABSENT else base, None if new is _ABSENT else new,
@@ -191,7 +236,9 @@ def _drift(path: str, base: Any, new: Any, rtol: float, atol: float) -> Drift | 
     if base is None or new is None:
         return Drift(path, base, new, f"null (NaN or infinity) in {'BASE' if base is None else 'NEW'}")
     if is_number(base) and is_number(new):
-        return None if abs(new - base) <= atol + rtol * abs(base) else Drift(path, float(base), float(new))
+        within = abs(new - base) <= max(atol + rtol * abs(base), spread)
+        return None if within else Drift(path, float(base), float(new),
+                                         f"beyond its declared rounding {spread:.3g}" if spread else "")
     return None if base == new and type(base) is type(new) else Drift(path, base, new)
 
 
@@ -201,24 +248,25 @@ def compare(base: str | Path, new: str | Path, rtol: float = DEFAULT_RTOL, atol:
     target = Path(junit_path) if junit_path else None
     if target is not None and target.is_dir():
         raise InputError("--junit", f"{str(target)!r} is a folder; allowed: a file path")
-    base_campaign, base_values, base_timings, base_name = run_values(base, "BASE")
-    new_campaign, new_values, new_timings, new_name = run_values(new, "NEW")
-    if base_campaign != new_campaign:
+    b, n = run_values(base, "BASE"), run_values(new, "NEW")
+    if b.campaign != n.campaign:
         raise InputError("NEW", "one folder holds a campaign, the other a scene; allowed: two scene "
                          "folders or two campaign folders")
-    if base_name != new_name:
-        kind = "campaign" if new_campaign else "study"
-        raise InputError("NEW", f"BASE is a run of {kind} {base_name!r}, NEW of {kind} {new_name!r}; "
+    if b.name != n.name:
+        kind = "campaign" if n.campaign else "study"
+        raise InputError("NEW", f"BASE is a run of {kind} {b.name!r}, NEW of {kind} {n.name!r}; "
                          f"allowed: two runs of one {kind}")
     patterns = DEFAULT_IGNORE + tuple(ignore)
-    timings = base_timings | new_timings
-    paths = list(base_values) + [p for p in new_values if p not in base_values]
-    held = [p for p in paths if p not in timings and not _ignored(p, patterns, new_campaign)]
-    drifts = [d for p in held if (d := _drift(p, base_values.get(p, _ABSENT), new_values.get(p, _ABSENT),
-                                             rtol, atol)) is not None]
+    timings = b.timings | n.timings
+    paths = list(b.values) + [p for p in n.values if p not in b.values]
+    held = [p for p in paths if p not in timings and not _ignored(p, patterns, n.campaign)]
+    rounded = {p: max(b.rounded.get(p, 0.0), n.rounded.get(p, 0.0)) for p in held
+               if p in b.rounded or p in n.rounded}
+    drifts = [d for p in held if (d := _drift(p, b.values.get(p, _ABSENT), n.values.get(p, _ABSENT),
+                                             rtol, atol, rounded.get(p, 0.0))) is not None]
     drifts.sort(key=lambda d: (-d.relative, d.path))
-    comparison = Comparison(str(base), str(new), rtol, atol, patterns, new_campaign, held,
-                            len(paths) - len(held), drifts)
+    comparison = Comparison(str(base), str(new), rtol, atol, patterns, n.campaign, held,
+                            len(paths) - len(held), drifts, rounded)
     if target is not None:
         target.parent.mkdir(parents=True, exist_ok=True)
         junit.write(target, f"shroud compare {base} {new}", _suites(comparison))
@@ -232,8 +280,7 @@ def _suites(comparison: Comparison) -> list[tuple[str, list[junit.Case]]]:
     for path in comparison.compared:
         scene, _, local = path.partition("/") if comparison.campaign else ("results", "", path)
         drift = drifted.get(path)
-        detail = (drift.describe() if drift else "within tolerance") + \
-            f" (rtol {comparison.rtol:g}, atol {comparison.atol:g})"
+        detail = (drift.describe() if drift else "within tolerance") + f" ({comparison.tolerance(path)})"
         suites.setdefault(scene, []).append(
             junit.Case(local, drift.describe() if drift else None, detail, kind="drift"))
     return list(suites.items())
@@ -243,7 +290,7 @@ def markdown(comparison: Comparison) -> str:
     """The verdict and the drifted numbers, largest relative change first, as a Markdown table."""
     head = (f"Compared {len(comparison.compared)} values of {comparison.new} against {comparison.base} "
             f"(numbers within rtol {comparison.rtol:g}, atol {comparison.atol:g}; yes/no and words equal; "
-            f"{comparison.ignored} timings or ignored by pattern).")
+            f"{comparison.ignored} timings or ignored by pattern)." + _rounded_sentence(comparison))
     if not comparison.drifts:
         return head + "\nAll within tolerance."
     rows = ["| path | BASE | NEW | relative change | note |", "|---|---|---|---|---|"]
@@ -251,6 +298,16 @@ def markdown(comparison: Comparison) -> str:
         rows.append(f"| `{d.path}` | {_cell(d.base)} | {_cell(d.new)} | "
                     f"{_change(d)} | {d.note or '-'} |")
     return f"{head}\n**{len(comparison.drifts)} drifted:**\n\n" + "\n".join(rows)
+
+
+def _rounded_sentence(comparison: Comparison) -> str:
+    """Which numbers were held to their declared rounding instead of the default tolerance, if any."""
+    if not comparison.rounded:
+        return ""
+    spreads = comparison.rounded.values()
+    return (f"\n{len(comparison.rounded)} of them held to the rounding their study declares instead (spreads "
+            f"{min(spreads):.3g} to {max(spreads):.3g}, absolute, in each number's units; each declaration's "
+            "reason is in results.json beside it under `rounding`).")
 
 
 def _change(d: Drift) -> str:

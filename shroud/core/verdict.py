@@ -34,6 +34,7 @@ from typing import Any
 NOT_DECIDED = "not decided"
 KEYS = ("answer", "value", "threshold", "margin", "unit", "reason")   # a verdict's JSON, in this order
 TIME_RATIO = "time ratio"   # the unit of a number or verdict drawn from run times: a timing, whatever its answer
+ROUNDING = "rounding"       # the key under which a JSON object declares its values' round-off (with_rounding)
 
 
 @dataclass(frozen=True)
@@ -198,8 +199,9 @@ def _three_way(x: float, edge: float, margin: float, above: Any, below: Any, bet
 
 def is_verdict(document: Any) -> bool:
     """Whether a JSON value is a verdict's record (the keys of :meth:`Verdict.to_json`, in any order: a JSON
-    object is unordered, and records are written with sorted keys)."""
-    return isinstance(document, dict) and len(document) == len(KEYS) and set(document) == set(KEYS)
+    object is unordered, and records are written with sorted keys), its round-off declared or not
+    (:func:`with_rounding`)."""
+    return isinstance(document, dict) and set(document) - {ROUNDING} == set(KEYS)
 
 
 def timing(value: Any) -> dict:
@@ -211,6 +213,45 @@ def timing(value: Any) -> dict:
     ({'value': 1.86, 'unit': 'time ratio'}, {'value': ['reduced nr = 4'], 'unit': 'time ratio'})
     """
     return {"value": value, "unit": TIME_RATIO}
+
+
+def with_rounding(record: dict, reason: str, **spreads: float) -> dict:
+    """``record`` (a JSON object: a table's row, a verdict's record) with the round-off of some of its
+    values declared: ``{**record, "rounding": {key: spread, ..., "reason": reason}}``.
+
+    Some numbers are set in their last digits by the solver's rounding: a
+    factorization of an ill-conditioned operator, whose fill-reducing
+    ordering (and with it the rounding) changes with the rank count; a
+    residual that Newton drove below its tolerance. Runs that differ only in
+    that differ in those digits. ``spread`` (>= 0, absolute, in the value's
+    own units) is how far, measured, with ``reason`` saying how; ``shroud
+    compare`` holds the value (every number in it, for a table or a record)
+    to it instead of its default tolerance, and says so. A verdict drawn
+    from such a number has a margin that covers its spread.
+
+    A record declared before keeps its declarations, the reasons joined.
+
+    >>> with_rounding({"tip": 5.2208e-3, "case": "thin"}, "orderings", tip=5e-7)
+    {'tip': 0.0052208, 'case': 'thin', 'rounding': {'tip': 5e-07, 'reason': 'orderings'}}
+    """
+    for key, spread in spreads.items():
+        if key not in record:
+            raise ValueError(f"a rounding declared for {key!r}, which the record lacks ({sorted(record)})")
+        if not (math.isfinite(spread) and spread >= 0.0):
+            raise ValueError(f"the rounding of {key!r} is a finite spread >= 0 (got {spread})")
+    earlier = record.get(ROUNDING, {})              # a record declared before keeps its spreads and reason
+    reasons = "; ".join(r for r in (earlier.get("reason", ""), reason) if r)
+    return {**record, ROUNDING: {**declared_rounding(record), **{k: float(v) for k, v in spreads.items()},
+                                 "reason": reasons}}
+
+
+def declared_rounding(document: Any) -> dict[str, float]:
+    """The spreads a JSON object declares for its own values (:func:`with_rounding`), by key; {} if none."""
+    found = document.get(ROUNDING) if isinstance(document, dict) else None
+    if not isinstance(found, dict):
+        return {}
+    return {k: v for k, v in found.items() if k != "reason" and isinstance(v, (int, float))
+            and not isinstance(v, bool)}
 
 
 def is_timing_record(document: Any) -> bool:
