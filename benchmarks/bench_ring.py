@@ -66,13 +66,7 @@ def main() -> None:
         curves = {"single blade": lambda: run_hb(p, "reduced", a, b),
                   "sector, no stability": lambda: run_ring_hb(p, "reduced", a, b, stability=False).branch}
         for name, curve in curves.items():
-            curve()                                               # compile
-            cpu, wall = [], []
-            for _ in range(args.repeat):
-                w0, c0 = time.perf_counter(), time.process_time()
-                r = curve()
-                wall.append(time.perf_counter() - w0)
-                cpu.append(time.process_time() - c0)
+            r, cpu, wall = timed(curve, args.repeat)
             print(f"HB {name}: {len(r.rpm)} points, complete {r.complete}, CPU {statistics.median(cpu):.3f} s "
                   f"({1e3 * statistics.median(cpu) / len(r.rpm):.2f} ms a point), "
                   f"wall {statistics.median(wall):.3f} s; "
@@ -95,6 +89,19 @@ def main() -> None:
         mistuned_curve(args)
 
 
+def timed(curve, repeat: int):
+    """``curve()``'s result and its CPU and wall times (s) over ``repeat`` calls after a first one that
+    compiles the kernels and builds the blades' models."""
+    curve()
+    cpu, wall = [], []
+    for _ in range(repeat):
+        w0, c0 = time.perf_counter(), time.process_time()
+        result = curve()
+        wall.append(time.perf_counter() - w0)
+        cpu.append(time.process_time() - c0)
+    return result, cpu, wall
+
+
 def mistuned_curve(args) -> None:
     """The mistuned ring's HB curve (the whole ring condensed on its blades' contact coordinates, no
     stability): 24 blades, E scattered by 1.3 % (seed 1), a preload of 20 N at every interface (without
@@ -102,14 +109,8 @@ def mistuned_curve(args) -> None:
     Goal: under 10 s."""
     p = Parameters().with_overrides([f"ring.blades={args.blades}", "ring.mistuning_std=0.013", "ring.seed=1",
                                      "contact.N0=20", *args.set])
-    curve = (lambda: run_ring_hb(p, "reduced", 8000.0, 10000.0, harmonics=10, samples=256, stability=False))
-    curve()                                                       # compile, and the blades' models
-    cpu, wall = [], []
-    for _ in range(args.repeat):
-        w0, c0 = time.perf_counter(), time.process_time()
-        r = curve()
-        wall.append(time.perf_counter() - w0)
-        cpu.append(time.process_time() - c0)
+    r, cpu, wall = timed(lambda: run_ring_hb(p, "reduced", 8000.0, 10000.0, harmonics=10, samples=256,
+                                             stability=False), args.repeat)
     last = r.amplitudes[-1]
     print(f"HB mistuned ring of {args.blades}: {len(r.branch.rpm)} points 8000-10000 r/min, complete {r.complete}, "
           f"CPU {statistics.median(cpu):.3f} s, wall {statistics.median(wall):.3f} s (median of {args.repeat}); "
