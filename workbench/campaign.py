@@ -38,7 +38,7 @@ from shroud.base.outputs import write_text
 from workbench import junit
 from workbench.gates import Gate, from_table, hold, merged
 from workbench.report import SceneOutcome, campaign_gate_summary, stitch
-from workbench.runner import holding, jsonable, output_folder, run_scene, versions
+from workbench.runner import holding, jsonable, output_folder, run_scene, shielded_from_interrupts, versions
 from workbench.scene import load_scene, read_toml
 
 _TOP_KEYS = ("campaign", "title", "description", "quick", "overrides", "gates")
@@ -178,10 +178,11 @@ def _run_entries(campaign: Campaign, path, out: Path, writer: bool) -> dict:
     finally:
         elapsed = time.perf_counter() - t0
         if writer:
-            outcomes = [_outcome(e, out / e.name) for e in campaign.entries]
-            if any(o.status != "complete" for o in outcomes) and status == "complete":
-                status = "complete with failures"
-            _write_campaign(out, campaign, outcomes, status, elapsed, spread)
+            with shielded_from_interrupts():     # a repeated Ctrl-C must not cut the summary
+                outcomes = [_outcome(e, out / e.name) for e in campaign.entries]
+                if any(o.status != "complete" for o in outcomes) and status == "complete":
+                    status = "complete with failures"
+                _write_campaign(out, campaign, outcomes, status, elapsed, spread)
     info(f"campaign done in {seconds(elapsed)}: {out / 'report.md'}")
     return {"campaign": campaign.title, "out": str(out), "status": status, "elapsed_s": round(elapsed, 3),
             "gates": [{"scene": o.name, **r} for o in outcomes for r in o.gates]}

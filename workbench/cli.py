@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import signal
 import sys
 from pathlib import Path
 
@@ -357,6 +358,7 @@ def main(argv: list[str] | None = None) -> int:
         print(exc.line(), file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)     # the run is over: a repeated Ctrl-C must not cut the exit
         print("error: interrupted (any output folder holds a result marked partial)", file=sys.stderr)
         return EXIT_INTERRUPTED
     except RunDiverged as exc:

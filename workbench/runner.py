@@ -148,6 +148,21 @@ def output_folder(scene_path: str | Path, out: str | Path | None) -> Path:
 
 
 @contextlib.contextmanager
+def shielded_from_interrupts():
+    """SIGINT and SIGTERM ignored for the block: a second Ctrl-C (a user's,
+    or a batch system's repeat) must not cut the partial result half-written."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {sig: signal.signal(sig, signal.SIG_IGN) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+@contextlib.contextmanager
 def sigterm_as_interrupt():
     """A batch system's SIGTERM ends the run like Ctrl-C: with a marked partial result."""
     if threading.current_thread() is not threading.main_thread():
@@ -223,9 +238,10 @@ def _run_study(scene: Scene, module, path, out: Path, writer: bool, quick: bool,
             check_timings(jsonable(results), "results")   # run times named as such, so compare skips them
     except KeyboardInterrupt:
         elapsed = time.perf_counter() - t0
-        marked = mark_incomplete(target, started, f"run interrupted after {elapsed:.1f} s")
-        write_results(target, scene, "partial (interrupted)", elapsed, {}, overrides,
-                      {"incomplete_files": [str(p.relative_to(target)) for p in marked]}, gates)
+        with shielded_from_interrupts():
+            marked = mark_incomplete(target, started, f"run interrupted after {elapsed:.1f} s")
+            write_results(target, scene, "partial (interrupted)", elapsed, {}, overrides,
+                          {"incomplete_files": [str(p.relative_to(target)) for p in marked]}, gates)
         warn(f"interrupted: partial result in {out} (results.json says partial; "
              f"{len(marked)} file(s) marked incomplete)")
         raise
