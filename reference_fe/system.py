@@ -38,6 +38,7 @@ the disk cache and every rank reads it.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 from pathlib import Path
@@ -109,7 +110,7 @@ def build_system(params: Parameters, reduced: bool, kind: str = "fe") -> Structu
 def full_system(params: Parameters, kind: str = "fe") -> StructuralSystem:
     """The solid (shell) FE model on its free DOFs (scipy sparse, or row-distributed under mpirun), SI units."""
     from reference_fe.cms import normal_modes
-    from reference_fe.factor import MumpsFactor, mumps_lu
+    from reference_fe.factor import METIS_ORDERING, PORD_ORDERING, MumpsFactor, mumps_lu
 
     solid = _solid(params, params.speed.rpm, kind)
     if kind == "shell":
@@ -123,7 +124,8 @@ def full_system(params: Parameters, kind: str = "fe") -> StructuralSystem:
         model=kind, M=solid.M, C=a * solid.M + b * solid.K + solid.G, K=solid.K,
         f_const=np.zeros(n), f_aero=params.load.F0 * solid.f_aero,
         omega_e=params.load.ke * params.speed.omega, tip=solid.tip, contact=solid.contact,
-        factorize=mumps_lu, layout=getattr(solid.M, "layout", None), rayleigh=(float(a), float(b)))
+        factorize=functools.partial(mumps_lu, ordering=PORD_ORDERING if kind == "shell" else METIS_ORDERING),
+        layout=getattr(solid.M, "layout", None), rayleigh=(float(a), float(b)))
 
 
 def _on_every_rank(solid: _Solid) -> _Solid:
