@@ -102,6 +102,12 @@ class DistributedMatrix:
         indptr, indices, data = self.mat.getValuesCSR()
         return sp.csr_matrix((data, indices, indptr), shape=(self.layout.stop - self.layout.start, self.shape[1]))
 
+    def whole(self) -> sp.csr_matrix:
+        """The complete matrix on every rank (scipy CSR, stored zeros dropped): the row blocks gathered once."""
+        A = sp.vstack(self.layout.comm.allgather(self.row_block), format="csr")
+        A.eliminate_zeros()
+        return A
+
     def matvec(self, x: np.ndarray) -> np.ndarray:
         self._x.setArray(self.layout.own(np.ravel(x)))
         self.mat.mult(self._x, self._y)

@@ -38,6 +38,7 @@ the disk cache and every rank reads it.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 from pathlib import Path
@@ -109,9 +110,11 @@ def build_system(params: Parameters, reduced: bool, kind: str = "fe") -> Structu
 def full_system(params: Parameters, kind: str = "fe") -> StructuralSystem:
     """The solid (shell) FE model on its free DOFs (scipy sparse, or row-distributed under mpirun), SI units."""
     from reference_fe.cms import normal_modes
-    from reference_fe.factor import MumpsFactor, mumps_lu
+    from reference_fe.factor import METIS_ORDERING, PORD_ORDERING, MumpsFactor, mumps_lu
 
     solid = _solid(params, params.speed.rpm, kind)
+    if kind == "shell":
+        solid = _on_every_rank(solid)
     with MumpsFactor(solid.K) as lu:
         omega2, _ = normal_modes(solid.K, solid.M, 2, lu)
     f1, f2 = np.sqrt(omega2) / (2 * math.pi)
@@ -121,7 +124,25 @@ def full_system(params: Parameters, kind: str = "fe") -> StructuralSystem:
         model=kind, M=solid.M, C=a * solid.M + b * solid.K + solid.G, K=solid.K,
         f_const=np.zeros(n), f_aero=params.load.F0 * solid.f_aero,
         omega_e=params.load.ke * params.speed.omega, tip=solid.tip, contact=solid.contact,
-        factorize=mumps_lu, layout=getattr(solid.M, "layout", None), rayleigh=(float(a), float(b)))
+        factorize=functools.partial(mumps_lu, ordering=PORD_ORDERING if kind == "shell" else METIS_ORDERING),
+        layout=getattr(solid.M, "layout", None), rayleigh=(float(a), float(b)))
+
+
+def _on_every_rank(solid: _Solid) -> _Solid:
+    """The whole model on every rank (scipy CSR): under mpirun each rank then integrates it alone.
+
+    The shell's factor is small (2D: 10k DOF, 1.7 M entries, a 1.4-2 ms
+    back-substitution on one process), and spread over the ranks its solve
+    is mostly messages, each one a wait for the other rank's core: on 2
+    ranks of the loaded machine a distributed solve took 2.6-7.2 ms of CPU
+    and 10-38 ms of wall time, a rank solving alone 1.9-2.2 ms and 7-11 ms
+    (docs/shell.md, "Cost"). Every rank computes the same trajectory, with
+    no message per step; the solid's 3D factors stay spread over the ranks.
+    """
+    from reference_fe.distributed import DistributedMatrix
+    if not isinstance(solid.M, DistributedMatrix):
+        return solid
+    return dataclasses.replace(solid, M=solid.M.whole(), K=solid.K.whole(), G=solid.G.whole())
 
 
 def _kept(params: Parameters, kind: str) -> tuple[int, int]:

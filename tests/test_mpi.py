@@ -99,8 +99,10 @@ def test_fe_modal_on_two_ranks_matches_serial(tmp_path):
 
 @pytest.mark.fe
 @pytest.mark.slow
-@pytest.mark.parametrize("model", ["fe-reduced", "fe"])
+@pytest.mark.parametrize("model", ["fe-reduced", "fe", "shell"])
 def test_fe_transient_on_two_ranks_matches_serial(tmp_path, model):
+    """The solid's factor and products spread over the ranks; the shell whole on each rank
+    (reference_fe.system._on_every_rank): either way the serial answers."""
     argv = ["transient", "--model", model, "--set", "time.periods=2", "--set", COARSE, "--json"]
     # Serial first: it builds (or reuses) the reduction basis, which the ranks then read from the cache.
     serial = json.loads(shroud([*argv, "--out", str(tmp_path / "s")])[0])
