@@ -86,9 +86,23 @@ class RingStep:
         594): its contact is solved in the blades' space, Cc = W Phi (shroud.core.contact.workspace)."""
         return 2 * self.Phi.shape[0] <= self.Cc.shape[0]
 
+    def blocks(self) -> np.ndarray:
+        """Cc as cyclic block-tridiagonal blocks (N, 3, c, c): row j's interfaces j-1, j, j+1
+        (shroud.core.cyclic_blocks; N >= 3, where the three are distinct)."""
+        N, c = self.S.shape[0], self.Phi1.shape[2]
+        Cb = np.empty((N, 3, c, c))
+        for j in range(N):
+            for t in range(3):
+                k = (j - 1 + t) % N
+                Cb[j, t] = self.Cc[j * c:(j + 1) * c, k * c:(k + 1) * c]
+        return Cb
+
     def contact_workspace(self, law: ContactLaw):
-        """shroud.core.contact.workspace for this compliance (factored as W Phi when low rank)."""
-        return workspace(law, self.W, self.Phi) if self.low_rank else workspace(law)
+        """shroud.core.contact.workspace for this compliance: factored as W Phi when low rank, else by
+        its cyclic blocks (N >= 3: linear in N), else dense."""
+        if self.low_rank:
+            return workspace(law, self.W, self.Phi)
+        return workspace(law, blocks=self.blocks()) if self.S.shape[0] >= 3 else workspace(law)
 
 
 def factorize(ring: BladeRing, scheme: NewmarkScheme, held: tuple[int, ...] = ()) -> RingStep:
