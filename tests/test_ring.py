@@ -85,7 +85,8 @@ def test_a_ring_blade_with_its_neighbours_held_still_is_the_papers_blade(model, 
     """Interface 0 with blade 1 still is the paper's side 2; interface N-1 with blade N-1 still its side 1
     (the extended beam: two paired points per face; the full beam with the paper's explicit contact).
     Blade 0 meets interface N-1 through the corner blocks of the ring's cyclic block-tridiagonal
-    compliance: with 3 and 24 blades the implicit step is the cyclic block solve's."""
+    compliance: with 24 blades (48 and 96 contact coordinates) the implicit step is the cyclic block
+    solve's, with 3 the dense one's (ring_newmark.CYCLIC_FROM)."""
     p = Parameters().with_overrides([f"ring.blades={blades}", "time.periods=12", "speed.rpm=9000",
                                      f"time.contact={contact}"])
     ring = run_ring(build_ring(p, model), p, held=tuple(range(1, blades)))
