@@ -1,4 +1,4 @@
-"""Speed of a Monte Carlo over mistuning by harmonic balance, over MPI ranks (issue 26).
+"""Speed of a Monte Carlo over mistuning, by harmonic balance or in time, over MPI ranks (issue 26).
 
 Goal: 200 samples (24 blades, E scattered by 1.3 %, each its own seed) over a
 speed range in under 10 min on 2 ranks, with the scaling from 1 to 2 ranks
@@ -10,8 +10,14 @@ nothing is gathered in memory), with the rank's peak resident memory then.
 The interfaces carry a preload of 20 N: without one the ring settles on no
 periodic state near these speeds (docs/ring.md).
 
+``--method time``: each sample as the study ring_mistuning computes it
+(comparisons.ring_mistuning.blade_amplitudes: the whole ring in time from
+rest, 200 periods, no preload, its full scene's speeds 9500, 10000, 10500
+r/min unless --rpm says otherwise).
+
     mpirun -n 2 python benchmarks/bench_mistuning.py --samples 200 --out /tmp/mc
     mpirun -n 1 python benchmarks/bench_mistuning.py --samples 20 --out /tmp/mc1
+    mpirun -n 2 python benchmarks/bench_mistuning.py --method time --samples 200 --out /tmp/mct
 """
 
 from __future__ import annotations
@@ -24,6 +30,7 @@ import time
 from pathlib import Path
 
 import reduced_model  # noqa: F401  (registers the beams)
+from comparisons.ring_mistuning import blade_amplitudes
 from shroud.analysis.ring_hb import whole_ring_at
 from shroud.base.parallel import mpi_rank, mpi_size
 from shroud.params import Parameters
@@ -38,21 +45,32 @@ def sample(seed: int, speeds: list[float], blades: int) -> dict:
     return {"seed": seed, "rpm": speeds, "worst_v_L": worst}
 
 
+def sample_in_time(seed: int, speeds: list[float], blades: int) -> dict:
+    """Sample ``seed`` as the study ring_mistuning's full scene runs it: the ring in time, 200 periods."""
+    p = Parameters().with_overrides([f"ring.blades={blades}", "time.periods=200", "ring.mistuning_std=0.013",
+                                     f"ring.seed={seed}"])
+    return {"seed": seed, "rpm": speeds, "worst_v_L": [max(a) for a in blade_amplitudes(p, "reduced", speeds)]}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, default=200)
     ap.add_argument("--blades", type=int, default=24)
-    ap.add_argument("--rpm", type=float, nargs="+", default=[8500.0, 9000.0, 9500.0])
+    ap.add_argument("--rpm", type=float, nargs="+", default=None,
+                    help="speeds (default 8500 9000 9500 by HB, 9500 10000 10500 in time)")
+    ap.add_argument("--method", choices=("hb", "time"), default="hb")
     ap.add_argument("--out", type=Path, required=True)
     args = ap.parse_args()
+    run = sample if args.method == "hb" else sample_in_time
+    speeds = args.rpm or ([8500.0, 9000.0, 9500.0] if args.method == "hb" else [9500.0, 10000.0, 10500.0])
     rank, size = mpi_rank(), mpi_size()
     args.out.mkdir(parents=True, exist_ok=True)
     path = args.out / f"samples.rank{rank}.jsonl"
-    sample(10**6, args.rpm[:1], args.blades)                 # compile (numba) before the clock
+    run(10**6, speeds[:1], args.blades)                 # compile (numba) before the clock
     t0, c0 = time.perf_counter(), time.process_time()
     with open(path, "w") as fh:
         for seed in range(rank, args.samples, size):
-            row = sample(seed, args.rpm, args.blades)
+            row = run(seed, speeds, args.blades)
             row["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
             fh.write(json.dumps(row) + "\n")
             fh.flush()
@@ -60,7 +78,7 @@ def main() -> None:
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     rows = [json.loads(line) for line in path.read_text().splitlines()]
     rss = [r["peak_rss_mb"] for r in rows]
-    print(f"rank {rank}/{size}: {len(rows)} samples x {len(args.rpm)} speeds in {wall:.1f} s wall, {cpu:.1f} s CPU "
+    print(f"rank {rank}/{size}: {len(rows)} samples x {len(speeds)} speeds in {wall:.1f} s wall, {cpu:.1f} s CPU "
           f"({wall / max(len(rows), 1):.2f} s a sample); peak RSS {rss[0]:.0f} MB after the first, "
           f"{rss[len(rss) // 2]:.0f} MB at the middle, {rss[-1]:.0f} MB after the last; "
           f"load average {os.getloadavg()[0]:.1f}", flush=True)

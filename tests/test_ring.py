@@ -78,24 +78,74 @@ def test_no_ring_is_the_papers_model_bit_for_bit(tmp_path):
 
 # --- the ring in time ----------------------------------------------------------------------------
 
-@pytest.mark.parametrize("model, contact", [("reduced", "implicit"), ("extended", "implicit"),
-                                            ("full", "explicit")])
-def test_a_ring_blade_with_its_neighbours_held_still_is_the_papers_blade(model, contact):
-    """Interface 0 with blade 1 still is the paper's side 2; interface 2 with blade 2 still its side 1
-    (the extended beam: two paired points per face; the full beam with the paper's explicit contact)."""
-    p = Parameters().with_overrides(["ring.blades=3", "time.periods=12", "speed.rpm=9000",
+@pytest.mark.parametrize("model, contact, blades", [("reduced", "implicit", 3), ("extended", "implicit", 3),
+                                                    ("full", "explicit", 3), ("reduced", "implicit", 24),
+                                                    ("extended", "implicit", 24)])
+def test_a_ring_blade_with_its_neighbours_held_still_is_the_papers_blade(model, contact, blades):
+    """Interface 0 with blade 1 still is the paper's side 2; interface N-1 with blade N-1 still its side 1
+    (the extended beam: two paired points per face; the full beam with the paper's explicit contact).
+    Blade 0 meets interface N-1 through the corner blocks of the ring's cyclic block-tridiagonal
+    compliance: with 24 blades (48 and 96 contact coordinates) the implicit step is the cyclic block
+    solve's, with 3 the dense one's (ring_newmark.CYCLIC_FROM)."""
+    p = Parameters().with_overrides([f"ring.blades={blades}", "time.periods=12", "speed.rpm=9000",
                                      f"time.contact={contact}"])
-    ring = run_ring(build_ring(p, model), p, held=(1, 2))
+    ring = run_ring(build_ring(p, model), p, held=tuple(range(1, blades)))
     paper = run(build_system(p, model), p)
     scale_tip, scale_N = np.abs(paper.tip).max(), np.abs(paper.normal).max()
+    last = blades - 1
     assert scale_N > 1.0                                   # the contact works, on both sides
     assert np.abs(ring.tip[:, 0] - paper.tip).max() <= 1e-11 * scale_tip
     assert np.abs(ring.normal[:, 0] - paper.normal[:, 1]).max() <= 1e-10 * scale_N
-    assert np.abs(ring.normal[:, 2] - paper.normal[:, 0]).max() <= 1e-10 * scale_N
+    assert np.abs(ring.normal[:, last] - paper.normal[:, 0]).max() <= 1e-10 * scale_N
     assert np.abs(ring.friction[:, 0] - paper.friction[:, 1]).max() <= 1e-10 * scale_N
-    assert np.abs(-ring.friction[:, 2] - paper.friction[:, 0]).max() <= 1e-10 * scale_N
-    assert np.array_equal(ring.state[:, [2, 0]], paper.state)
+    assert np.abs(-ring.friction[:, last] - paper.friction[:, 0]).max() <= 1e-10 * scale_N
+    assert np.array_equal(ring.state[:, [last, 0]], paper.state)
     assert np.all(ring.tip[:, 1:] == 0.0)
+
+
+@pytest.mark.parametrize("blades", [3, 24])
+def test_the_cyclic_block_contact_solve_is_the_dense_solve_of_the_rings_compliance(blades):
+    """The implicit contact step y = y_pred + Cc lam(y) on a ring of extended beams (two points an
+    interface, four coordinates) solved by the cyclic block-tridiagonal factorization and by the dense
+    active-set LU: the same y and states to round-off over 400 successive predictors (one workspace
+    each, as in a run: the factors are reused and refactored as the states change), separations,
+    sticks and slips of both directions among them, and y satisfies the law's equation. Interfaces
+    N-1 and 0 (blade 0's two sides) are pressed hardest, so the corner blocks carry the coupling."""
+    from shroud.core.contact import evaluate, solve_contact, workspace
+    from shroud.core.newmark import NewmarkScheme
+    from shroud.core.ring_newmark import factorize
+    from shroud.analysis.ring import ring_law
+    p = Parameters().with_overrides([f"ring.blades={blades}", "contact.N0=5"])
+    ring = build_ring(p, "extended")
+    step = factorize(ring, NewmarkScheme(dt=p.time_step))
+    law = ring_law(ring, p)
+    m, k = law.m, law.count
+    rng = np.random.default_rng(blades)
+    ws_cyclic, ws_dense = workspace(law, blocks=step.blocks()), workspace(law)
+    z_old, seen = np.zeros(k), set()
+    press = np.zeros(m)
+    press[0:m:2] = 2e-7                                  # normals: into contact around the ring ...
+    press[[0, 2, m - 4, m - 2]] = 1e-6                   # ... most at interfaces 0 and N-1
+    for i in range(400):
+        y_pred = press * (1 + np.sin(0.1 * i)) + 3e-7 * rng.normal(size=m)
+        out = []
+        for ws in (ws_cyclic, ws_dense):
+            y, lam = np.zeros(m), np.zeros(m)
+            N, F, z, state = np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k, np.int64)
+            it, ok = solve_contact(y_pred, step.Cc, z_old, law.rows, law.props, y, lam, N, F, z, state, ws)
+            assert ok
+            out.append((y, lam, z, state))
+        (y, lam, z, state), (y_d, _, _, state_d) = out
+        scale = np.abs(y_pred).max()
+        assert np.abs(y - y_d).max() <= 1e-12 * scale
+        assert np.array_equal(state, state_d)
+        assert np.abs(y - y_pred - step.Cc @ lam).max() <= 1e-12 * scale
+        lam2 = np.zeros(m)
+        evaluate(y, z_old, law.rows, law.props, lam2, np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k, np.int64))
+        assert np.array_equal(lam, lam2)
+        seen |= {(int(s), bool(f > 0)) for s, f in zip(state, F)}
+        z_old = z
+    assert seen >= {(0, False), (1, True), (1, False), (2, True), (2, False)}
 
 
 def _assembled_stuck_ring(p: Parameters):

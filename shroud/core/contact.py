@@ -49,6 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from shroud.core.cyclic_blocks import cyclic_factor, cyclic_solve, lu_factor, lu_solve
 from shroud.core.system import ContactElements
 
 from shroud.core.states import SEPARATE, SLIP, STICK
@@ -189,8 +190,30 @@ def copy_into(dst, src):
 
 
 @leaf
-def _residual_norm(y, y_pred, Cc, lam):
+def _compliance_times(Cb, v, out):
+    """out = Cc v from the cyclic blocks Cb (N, 3, c, c) of a ring's compliance (shroud.core.cyclic_blocks):
+    interface j's rows see interfaces j-1, j, j+1 only."""
+    N, c = Cb.shape[0], Cb.shape[2]
+    for j in range(N):
+        for i in range(c):
+            acc = 0.0
+            for t in range(3):
+                o = ((j - 1 + t) % N) * c
+                for l in range(c):
+                    acc += Cb[j, t, i, l] * v[o + l]
+            out[j * c + i] = acc
+
+
+@leaf
+def _residual_norm(y, y_pred, Cc, Cb, lam, scratch):
+    """|y - y_pred - Cc lam| (Cc dense, or from its cyclic blocks Cb when there are any)."""
     r = 0.0
+    if Cb.shape[0] > 0:
+        _compliance_times(Cb, lam, scratch)
+        for i in range(y.size):
+            ri = y[i] - y_pred[i] - scratch[i]
+            r += ri * ri
+        return np.sqrt(r)
     for i in range(y.size):
         ri = y[i] - y_pred[i]
         for l in range(y.size):
@@ -200,38 +223,74 @@ def _residual_norm(y, y_pred, Cc, lam):
 
 
 @leaf
-def _lu_factor(A, piv, n):
-    """LU of A[:n, :n] in place (partial pivoting; multipliers below the diagonal), row swaps in piv."""
-    for c in range(n):
-        p = c
-        for i in range(c + 1, n):
-            if abs(A[i, c]) > abs(A[p, c]):
-                p = i
-        piv[c] = p
-        if p != c:
-            for l in range(n):
-                A[c, l], A[p, l] = A[p, l], A[c, l]
-        for i in range(c + 1, n):
-            f = A[i, c] / A[c, c]
-            A[i, c] = f
-            for l in range(c + 1, n):
-                A[i, l] -= f * A[c, l]
+def _state_keys_changed(rows, state, F, key):
+    """Whether any element's state key (2 state, +1 for a slip along +e_ws) differs from ``key``; updates it."""
+    changed = False
+    for j in range(rows.shape[0]):
+        kj = 2 * state[j] + (1 if state[j] == SLIP and F[j] > 0.0 else 0)
+        if kj != key[j]:
+            changed = True
+            key[j] = kj
+    return changed
 
 
 @leaf
-def _lu_solve(A, piv, b, n):
-    """Solve with the factors of :func:`_lu_factor`; x returned in b[:n]."""
-    for c in range(n):
-        p = piv[c]
-        if p != c:
-            b[c], b[p] = b[p], b[c]
-        for i in range(c + 1, n):
-            b[i] -= A[i, c] * b[c]
-    for c in range(n - 1, -1, -1):
-        acc = b[c]
-        for l in range(c + 1, n):
-            acc -= A[c, l] * b[l]
-        b[c] = acc / A[c, c]
+def _affine_load(z_old, rows, props, state, F, e):
+    """e of lam = D y + e for fixed states (see :func:`_affine_solution`)."""
+    for i in range(e.size):
+        e[i] = 0.0
+    for j in range(rows.shape[0]):
+        if state[j] == SEPARATE:
+            continue
+        nr, tr = rows[j, 0], rows[j, 1]
+        s, kt, mu, n0 = props[j, SIGN], props[j, KT], props[j, MU], props[j, N0]
+        e[nr] -= s * n0
+        if state[j] == STICK:
+            e[tr] += kt * z_old[j]
+        else:
+            e[tr] += mu * (1.0 if F[j] > 0.0 else -1.0) * n0
+
+
+@leaf
+def _affine_solution_cyclic(y_pred, Cb, z_old, rows, props, state, F, y_out, e, T, R, G, piv, col, key, cache):
+    """The affine solve of :func:`_affine_solution` for a ring's cyclic block-tridiagonal Cc (blocks Cb).
+
+    (I - Cc D) y = y_pred + Cc e over every coordinate (an inactive one has
+    an identity column) is cyclic block-tridiagonal too, D being block
+    diagonal by interface (the law's elements of interface k act on its own
+    c coordinates): factored by shroud.core.cyclic_blocks in O(N c^3) when
+    the states change, solved in O(N c^2) a step, where the dense path costs
+    O(m^2) a step and O(|A|^3) a change (m = N c).
+    """
+    N, c = Cb.shape[0], Cb.shape[2]
+    if _state_keys_changed(rows, state, F, key) or cache[0] == 0:
+        for j in range(N):
+            for t in range(3):
+                for i in range(c):
+                    for l in range(c):
+                        T[j, t, i, l] = 1.0 if (t == 1 and i == l) else 0.0
+        for p in range(rows.shape[0]):
+            if state[p] == SEPARATE:
+                continue
+            k = rows[p, 0] // c                      # the element's interface; its local rows
+            nl, tl = rows[p, 0] - k * c, rows[p, 1] - k * c
+            s, kn, kt, mu = props[p, SIGN], props[p, KN], props[p, KT], props[p, MU]
+            slip = mu * (1.0 if F[p] > 0.0 else -1.0) * s * kn
+            for t in range(3):                       # block (j, k) of row j = k + 1 - t
+                j = (k + 1 - t) % N
+                for i in range(c):
+                    T[j, t, i, nl] += kn * Cb[j, t, i, nl]
+                    if state[p] == STICK:
+                        T[j, t, i, tl] += kt * Cb[j, t, i, tl]
+                    else:
+                        T[j, t, i, nl] -= slip * Cb[j, t, i, tl]
+        cyclic_factor(T, R, G, piv, col)
+        cache[0] = 1
+    _affine_load(z_old, rows, props, state, F, e)
+    _compliance_times(Cb, e, y_out)
+    for i in range(y_out.size):
+        y_out[i] += y_pred[i]
+    cyclic_solve(T, R, G, piv, y_out, col)
 
 
 @leaf
@@ -252,32 +311,19 @@ def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, acti
     contact nodes (the solid FE faces) affordable.
     """
     m = y_pred.size
-    same = cache[0] == 1
-    for j in range(rows.shape[0]):
-        kj = 2 * state[j] + (1 if state[j] == SLIP and F[j] > 0.0 else 0)
-        if kj != key[j]:
-            same = False
-            key[j] = kj
+    same = not _state_keys_changed(rows, state, F, key) and cache[0] == 1
+    _affine_load(z_old, rows, props, state, F, e)
     is_active = active                  # flags first, compacted below
     if not same:
         for i in range(m):              # G = Cc D, built column by column
             is_active[i] = 0
             for l in range(m):
                 G[i, l] = 0.0
-    for i in range(m):
-        e[i] = 0.0
     for j in range(rows.shape[0]):
-        if state[j] == SEPARATE:
+        if same or state[j] == SEPARATE:
             continue
         nr, tr = rows[j, 0], rows[j, 1]
-        s, kn, kt, mu, n0 = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU], props[j, N0]
-        e[nr] -= s * n0
-        if state[j] == STICK:
-            e[tr] += kt * z_old[j]
-        else:
-            e[tr] += mu * (1.0 if F[j] > 0.0 else -1.0) * n0
-        if same:
-            continue
+        s, kn, kt, mu = props[j, SIGN], props[j, KN], props[j, KT], props[j, MU]
         for i in range(m):
             G[i, nr] -= kn * Cc[i, nr]
         is_active[nr] = 1
@@ -298,7 +344,7 @@ def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, acti
         for a in range(na):
             for c in range(na):
                 A[a, c] = (1.0 if a == c else 0.0) - G[active[a], active[c]]
-        _lu_factor(A, piv, na)
+        lu_factor(A, piv, na)
         cache[0], cache[1] = 1, na
     na = cache[1]
     for i in range(m):                  # y_out = y_pred + Cc e
@@ -308,7 +354,7 @@ def _affine_solution(y_pred, Cc, z_old, rows, props, state, F, y_out, G, e, acti
         y_out[i] = acc
     for a in range(na):
         b[a] = y_out[active[a]]
-    _lu_solve(A, piv, b, na)
+    lu_solve(A, piv, b, na)
     for i in range(m):
         acc = y_out[i]
         for c in range(na):
@@ -382,7 +428,7 @@ def _affine_solution_low_rank(y_pred, Wc, P, z_old, rows, props, state, F, y_out
         for a in range(r):
             for b in range(r):
                 A[a, b] = (1.0 if a == b else 0.0) - H[a, b]
-        _lu_factor(A, piv, r)
+        lu_factor(A, piv, r)
     for a in range(r):
         u[a] = 0.0
     for j in range(k):                  # u = P g with g = D y_pred + e (the affine law at y_pred)
@@ -397,7 +443,7 @@ def _affine_solution_low_rank(y_pred, Wc, P, z_old, rows, props, state, F, y_out
             g_t = mu * (1.0 if F[j] > 0.0 else -1.0) * (n0 + s * kn * y_pred[nr])
         for a in range(r):
             u[a] += P[a, nr] * g_n + P[a, tr] * g_t
-    _lu_solve(A, piv, u, r)
+    lu_solve(A, piv, u, r)
     for i in range(y_out.size):         # y = y_pred + Wc u
         acc = y_pred[i]
         for b in range(r):
@@ -405,22 +451,31 @@ def _affine_solution_low_rank(y_pred, Wc, P, z_old, rows, props, state, F, y_out
         y_out[i] = acc
 
 
-def workspace(law: ContactLaw, Wc: np.ndarray | None = None, P: np.ndarray | None = None):
+def workspace(law: ContactLaw, Wc: np.ndarray | None = None, P: np.ndarray | None = None,
+              blocks: np.ndarray | None = None):
     """Scratch arrays for :func:`solve_contact` (allocated once per run: they belong to one Cc).
 
     ``Wc, P``: factors of a low-rank compliance Cc = Wc P (m x r, r x m,
-    r < m), solved in the r-dimensional space; None: the dense m x m path.
+    r < m), solved in the r-dimensional space; ``blocks``: a ring's cyclic
+    block-tridiagonal Cc as (N, 3, c, c) blocks (row j: its interfaces j-1,
+    j, j+1; shroud.core.cyclic_blocks), solved block by block; neither: the
+    dense m x m path.
     """
     m, k = law.m, law.count
     r = 0 if Wc is None else Wc.shape[1]
+    dense_path = r == 0 and blocks is None
     Wc = np.zeros((m, 0)) if Wc is None else np.ascontiguousarray(Wc, dtype=float)
     P = np.zeros((0, m)) if P is None else np.ascontiguousarray(P, dtype=float)
-    return (np.zeros((m, m)) if r == 0 else np.zeros((0, 0)), np.zeros(m), np.zeros(m, np.int64),
-            np.zeros((m, m)) if r == 0 else np.zeros((0, 0)), np.zeros(m),
+    Cb = np.zeros((0, 3, 0, 0)) if blocks is None else np.ascontiguousarray(blocks, dtype=float)
+    N, c = Cb.shape[0], Cb.shape[2]
+    return (np.zeros((m, m)) if dense_path else np.zeros((0, 0)), np.zeros(m), np.zeros(m, np.int64),
+            np.zeros((m, m)) if dense_path else np.zeros((0, 0)), np.zeros(m),
             np.zeros(m), np.zeros(m), np.zeros(k), np.zeros(k), np.zeros(k), np.zeros(k, np.int64),
             np.zeros(k, np.int64), np.zeros(k),
             np.full(k, -1, np.int64), np.zeros(max(m, r), np.int64), np.zeros(3, np.int64),  # LU reuse
-            Wc, P, np.zeros((r, r)), np.zeros((r, r)), np.zeros(r))                     # low rank
+            Wc, P, np.zeros((r, r)), np.zeros((r, r)), np.zeros(r),                      # low rank
+            Cb, np.zeros((N, 3, c, c)), np.zeros((N, c, c)), np.zeros((N, c, c)),        # cyclic blocks
+            np.zeros((N, c), np.int64), np.zeros(c), np.zeros(m))
 
 
 @leaf
@@ -438,8 +493,8 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
     On return ``lam, N, F, z, state`` are the law evaluated at ``y``.
     """
     (G, e, active, A, b, y_try, lam_try, N_try, F_try, z_try, st_used, st_try, F_used, key, piv, cache,
-     Wc, P, H, A_r, u) = ws
-    low_rank = H.shape[0] > 0
+     Wc, P, H, A_r, u, Cb, T, R, Gb, piv_b, col, scratch) = ws
+    low_rank, cyclic = H.shape[0] > 0, Cb.shape[0] > 0
     copy_into(y, y_pred)
     evaluate(y, z_old, rows, props, lam, N, F, z, state)
     touching = False
@@ -454,6 +509,9 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
         if low_rank:
             _affine_solution_low_rank(y_pred, Wc, P, z_old, rows, props, st_used, F_used, y_try, H, A_r,
                                       u, key, piv, cache)
+        elif cyclic:
+            _affine_solution_cyclic(y_pred, Cb, z_old, rows, props, st_used, F_used, y_try, e, T, R, Gb,
+                                    piv_b, col, key, cache)
         else:
             _affine_solution(y_pred, Cc, z_old, rows, props, st_used, F_used, y_try, G, e, active, A, b,
                              key, piv, cache)
@@ -463,14 +521,14 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
             evaluate(y, z_old, rows, props, lam, N, F, z, state)
         else:                            # guard: shorten the step until the residual drops
             evaluate(y_try, z_old, rows, props, lam_try, N_try, F_try, z_try, st_try)
-            r_try = _residual_norm(y_try, y_pred, Cc, lam_try)
+            r_try = _residual_norm(y_try, y_pred, Cc, Cb, lam_try, scratch)
             t = 0.5
             while t > 1e-12 and r_try > r:
                 full_step = False
                 for i in range(y.size):
                     y_try[i] = y[i] + t * (y_try[i] - y[i])
                 evaluate(y_try, z_old, rows, props, lam_try, N_try, F_try, z_try, st_try)
-                r_try = _residual_norm(y_try, y_pred, Cc, lam_try)
+                r_try = _residual_norm(y_try, y_pred, Cc, Cb, lam_try, scratch)
                 t *= 0.5
             copy_into(y, y_try)
             copy_into(lam, lam_try)
@@ -485,7 +543,7 @@ def solve_contact(y_pred, Cc, z_old, rows, props, y, lam, N, F, z, state, ws):
                 break
         if same:
             return it, True
-        r = _residual_norm(y, y_pred, Cc, lam)
+        r = _residual_norm(y, y_pred, Cc, Cb, lam, scratch)
         scale = 0.0
         for i in range(y.size):
             scale = max(scale, abs(y_pred[i]))

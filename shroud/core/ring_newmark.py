@@ -10,13 +10,16 @@ and j, and the contact compliance Cc = W S W^T is cyclic block-tridiagonal
 (interface j is coupled to j-1 and j+1 through the blades they share). The
 implicit step solves y = W q_pred + Cc lam(y) for every interface at once
 (shroud.core.contact.solve_contact: the coupled problem, not N separate
-ones), then q_j = q_pred,j + S_j (side2_j^T lam_j - side1_j^T lam_j-1).
+ones; from CYCLIC_FROM contact coordinates on its affine solves are the
+cyclic block-tridiagonal factorization of shroud.core.cyclic_blocks, linear
+in N, else dense), then q_j = q_pred,j + S_j (side2_j^T lam_j - side1_j^T
+lam_j-1).
 Where the ring has fewer DOFs than half its contact coordinates (the
 fe-reduced ring: 3 blades of 33 modes against 594 face coordinates) that
 solve works in the blades' space, Cc = W Phi with Phi = S W^T (the core's
-low-rank path: an N nb system instead of one on the active coordinates);
-the beams (6 DOF a blade, 2 or 4 coordinates an interface) stay in the
-contact coordinates.
+low-rank path: an N nb system instead of one on the active coordinates,
+still dense in N nb); the beams (6 DOF a blade, 2 or 4 coordinates an
+interface) stay in the contact coordinates.
 
 Blades listed in ``held`` are held still (rigid and fixed, as the paper's
 neighbours): their operators are zero, so they neither move nor yield.
@@ -68,6 +71,12 @@ class RingTrajectory:
         return self.dt * np.arange(self.steps + 1)
 
 
+# The cyclic block solve pays from about 48 contact coordinates (benchmarks/bench_ring.py, CPU, 400
+# periods: the reduced beam's 12 blades, 24 coordinates, 0.43 s cyclic against 0.37 s dense; 24 blades,
+# 48, 0.70-0.88 s against 0.82-0.86 s; the extended beam's 24 blades, 96, 2.2 s against 4.6 s).
+CYCLIC_FROM = 48
+
+
 @dataclass(frozen=True)
 class RingStep:
     """The ring's factorized step: per-blade operators and the interfaces' compliance."""
@@ -86,9 +95,24 @@ class RingStep:
         594): its contact is solved in the blades' space, Cc = W Phi (shroud.core.contact.workspace)."""
         return 2 * self.Phi.shape[0] <= self.Cc.shape[0]
 
+    def blocks(self) -> np.ndarray:
+        """Cc as cyclic block-tridiagonal blocks (N, 3, c, c): row j's interfaces j-1, j, j+1
+        (shroud.core.cyclic_blocks; N >= 3, where the three are distinct)."""
+        N, c = self.S.shape[0], self.Phi1.shape[2]
+        Cb = np.empty((N, 3, c, c))
+        for j in range(N):
+            for t in range(3):
+                k = (j - 1 + t) % N
+                Cb[j, t] = self.Cc[j * c:(j + 1) * c, k * c:(k + 1) * c]
+        return Cb
+
     def contact_workspace(self, law: ContactLaw):
-        """shroud.core.contact.workspace for this compliance (factored as W Phi when low rank)."""
-        return workspace(law, self.W, self.Phi) if self.low_rank else workspace(law)
+        """shroud.core.contact.workspace for this compliance: factored as W Phi when low rank, else by
+        its cyclic blocks (linear in N) from CYCLIC_FROM contact coordinates on, else dense."""
+        if self.low_rank:
+            return workspace(law, self.W, self.Phi)
+        cyclic = self.S.shape[0] >= 3 and self.Cc.shape[0] >= CYCLIC_FROM
+        return workspace(law, blocks=self.blocks()) if cyclic else workspace(law)
 
 
 def factorize(ring: BladeRing, scheme: NewmarkScheme, held: tuple[int, ...] = ()) -> RingStep:
