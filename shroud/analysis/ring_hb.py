@@ -13,9 +13,12 @@ Stability: against perturbations of every nodal diameter, not only the
 travelling wave's: the whole ring linearized about the wave
 (shroud.core.floquet on the N blades, interface j's states and friction
 being interface 0's shifted by j phi / (ke Omega) in time), its monodromy
-over one period. (A sector-size Bloch decomposition of that monodromy is
-not exact here: with the wave's coefficients shifted in time from blade to
-blade, the perturbation of one Bloch wave is a delay equation on the
+over one period, built from g / N of it (g = gcd(N, ke)) by the wave's own
+symmetry: relabelling the blades by r (r ke = g mod N) and shifting time
+by T g / N maps the linearized ring onto itself (:func:`ring_symmetry`,
+floquet.symmetric_monodromy). (A sector-size Bloch decomposition is not
+exact here: the relabelling alone is no symmetry, only with the time
+shift, so one Bloch wave's perturbation is a delay equation on the
 sector.)
 
 A mistuned ring (or any ring, :func:`whole_ring_at`) is solved as a whole:
@@ -209,13 +212,28 @@ def _ring_flow(system: StructuralSystem, sector: Sector) -> tuple:
     return M, C, K, elements.W, law
 
 
+def ring_symmetry(sector: Sector, blade_dofs: int) -> floquet.Symmetry:
+    """The travelling wave's symmetry of the linearized ring (floquet.Symmetry): interface j at time t is
+    interface 0 at t + j T ke / N, so blade j + r at t - T g / N moves as blade j at t when r ke = g
+    (mod N), g = gcd(N, ke); G relabels blade j - r as j (and interface j - r as j), q = N / g."""
+    N, g = sector.N, math.gcd(sector.N, sector.ke)
+    r = pow(sector.ke // g, -1, N // g) if N > g else 0
+    e = sector.law.m // 2                                     # points of one interface
+    def moved(size):
+        return (((np.arange(N) - r) % N)[:, None] * size + np.arange(size)).ravel()
+    return floquet.Symmetry(dofs=moved(blade_dofs), elements=moved(e), q=N // g)
+
+
 def ring_multipliers(system: StructuralSystem, sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray,
-                     basis: hb.Fourier) -> np.ndarray:
+                     basis: hb.Fourier, symmetric: bool = True) -> np.ndarray:
     """Floquet multipliers of the whole ring about the travelling wave X (the sector's unknowns), every
     nodal diameter's perturbations included: interface j's states are interface 0's shifted by j ke / N of
-    the period, sampled at a multiple of N / gcd(N, ke) instants (at least the AFT's)."""
+    the period, sampled at a multiple of N / gcd(N, ke) instants (at least the AFT's). ``symmetric``: the
+    monodromy from g / N of the period and the wave's symmetry (:func:`ring_symmetry`); False: integrated
+    over the whole period."""
     orbit = _ring_orbit(sector, lin, X, basis, _ring_samples(sector, basis.samples))
-    return floquet.orbit_multipliers(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2])
+    return floquet.orbit_multipliers(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2],
+                                     ring_symmetry(sector, system.dofs) if symmetric else None)
 
 
 def ring_stability(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarray,
@@ -228,7 +246,8 @@ def ring_stability(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.
     samples = _ring_samples(sector, basis.samples)
     half = _ring_samples(sector, max(samples // 2, 2 * basis.H + 1))
     orbit, coarse = (_ring_orbit(sector, lin, X, basis, n) for n in (samples, half))
-    st = floquet.orbit_stability(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2], coarse)
+    st = floquet.orbit_stability(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2], coarse,
+                                 ring_symmetry(sector, system.dofs))
     fine = speeds.refined()
     fine_basis = hb.fourier(fine.H, max(basis.samples, 4 * fine.H + 1))
     fine_lin = fine.linear(rpm)[0]
