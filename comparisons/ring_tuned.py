@@ -65,7 +65,7 @@ OPTIONS = {
     "harmonics": 20,                   # the waves' at the time points (the impacts need H = 20: docs/ring.md)
     "branch_harmonics": 10,            # the branches' (at H = 20 the 1 um gap's first point fails)
     "stability_harmonics": 20,         # the stability verdict at 2 x this against this
-    "stability_blades": [12, 24],      # ring sizes whose waves get the (costly) stability verdict
+    "stability_blades": [12, 24, 48],  # ring sizes whose waves get the stability verdict
     "symmetry_break": 1e-4,            # std of E's scatter in the time runs
     "wave_spread": 0.005,              # (max - min) / mean of the blades' amplitudes on a travelling wave
     "agree": 0.005,                    # the issue's: the sector's HB within 0.5 % of the ring in time

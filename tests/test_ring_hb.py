@@ -187,3 +187,34 @@ def test_the_wave_symmetry_monodromy_is_the_whole_rings(blades, rpm, H, samples,
         assert history(state).size > 0
     expected = {(6, 6000.0): 0.856, (6, 7200.0): 1.677}.get((blades, rpm))
     assert expected is None or abs(np.abs(whole).max() - expected) < 0.001
+
+
+def test_a_wave_the_linear_starts_miss_is_reached_from_other_harmonics_and_left_at_its_multiplier():
+    """12 blades, Fig. 11b contact (1 um), 8000 r/min: no linear start reaches the wave at H = 20 (the
+    stiffness continuation turns back), the one at H = 30 does; Newton from it at H = 20 gives the same wave
+    (within 0.5 %: truncation; measured 7.6174 against 7.6125 um), unstable (|mu| 1.695, docs/ring-tuned.md).
+    The ring in time started on it leaves it within a few periods (1024 steps a period)."""
+    from shroud.analysis.ring_hb import ring_model_at_speed
+    from shroud.base.errors import RunDiverged
+    rpm = 8000.0
+    p = Parameters().with_overrides(["ring.blades=12", f"speed.rpm={rpm}", "time.periods=10",
+                                     "time.steps_per_period=1024", *FIG11B])
+    speeds = SpeedModel(ring_model_at_speed(p, "reduced"), 20)
+    system, lin, _, _ = speeds.at(rpm)
+    sector, basis = sector_of(system, p, 20), hb.fourier(20, 512)           # the study's samples at H = 20
+    with pytest.raises(RunDiverged):
+        sector_solve(lin, sector, basis)
+    d = sector_at(p, "reduced", rpm, harmonics=20, samples=512)
+    wave30 = sector_at(p, "reduced", rpm, harmonics=30, stability=False)
+    assert abs(d["amplitude_v_L"] / wave30["amplitude_v_L"] - 1) < 0.005
+    mu = np.abs(d["multipliers"]).max()
+    assert d["stable"] is False and mu > 1.5
+    q0, v0 = ring_state(system, lin, sector, basis, d["X"])
+    tr = run_ring(build_ring(p, "reduced"), p, q0=q0, v0=v0)
+    spp = p.time.steps_per_period
+    x = tr.tip[:, :, 0]
+    e = np.array([np.abs(x[k * spp:(k + 1) * spp] - x[(k - 1) * spp:k * spp]).max() for k in range(1, 10)])
+    # measured: e grows 23-35x over periods 1-8 (1.52-1.61 a period by a log-linear fit against |mu| 1.695;
+    # the first periods are not the linear regime alone: the start sits 2-7 % of the amplitude off the
+    # Newmark orbit, and that offset differed between test orders, so the rate is not held here)
+    assert e[8] > 10 * e[1]

@@ -344,8 +344,40 @@ def sector_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAU
     speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm)
     sector = sector_of(system, params, harmonics)
-    X = sector_solve(lin, sector, basis)
+    try:
+        X = sector_solve(lin, sector, basis)
+    except RunDiverged as failed:
+        X = from_other_harmonics(params, model, rpm, lin, sector, basis, failed)
     return {**_details(speeds, sector, basis, X, rpm, stability), "X": X}
+
+
+OTHER_HARMONICS = (1.5, 0.5)    # numbers of harmonics tried (times H) where no linear start reaches the wave
+
+
+def from_other_harmonics(params: Parameters, model: str, rpm: float, lin: hb.LinearHarmonics, sector: Sector,
+                         basis: hb.Fourier, failed: RunDiverged) -> np.ndarray:
+    """The wave at H by Newton from the wave :func:`sector_solve` reaches with another number of harmonics
+    (OTHER_HARMONICS times H in order), its coefficients cut or padded with zeros; ``failed`` re-raised where
+    none does. The stiffness continuation from the linear start turns back at some H and not at others
+    (12 blades, Fig. 11b contact, 1 um, 8000 r/min: reached at H = 5 and 30, not at 10, 15, 20)."""
+    at = ring_model_at_speed(params, model)
+    system = at(rpm)
+    for factor in OTHER_HARMONICS:
+        H = max(1, round(factor * basis.H))
+        if H == basis.H:
+            continue
+        other = hb.fourier(H, hb.default_samples(H))
+        try:
+            Y = sector_solve(SpeedModel(at, H).linear(rpm)[0], sector_of(system, params, H), other)
+        except RunDiverged:
+            continue
+        Y = Y.reshape(other.nh, -1)
+        X0 = np.zeros((basis.nh, Y.shape[1]))
+        X0[:min(basis.nh, other.nh)] = Y[:basis.nh]
+        X, ok = sector_newton(X0.ravel(), lin, sector, basis)
+        if ok:
+            return X
+    raise failed
 
 
 def ring_state(system: StructuralSystem, lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier,
