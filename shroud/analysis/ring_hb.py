@@ -336,19 +336,32 @@ def run_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
 
 
 def sector_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-              samples: int | None = None, stability: bool = True) -> dict:
-    """The travelling wave at one speed: its details (amplitudes, multipliers, stability) and X."""
+              samples: int | None = None, stability: bool = True, start: np.ndarray | None = None) -> dict:
+    """The travelling wave at one speed: its details (amplitudes, multipliers, stability) and X. ``start``:
+    a wave's X at any number of harmonics, Newton's first start (cut or padded to ``harmonics``); then the
+    linear starts (:func:`sector_solve`), then the waves at other numbers of harmonics
+    (:func:`from_other_harmonics`)."""
     check_ring_hb(params, model)
     n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm)
     sector = sector_of(system, params, harmonics)
-    try:
-        X = sector_solve(lin, sector, basis)
-    except RunDiverged as failed:
-        X = from_other_harmonics(params, model, rpm, lin, sector, basis, failed)
+    X, ok = (None, False) if start is None else sector_newton(resized(start, basis.nh), lin, sector, basis)
+    if not ok:
+        try:
+            X = sector_solve(lin, sector, basis)
+        except RunDiverged as failed:
+            X = from_other_harmonics(params, model, rpm, lin, sector, basis, failed)
     return {**_details(speeds, sector, basis, X, rpm, stability), "X": X}
+
+
+def resized(X: np.ndarray, nh: int) -> np.ndarray:
+    """``X`` (coefficients, m: harmonic-major) cut or padded with zeros to ``nh`` coefficients, flat."""
+    Y = np.atleast_2d(X)
+    out = np.zeros((nh, Y.shape[1]))
+    out[:min(nh, Y.shape[0])] = Y[:nh]
+    return out.ravel()
 
 
 OTHER_HARMONICS = (1.5, 0.5)    # numbers of harmonics tried (times H) where no linear start reaches the wave
@@ -371,10 +384,7 @@ def from_other_harmonics(params: Parameters, model: str, rpm: float, lin: hb.Lin
             Y = sector_solve(SpeedModel(at, H).linear(rpm)[0], sector_of(system, params, H), other)
         except RunDiverged:
             continue
-        Y = Y.reshape(other.nh, -1)
-        X0 = np.zeros((basis.nh, Y.shape[1]))
-        X0[:min(basis.nh, other.nh)] = Y[:basis.nh]
-        X, ok = sector_newton(X0.ravel(), lin, sector, basis)
+        X, ok = sector_newton(resized(Y.reshape(other.nh, -1), basis.nh), lin, sector, basis)
         if ok:
             return X
     raise failed
@@ -476,9 +486,11 @@ def stability_verdict(params: Parameters, model: str, rpm: float, harmonics: int
     from H (the orbit's impacts shift the multipliers by a few % with H: 24 blades at 10000 r/min,
     1.225 / 1.011 / 1.039 at H = 10 / 20 / 40); within it the verdict is "not decided"."""
     from shroud.core.verdict import Verdict
-    largest = []
+    largest, X = [], None
     for H in (harmonics, 2 * harmonics):
-        d = sector_at(params, model, rpm, harmonics=H, samples=hb.default_samples(H))
+        d = sector_at(params, model, rpm, harmonics=H, samples=hb.default_samples(H),
+                      start=None if X is None else X.reshape(2 * harmonics + 1, -1))
+        X = d["X"]
         largest.append(float(np.abs(d["multipliers"]).max()))
     return Verdict.of(largest[1], threshold=1.0, margin=max(abs(largest[1] - largest[0]), floquet.UNIT_CIRCLE_TOL),
                       below=True, above=False,
