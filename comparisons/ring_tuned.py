@@ -347,7 +347,11 @@ def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
         ax.set_xlabel("blade j / N")
         ax.set_ylabel("blade amplitude / ring mean - 1 (%)")
         ax.set_title(f"{c.label}: where the ring left the wave, blade by blade", fontsize=9)
-        ax.legend(fontsize=5.5, loc="best")
+        if any(p.on is not True for p in c.points):
+            ax.legend(fontsize=5.5, loc="best")
+        else:
+            ax.text(0.5, 0.5, "on the travelling wave at every time point", ha="center", va="center",
+                    transform=ax.transAxes, fontsize=8)
     save(fig, out / "ring_tuned_blades.png")
 
     with open_replacing(out / "ring_tuned_points.csv") as fh:
