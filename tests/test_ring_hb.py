@@ -196,6 +196,7 @@ def test_a_wave_the_linear_starts_miss_is_reached_from_other_harmonics_and_left_
     The ring in time started on it leaves it within a few periods (1024 steps a period)."""
     from shroud.analysis.ring_hb import ring_model_at_speed
     from shroud.base.errors import RunDiverged
+    from shroud.core.ring import ring_of
     rpm = 8000.0
     p = Parameters().with_overrides(["ring.blades=12", f"speed.rpm={rpm}", "time.periods=10",
                                      "time.steps_per_period=1024", *FIG11B])
@@ -210,11 +211,13 @@ def test_a_wave_the_linear_starts_miss_is_reached_from_other_harmonics_and_left_
     mu = np.abs(d["multipliers"]).max()
     assert d["stable"] is False and mu > 1.5
     q0, v0 = ring_state(system, lin, sector, basis, d["X"])
-    tr = run_ring(build_ring(p, "reduced"), p, q0=q0, v0=v0)
+    # the ring in time of the very blade the HB solved (its speed model interpolates the modes over speed,
+    # on panels that depend on the speeds asked before: build_ring's exact modes at 8000 r/min differ)
+    tr = run_ring(ring_of([system] * 12, p.load.ke), p, q0=q0, v0=v0)
     spp = p.time.steps_per_period
     x = tr.tip[:, :, 0]
     e = np.array([np.abs(x[k * spp:(k + 1) * spp] - x[(k - 1) * spp:k * spp]).max() for k in range(1, 10)])
-    # measured: e grows 23-35x over periods 1-8 (1.52-1.61 a period by a log-linear fit against |mu| 1.695;
-    # the first periods are not the linear regime alone: the start sits 2-7 % of the amplitude off the
-    # Newmark orbit, and that offset differed between test orders, so the rate is not held here)
+    # measured: e grows 23x over periods 1-8 (1.53 a period by a log-linear fit, against |mu| 1.695: the
+    # start sits 8 % of the amplitude off the Newmark orbit, e[0] = 0.61 um, so the first periods are not
+    # the linear regime alone and the rate is not held here)
     assert e[8] > 10 * e[1]
