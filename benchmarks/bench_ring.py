@@ -14,6 +14,7 @@ The fe-reduced ring (contact solved in the blades' space, docs/ring.md):
 
     python benchmarks/bench_ring.py [--repeat 5] [--blades 24] [--periods 400] [--models reduced extended]
                                     [--hb --rpm-from 6000 --rpm-to 14000] [--mistuned]
+                                    [--monodromy 12 24 48 --harmonics 10 --models]
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ import numpy as np
 import reduced_model  # noqa: F401  (registers the beams)
 from shroud.analysis.hb import SpeedModel, model_at_speed, run_hb
 from shroud.analysis.ring import build_ring, run_ring
-from shroud.analysis.ring_hb import ring_multipliers, run_ring_hb, sector_of
+from shroud.analysis.ring_hb import ring_multipliers, run_ring_hb, sector_of, sector_solve
 from shroud.core import harmonic_balance as hb
 from shroud.core import signals
 from shroud.params import Parameters
@@ -44,6 +45,10 @@ def main() -> None:
     ap.add_argument("--rpm-from", type=float, default=6000.0)
     ap.add_argument("--rpm-to", type=float, default=14000.0)
     ap.add_argument("--mistuned", action="store_true", help="time the mistuned ring's HB curve (goal 10 s)")
+    ap.add_argument("--monodromy", nargs="*", type=int, metavar="N",
+                    help="time the ring's monodromy about the wave over the whole period against the wave's "
+                         "symmetry (a g / N of it) for these ring sizes (Fig. 11b contact, 1 um, 10000 r/min)")
+    ap.add_argument("--harmonics", type=int, default=10)
     args = ap.parse_args()
     p = Parameters().with_overrides([f"ring.blades={args.blades}", f"time.periods={args.periods}", *args.set])
     for model in args.models:
@@ -87,6 +92,8 @@ def main() -> None:
         print(f"HB sector + ring monodromy: {statistics.median(cpu[1:]):.3f} s CPU a point (median after the first)")
     if args.mistuned:
         mistuned_curve(args)
+    if args.monodromy:
+        monodromies(args)
 
 
 def timed(curve, repeat: int):
@@ -115,6 +122,33 @@ def mistuned_curve(args) -> None:
     print(f"HB mistuned ring of {args.blades}: {len(r.branch.rpm)} points 8000-10000 r/min, complete {r.complete}, "
           f"CPU {statistics.median(cpu):.3f} s, wall {statistics.median(wall):.3f} s (median of {args.repeat}); "
           f"blades at {r.branch.rpm[-1]:.0f} r/min {1e6 * min(last):.3f} .. {1e6 * max(last):.3f} um")
+
+
+def monodromies(args) -> None:
+    """The whole ring's multipliers about the travelling wave (ring_hb.ring_multipliers) integrated over the
+    period and by the wave's symmetry (floquet.symmetric_monodromy), CPU medians of ``--repeat`` after a
+    first call that compiles, and the largest difference of the multipliers' moduli. The Fig. 11b contact
+    (alpha 30 deg, kt 5e6 N/m, mu 0.3, 1 um gap) at 10000 r/min, the ring_tuned study's."""
+    H = args.harmonics
+    for N in args.monodromy:
+        p = Parameters().with_overrides([f"ring.blades={N}", "contact.alpha_deg=30", "contact.kt=5e6",
+                                         "contact.mu=0.3", "contact.gap=1e-6", *args.set])
+        rpm = 10000.0
+        basis = hb.fourier(H, hb.default_samples(H))
+        speeds = SpeedModel(model_at_speed(p, "reduced"), H)
+        system, lin, _, _ = speeds.at(rpm)
+        sector = sector_of(system, p, H)
+        X = sector_solve(lin, sector, basis)
+        times, mus = {}, {}
+        for symmetric in (True, False):
+            mus[symmetric], cpu, _ = timed(lambda: ring_multipliers(system, sector, lin, X, basis, symmetric),
+                                           args.repeat)
+            times[symmetric] = statistics.median(cpu)
+        a, b = np.sort(np.abs(mus[True]))[::-1], np.sort(np.abs(mus[False]))[::-1]
+        print(f"ring monodromy, {N} blades, H = {H}, {basis.samples} samples: whole period CPU "
+              f"{times[False]:.3f} s, by the symmetry {times[True]:.3f} s (median of {args.repeat}): "
+              f"{times[False] / times[True]:.1f}x; largest |mu| {a[0]:.6f} / {b[0]:.6f}, "
+              f"largest difference of the sorted |mu| {np.abs(a - b).max():.2e}")
 
 
 if __name__ == "__main__":

@@ -5,15 +5,15 @@ alpha 30 deg, kt 5e6 N/m, mu 0.3, initial gaps and preloads). On a tuned
 ring of N blades under engine order ke the forced response may be a
 travelling wave, U_{j+1,h} = exp(i h phi) U_{j,h}, phi = 2 pi ke / N
 (docs/ring.md), which one sector carries by harmonic balance
-(shroud.analysis.ring_hb). Per case (``gaps_um``) and ring size
+(shroud.analysis.ring_hb). Per case (``gaps_um``, then ``preloads_N``) and ring size
 (``blades``) the study draws
 
 * the fixed-neighbour blade's HB branch with its stability
   (shroud.analysis.hb.run_hb, what shroud.api.continuation runs, with the
   branch's samples) and the sector's HB branch over the same speeds
   (shroud.analysis.ring_hb.run_ring_hb without the ring's monodromy at
-  every point: 1.3 s a point at 24 blades, 3 min at 48, measured), both at
-  ``branch_harmonics``; a branch the continuation cannot carry across the
+  every point: each would take its monodromies at n, n / 2 samples and
+  2 H), both at ``branch_harmonics``; a branch the continuation cannot carry across the
   range is drawn as far as it goes and its stop reported;
 * at each of ``td_rpms`` the whole ring in time from rest
   (shroud.api.transient; E scattered by ``symmetry_break``, 1e-4, so that a
@@ -23,7 +23,9 @@ travelling wave, U_{j+1,h} = exp(i h phi) U_{j,h}, phi = 2 pi ke / N
 * there, the sector's wave solved at that speed and, for the ring sizes in
   ``stability_blades``, its stability against every nodal diameter
   (ring_hb.stability_verdict: the whole ring's monodromy at 2 H against 1,
-  its margin the change from H, at least floquet's floor 0.02).
+  its margin the change from H, at least floquet's floor 0.02; the
+  monodromy from g / N of the period by the wave's symmetry makes 48
+  blades a few seconds a point).
 
 Each time point is named: on the travelling wave (blade 0 P1, settled, the
 blades' spread within ``wave_spread``), where the sector's HB must agree
@@ -59,13 +61,14 @@ from shroud.core.verdict import NOT_DECIDED, Verdict
 
 OPTIONS = {
     "gaps_um": [1.0, 100.0],           # Fig. 11b's small gap and Fig. 11a's 0.1 mm
+    "preloads_N": [],                  # Fig. 11b's preloads (N0 per interface, touching), cases after the gaps
     "blades": [12, 24, 48],
     "rpm_from": 6000.0, "rpm_to": 14000.0,
     "td_rpms": [8000.0, 10000.0, 12000.0],
     "harmonics": 20,                   # the waves' at the time points (the impacts need H = 20: docs/ring.md)
     "branch_harmonics": 10,            # the branches' (at H = 20 the 1 um gap's first point fails)
     "stability_harmonics": 20,         # the stability verdict at 2 x this against this
-    "stability_blades": [12, 24],      # ring sizes whose waves get the (costly) stability verdict
+    "stability_blades": [12, 24, 48],  # ring sizes whose waves get the stability verdict
     "symmetry_break": 1e-4,            # std of E's scatter in the time runs
     "wave_spread": 0.005,              # (max - min) / mean of the blades' amplitudes on a travelling wave
     "agree": 0.005,                    # the issue's: the sector's HB within 0.5 % of the ring in time
@@ -81,8 +84,11 @@ def check(scene) -> None:
         raise InputError("options.blades", f"{o['blades']!r}; allowed: ring sizes >= 2")
     if not 0 < o["rpm_from"] < o["rpm_to"] or not o["td_rpms"] or min(o["td_rpms"]) <= 0:
         raise InputError("options.rpm_from", "allowed: 0 < rpm_from < rpm_to and time-domain speeds > 0 r/min")
-    if any(g < 0 for g in o["gaps_um"]) or not o["gaps_um"]:
-        raise InputError("options.gaps_um", f"{o['gaps_um']!r}; allowed: gaps >= 0 um")
+    if any(g < 0 for g in o["gaps_um"]) or not (o["gaps_um"] or o["preloads_N"]):
+        raise InputError("options.gaps_um", f"{o['gaps_um']!r}; allowed: gaps >= 0 um (or preloads, at least one "
+                                            "case)")
+    if any(n <= 0 for n in o["preloads_N"]):
+        raise InputError("options.preloads_N", f"{o['preloads_N']!r}; allowed: preloads > 0 N")
 
 
 @dataclass(frozen=True)
@@ -182,11 +188,12 @@ class RingCase:
     """One Fig. 11 case: the fixed-neighbour branch, the sector branches, the ring's time points."""
 
     label: str
-    gap_um: float
+    gap_um: float                       # 0 for a preloaded case
     fixed: object                       # HBResult of the blade between fixed neighbours
     sectors: dict[int, object | None]   # N -> the sector's HBResult (None: no wave reached at rpm_from)
     failures: dict[int, str]            # N -> why the sector's branch was not continued
     points: list[RingPoint] = field(default_factory=list)
+    preload_N: float = 0.0              # N0 per interface of a preloaded case (0 for a gap)
 
 
 @dataclass(frozen=True)
@@ -222,7 +229,8 @@ class RingTunedComparison:
 
     def to_json(self) -> dict:
         return {"conclusions": self.conclusions(),
-                "cases": [{"label": c.label, "gap_um": c.gap_um, "fixed_neighbours": c.fixed.to_json(),
+                "cases": [{"label": c.label, "gap_um": c.gap_um, "preload_N": c.preload_N,
+                           "fixed_neighbours": c.fixed.to_json(),
                            "sectors": {str(n): None if b is None else b.to_json() for n, b in c.sectors.items()},
                            "failures": {str(n): why for n, why in c.failures.items()},
                            "points": [p.to_json(self.agree) for p in c.points]} for c in self.cases]}
@@ -270,8 +278,10 @@ def compute(scene) -> RingTunedComparison:
     params, o = scene.params.updated({"ring.mistuning": (), "ring.mistuning_std": 0.0}), scene.options
     model, H = o["model"], int(o["branch_harmonics"])
     cases = []
-    for g in o["gaps_um"]:
-        case = params.updated({"contact.gap": g * 1e-6, "ring.blades": 0})
+    contacts = ([(f"gap {g:g} um", g, 0.0, {"contact.gap": g * 1e-6}) for g in o["gaps_um"]]
+                + [(f"preload {n:g} N", 0.0, n, {"contact.N0": n}) for n in o["preloads_N"]])
+    for label, g, n0, contact in contacts:
+        case = params.updated({**contact, "ring.blades": 0})
         fixed = run_hb(case, model, o["rpm_from"], o["rpm_to"], harmonics=H)
         sectors, failures, points = {}, {}, []
         for n in o["blades"]:
@@ -281,7 +291,7 @@ def compute(scene) -> RingTunedComparison:
             except RunDiverged as e:
                 sectors[n], failures[n] = None, str(e)
             points += [ring_point(p, model, float(r), o, sectors[n]) for r in o["td_rpms"]]
-        cases.append(RingCase(label=f"gap {g:g} um", gap_um=g, fixed=fixed, sectors=sectors, failures=failures,
+        cases.append(RingCase(label=label, gap_um=g, preload_N=n0, fixed=fixed, sectors=sectors, failures=failures,
                               points=points))
     return RingTunedComparison(cases=cases, agree=o["agree"])
 
@@ -337,7 +347,11 @@ def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
         ax.set_xlabel("blade j / N")
         ax.set_ylabel("blade amplitude / ring mean - 1 (%)")
         ax.set_title(f"{c.label}: where the ring left the wave, blade by blade", fontsize=9)
-        ax.legend(fontsize=5.5, loc="best")
+        if any(p.on is not True for p in c.points):
+            ax.legend(fontsize=5.5, loc="best")
+        else:
+            ax.text(0.5, 0.5, "on the travelling wave at every time point", ha="center", va="center",
+                    transform=ax.transAxes, fontsize=8)
     save(fig, out / "ring_tuned_blades.png")
 
     with open_replacing(out / "ring_tuned_points.csv") as fh:

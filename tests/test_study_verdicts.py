@@ -318,6 +318,19 @@ def test_a_departure_from_the_wave_is_named_by_what_the_hb_shows(kwargs, named):
     assert ring_point(0.02, period=2, **kwargs).explanation() == named
 
 
+@pytest.mark.parametrize("gaps, preloads, refused", [([], [10.0], False), ([1.0], [-5.0], True), ([], [], True),
+                                                     ([1.0], [0.0], True)])
+def test_ring_tuned_takes_positive_preloads_and_at_least_one_case(gaps, preloads, refused):
+    from comparisons.ring_tuned import OPTIONS, check
+    from shroud.base.errors import InputError
+    scene = SimpleNamespace(options={**OPTIONS, "gaps_um": gaps, "preloads_N": preloads})
+    if refused:
+        with pytest.raises(InputError):
+            check(scene)
+    else:
+        check(scene)
+
+
 def test_a_ring_on_its_wave_is_named_by_the_waves_stability():
     assert ring_point(0.0, stable=0.9).explanation() == "stable wave"
     assert ring_point(0.0, stable=1.5).explanation() == "on an unstable wave"

@@ -13,9 +13,12 @@ Stability: against perturbations of every nodal diameter, not only the
 travelling wave's: the whole ring linearized about the wave
 (shroud.core.floquet on the N blades, interface j's states and friction
 being interface 0's shifted by j phi / (ke Omega) in time), its monodromy
-over one period. (A sector-size Bloch decomposition of that monodromy is
-not exact here: with the wave's coefficients shifted in time from blade to
-blade, the perturbation of one Bloch wave is a delay equation on the
+over one period, built from g / N of it (g = gcd(N, ke)) by the wave's own
+symmetry: relabelling the blades by r (r ke = g mod N) and shifting time
+by T g / N maps the linearized ring onto itself (:func:`ring_symmetry`,
+floquet.symmetric_monodromy). (A sector-size Bloch decomposition is not
+exact here: the relabelling alone is no symmetry, only with the time
+shift, so one Bloch wave's perturbation is a delay equation on the
 sector.)
 
 A mistuned ring (or any ring, :func:`whole_ring_at`) is solved as a whole:
@@ -209,13 +212,28 @@ def _ring_flow(system: StructuralSystem, sector: Sector) -> tuple:
     return M, C, K, elements.W, law
 
 
+def ring_symmetry(sector: Sector, blade_dofs: int) -> floquet.Symmetry:
+    """The travelling wave's symmetry of the linearized ring (floquet.Symmetry): interface j at time t is
+    interface 0 at t + j T ke / N, so blade j + r at t - T g / N moves as blade j at t when r ke = g
+    (mod N), g = gcd(N, ke); G relabels blade j - r as j (and interface j - r as j), q = N / g."""
+    N, g = sector.N, math.gcd(sector.N, sector.ke)
+    r = pow(sector.ke // g, -1, N // g) if N > g else 0
+    e = sector.law.m // 2                                     # points of one interface
+    def moved(size):
+        return (((np.arange(N) - r) % N)[:, None] * size + np.arange(size)).ravel()
+    return floquet.Symmetry(dofs=moved(blade_dofs), elements=moved(e), q=N // g)
+
+
 def ring_multipliers(system: StructuralSystem, sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray,
-                     basis: hb.Fourier) -> np.ndarray:
+                     basis: hb.Fourier, symmetric: bool = True) -> np.ndarray:
     """Floquet multipliers of the whole ring about the travelling wave X (the sector's unknowns), every
     nodal diameter's perturbations included: interface j's states are interface 0's shifted by j ke / N of
-    the period, sampled at a multiple of N / gcd(N, ke) instants (at least the AFT's)."""
+    the period, sampled at a multiple of N / gcd(N, ke) instants (at least the AFT's). ``symmetric``: the
+    monodromy from g / N of the period and the wave's symmetry (:func:`ring_symmetry`); False: integrated
+    over the whole period."""
     orbit = _ring_orbit(sector, lin, X, basis, _ring_samples(sector, basis.samples))
-    return floquet.orbit_multipliers(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2])
+    return floquet.orbit_multipliers(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2],
+                                     ring_symmetry(sector, system.dofs) if symmetric else None)
 
 
 def ring_stability(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarray,
@@ -228,7 +246,8 @@ def ring_stability(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.
     samples = _ring_samples(sector, basis.samples)
     half = _ring_samples(sector, max(samples // 2, 2 * basis.H + 1))
     orbit, coarse = (_ring_orbit(sector, lin, X, basis, n) for n in (samples, half))
-    st = floquet.orbit_stability(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2], coarse)
+    st = floquet.orbit_stability(*_ring_flow(system, sector), *orbit[:2], lin.omega, orbit[2], coarse,
+                                 ring_symmetry(sector, system.dofs))
     fine = speeds.refined()
     fine_basis = hb.fourier(fine.H, max(basis.samples, 4 * fine.H + 1))
     fine_lin = fine.linear(rpm)[0]
@@ -317,16 +336,58 @@ def run_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
 
 
 def sector_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
-              samples: int | None = None, stability: bool = True) -> dict:
-    """The travelling wave at one speed: its details (amplitudes, multipliers, stability) and X."""
+              samples: int | None = None, stability: bool = True, start: np.ndarray | None = None) -> dict:
+    """The travelling wave at one speed: its details (amplitudes, multipliers, stability) and X. ``start``:
+    a wave's X at any number of harmonics, Newton's first start (cut or padded to ``harmonics``); then the
+    linear starts (:func:`sector_solve`), then the waves at other numbers of harmonics
+    (:func:`from_other_harmonics`)."""
     check_ring_hb(params, model)
     n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
     basis = hb.fourier(harmonics, n)
     speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm)
     sector = sector_of(system, params, harmonics)
-    X = sector_solve(lin, sector, basis)
+    X, ok = (None, False) if start is None else sector_newton(resized(start, basis.nh), lin, sector, basis)
+    if not ok:
+        try:
+            X = sector_solve(lin, sector, basis)
+        except RunDiverged as failed:
+            X = from_other_harmonics(params, model, rpm, lin, sector, basis, failed)
     return {**_details(speeds, sector, basis, X, rpm, stability), "X": X}
+
+
+def resized(X: np.ndarray, nh: int) -> np.ndarray:
+    """``X`` (coefficients, m: harmonic-major) cut or padded with zeros to ``nh`` coefficients, flat."""
+    Y = np.atleast_2d(X)
+    out = np.zeros((nh, Y.shape[1]))
+    out[:min(nh, Y.shape[0])] = Y[:nh]
+    return out.ravel()
+
+
+OTHER_HARMONICS = (1.5, 0.5)    # numbers of harmonics tried (times H) where no linear start reaches the wave
+
+
+def from_other_harmonics(params: Parameters, model: str, rpm: float, lin: hb.LinearHarmonics, sector: Sector,
+                         basis: hb.Fourier, failed: RunDiverged) -> np.ndarray:
+    """The wave at H by Newton from the wave :func:`sector_solve` reaches with another number of harmonics
+    (OTHER_HARMONICS times H in order), its coefficients cut or padded with zeros; ``failed`` re-raised where
+    none does. The stiffness continuation from the linear start turns back at some H and not at others
+    (12 blades, Fig. 11b contact, 1 um, 8000 r/min: reached at H = 5 and 30, not at 10, 15, 20)."""
+    at = ring_model_at_speed(params, model)
+    system = at(rpm)
+    for factor in OTHER_HARMONICS:
+        H = max(1, round(factor * basis.H))
+        if H == basis.H:
+            continue
+        other = hb.fourier(H, hb.default_samples(H))
+        try:
+            Y = sector_solve(SpeedModel(at, H).linear(rpm)[0], sector_of(system, params, H), other)
+        except RunDiverged:
+            continue
+        X, ok = sector_newton(resized(Y.reshape(other.nh, -1), basis.nh), lin, sector, basis)
+        if ok:
+            return X
+    raise failed
 
 
 def ring_state(system: StructuralSystem, lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier,
@@ -425,9 +486,11 @@ def stability_verdict(params: Parameters, model: str, rpm: float, harmonics: int
     from H (the orbit's impacts shift the multipliers by a few % with H: 24 blades at 10000 r/min,
     1.225 / 1.011 / 1.039 at H = 10 / 20 / 40); within it the verdict is "not decided"."""
     from shroud.core.verdict import Verdict
-    largest = []
+    largest, X = [], None
     for H in (harmonics, 2 * harmonics):
-        d = sector_at(params, model, rpm, harmonics=H, samples=hb.default_samples(H))
+        d = sector_at(params, model, rpm, harmonics=H, samples=hb.default_samples(H),
+                      start=None if X is None else X.reshape(2 * harmonics + 1, -1))
+        X = d["X"]
         largest.append(float(np.abs(d["multipliers"]).max()))
     return Verdict.of(largest[1], threshold=1.0, margin=max(abs(largest[1] - largest[0]), floquet.UNIT_CIRCLE_TOL),
                       below=True, above=False,

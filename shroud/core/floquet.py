@@ -88,10 +88,15 @@ def monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, ome
 
 def _monodromy_grazing(M, C, K, W, law: ContactLaw, state, F, omega: float, y_rate) -> tuple[np.ndarray, int]:
     """(:func:`monodromy`, the number of grazing touches left out of the onset capture)."""
+    return _flow_grazing(M, C, K, W, law, state, F, omega, y_rate, state.shape[1])
+
+
+def _flow_grazing(M, C, K, W, law: ContactLaw, state, F, omega: float, y_rate, stop: int) -> tuple[np.ndarray, int]:
+    """(the flow over the period's first ``stop`` samples, the number of grazing touches left out)."""
     M, C, K, W = (np.ascontiguousarray(dense(A)) for A in (M, C, K, W))
     rates = np.zeros((0, W.shape[0])) if y_rate is None else np.ascontiguousarray(y_rate, dtype=float)
     return _monodromy(M, C, K, W, law.rows, law.props, np.ascontiguousarray(state),
-                      np.ascontiguousarray(F, dtype=float), 2 * np.pi / omega / state.shape[1], rates)
+                      np.ascontiguousarray(F, dtype=float), 2 * np.pi / omega / state.shape[1], rates, stop)
 
 
 @njit(cache=True, error_model="numpy")
@@ -195,9 +200,29 @@ def _steady_flow_matrix(M, C, K, W, rows, props, state, F):
 
 
 @njit(cache=True)
-def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate):
-    """:func:`monodromy`'s run loop; ``y_rate`` with no rows: without the onset capture. Returns the
-    monodromy and the number of grazing touches (normal speed below GRAZING of the element's largest over
+def history(state):
+    """The elements whose slider carries a history (they both stick and are released during the period),
+    in order: the sliders in the monodromy's state [dq, dq', dz], slot by slot."""
+    k, nt = state.shape
+    hist = np.empty(k, np.int64)
+    nz = 0
+    for j in range(k):
+        sticks = released = False
+        for i in range(nt):
+            sticks = sticks or state[j, i] == STICK
+            released = released or state[j, i] != STICK
+        if sticks and released:
+            hist[nz] = j
+            nz += 1
+    return hist[:nz]
+
+
+@njit(cache=True)
+def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate, stop):
+    """:func:`monodromy`'s run loop over the first ``stop`` samples of the period (all of them: the
+    monodromy; fewer: the flow from 0 to stop dt, in the period's state, whose sliders are those with a
+    history over the whole period); ``y_rate`` with no rows: without the onset capture. Returns the
+    flow and the number of grazing touches (normal speed below GRAZING of the element's largest over
     the period), whose onset capture -w'/v' is left out (unbounded; the caller marks the point undecided).
 
     In one run's states the law's tangent ``tan`` (elements, 7;
@@ -230,21 +255,12 @@ def _monodromy(M, C, K, W, rows, props, state, F, dt, y_rate):
     beam, 2.75 -> 2.2 ms on the full beam; the same states over the same
     length, 4 runs in 530 on 80 orbits, are no help).
     """
-    n, k, nt = M.shape[0], state.shape[0], state.shape[1]
+    n, nt = M.shape[0], state.shape[1]
     m = 2 * n
     Wn, Wt, MK, MC, MWn, MWt = _mass_solved(M, C, K, W, rows)
-    hist = np.empty(k, np.int64)                 # elements whose slider carries a history: they both
-    nz = 0                                       # stick and are released during the period
-    for j in range(k):
-        sticks = released = False
-        for i in range(nt):
-            sticks = sticks or state[j, i] == STICK
-            released = released or state[j, i] != STICK
-        if sticks and released:
-            hist[nz] = j
-            nz += 1
-    hist = hist[:nz]
-    starts, lengths, first = _runs(state, F)
+    hist = history(state)
+    nz = hist.size
+    starts, lengths, first = _runs(state[:, :stop], F[:, :stop])
     uses, longest = np.zeros(starts.size, np.int64), np.zeros(starts.size, np.int64)
     for r in range(starts.size):
         uses[first[r]] += 1
@@ -427,6 +443,53 @@ def expm(A):
     return X
 
 
+@dataclass(frozen=True)
+class Symmetry:
+    """A linearized flow that a permutation of its DOFs and elements and a shift of time by T / q map onto
+    itself: Phi(t + T / q, s + T / q) = G^-1 Phi(t, s) G, with (G x)_i = x_g(i) on the DOFs (``dofs``: g
+    on dq and on dq') and on the sliders (``elements``: element e's slider takes element elements[e]'s).
+
+    A tuned ring on a travelling wave (docs/ring.md) is one: interface j at time t is interface 0 at
+    t + j T ke / N, so relabelling the blades by r (r ke = gcd(N, ke) mod N) and shifting time by
+    T gcd(N, ke) / N maps the linearized ring onto itself, q = N / gcd(N, ke). Then
+    Phi(T) = Phi(q dt, (q-1) dt) ... Phi(dt, 0) = G^-q (G Phi(dt, 0))^q, dt = T / q
+    (:func:`symmetric_monodromy`): the flow is integrated over T / q only.
+    """
+
+    dofs: np.ndarray       # (n,) int
+    elements: np.ndarray   # (elements,) int
+    q: int
+
+    def state(self, hist: np.ndarray) -> np.ndarray:
+        """g on the monodromy's state [dq, dq', dz] (dz: the sliders of elements ``hist``, slot by slot)."""
+        n = self.dofs.size
+        slot = np.full(self.elements.size, -1)
+        slot[hist] = np.arange(hist.size)
+        moved = slot[self.elements[hist]]
+        if np.any(moved < 0):
+            raise ValueError("the symmetry maps a slider with a history onto one without: the orbit is not "
+                             "symmetric")
+        return np.concatenate([self.dofs, n + self.dofs, 2 * n + moved])
+
+
+def symmetric_monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float,
+                        y_rate: np.ndarray | None, symmetry: Symmetry) -> tuple[np.ndarray, int]:
+    """(:func:`monodromy`, grazing touches) of a flow with ``symmetry``, from its first T / q:
+    Phi(T) = G^-q (G Phi(T / q, 0))^q, the flow over T / q carrying the whole period's sliders (those with
+    a history over the period: a slider stuck over the first T / q may be released later). ``state``'s
+    samples must be a multiple of q."""
+    nt, q = state.shape[1], symmetry.q
+    if nt % q:
+        raise ValueError(f"{nt} samples do not split the period into {q} equal parts")
+    short, grazing = _flow_grazing(M, C, K, W, law, state, F, omega, y_rate, nt // q)
+    g = symmetry.state(history(np.ascontiguousarray(state)))
+    power = np.linalg.matrix_power(short[g], q)          # (G Phi(T / q))^q
+    gq = np.arange(g.size)
+    for _ in range(q):
+        gq = gq[g]                                       # G^q x = x[gq]
+    return power[np.argsort(gq)], grazing * q            # G^-q x = x[gq^-1]
+
+
 def multipliers(Phi: np.ndarray) -> np.ndarray:
     """Floquet multipliers, largest modulus first."""
     return _largest_first(np.linalg.eigvals(Phi))
@@ -437,9 +500,10 @@ def _largest_first(mu: np.ndarray) -> np.ndarray:
 
 
 def orbit_multipliers(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float,
-                      y_rate: np.ndarray | None = None) -> np.ndarray:
+                      y_rate: np.ndarray | None = None, symmetry: Symmetry | None = None) -> np.ndarray:
     """Floquet multipliers of the orbit whose states and friction over the period are ``state``, ``F``
-    (:func:`monodromy`'s arguments), largest modulus first.
+    (:func:`monodromy`'s arguments), largest modulus first; with ``symmetry`` the monodromy from a q-th of
+    the period (:func:`symmetric_monodromy`).
 
     Where every element keeps its state all period (no touch, or a contact
     stuck, or sliding one way, throughout) the linearized motion is one
@@ -449,17 +513,20 @@ def orbit_multipliers(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndar
     largest multiplier within 1e-14). Otherwise the eigenvalues of the
     monodromy matrix.
     """
-    return _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate)[0]
+    return _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate, symmetry)[0]
 
 
-def _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate) -> tuple[np.ndarray, int]:
+def _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate, symmetry=None) -> tuple[np.ndarray, int]:
     """(:func:`orbit_multipliers`, the number of grazing touches left out)."""
     state, F = np.ascontiguousarray(state), np.ascontiguousarray(F, dtype=float)
     if state.shape[0] and _runs(state, F)[0].size == 1:
         M, C, K, W = (np.ascontiguousarray(dense(A)) for A in (M, C, K, W))
         A = _steady_flow_matrix(M, C, K, W, law.rows, law.props, state[:, 0].copy(), F[:, 0].copy())
         return _largest_first(np.exp(np.linalg.eigvals(A) * (2 * np.pi / omega))), 0
-    Phi, grazing = _monodromy_grazing(M, C, K, W, law, state, F, omega, y_rate)
+    if symmetry is None:
+        Phi, grazing = _monodromy_grazing(M, C, K, W, law, state, F, omega, y_rate)
+    else:
+        Phi, grazing = symmetric_monodromy(M, C, K, W, law, state, F, omega, y_rate, symmetry)
     return multipliers(Phi), grazing
 
 
@@ -516,12 +583,12 @@ def sampling_error(largest: float, coarse: float) -> float:
 
 
 def orbit_stability(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float,
-                    y_rate: np.ndarray | None, coarse: tuple[np.ndarray, np.ndarray, np.ndarray | None]
-                    ) -> Stability:
+                    y_rate: np.ndarray | None, coarse: tuple[np.ndarray, np.ndarray, np.ndarray | None],
+                    symmetry: Symmetry | None = None) -> Stability:
     """:func:`orbit_multipliers` of the orbit with their error: ``coarse`` (state, F, y_rate) is the same
     orbit's law sampled at half the instants (:func:`sampling_error`)."""
-    mult, grazing = _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate)
-    coarse_mult, _ = _orbit_multipliers(M, C, K, W, law, *coarse[:2], omega, coarse[2])
+    mult, grazing = _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate, symmetry)
+    coarse_mult, _ = _orbit_multipliers(M, C, K, W, law, *coarse[:2], omega, coarse[2], symmetry)
     largest = float(np.abs(mult).max(initial=0.0))
     return Stability(multipliers=mult, error=sampling_error(largest, float(np.abs(coarse_mult).max(initial=0.0))),
                      grazing=grazing)
