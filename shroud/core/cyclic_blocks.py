@@ -25,7 +25,13 @@ leaf = njit(cache=True, _nrt=False)
 
 @leaf
 def lu_factor(A, piv, n):
-    """LU of A[:n, :n] in place (partial pivoting; multipliers below the diagonal), row swaps in piv."""
+    """LU of A[:n, :n] in place (partial pivoting; multipliers below the diagonal), row swaps in piv.
+
+    LINPACK's layout: a swap at column c exchanges columns c.. only, leaving
+    the earlier columns' multipliers where they were made, which is what
+    :func:`lu_solve`'s interleaved swaps and eliminations read (LAPACK swaps
+    whole rows and applies every swap before the elimination instead).
+    """
     for c in range(n):
         p = c
         for i in range(c + 1, n):
@@ -33,7 +39,7 @@ def lu_factor(A, piv, n):
                 p = i
         piv[c] = p
         if p != c:
-            for l in range(n):
+            for l in range(c, n):
                 A[c, l], A[p, l] = A[p, l], A[c, l]
         for i in range(c + 1, n):
             f = A[i, c] / A[c, c]
