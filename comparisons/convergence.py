@@ -62,13 +62,13 @@ ELEMENT_ORDER = 4.0
 ASYMPTOTIC = (3.0, 5.0)
 
 # The frequencies' round-off, relative: the eigen-solve's last digits (SLEPc Krylov-Schur, shift-invert on
-# MUMPS's factor) are set by rounding that the rank count changes (partition, ordering, pivots, the
-# distributed start vector): the quick scene's frequencies moved by up to 1.3e-10 of themselves under
+# MUMPS's factor) are set by rounding that the rank count changes (the partition, the factor's ordering
+# and pivots): the quick scene's frequencies moved by up to 2.5e-10 of themselves under
 # mpirun -n 2 and 3 (docs/reproducibility.md), declared at 5e-10 (the full scene's finer meshes were not
 # measured). Numbers drawn from differences of frequencies (the errors in %, Richardson's observed orders)
 # carry it amplified, and declare it so.
 FREQUENCY_ROUNDING = 5e-10
-ROUNDING_REASON = ("the eigen-solve's rounding, which the rank count changes (frequencies moved by up to 1.3e-10 "
+ROUNDING_REASON = ("the eigen-solve's rounding, which the rank count changes (frequencies moved by up to 2.5e-10 "
                    f"of themselves under mpirun -n 2 and 3; declared at {FREQUENCY_ROUNDING:g}), carried through "
                    "Richardson's extrapolation to the errors and orders drawn from differences of frequencies")
 
@@ -105,7 +105,7 @@ def richardson_rounding(h: np.ndarray, f: np.ndarray, extrapolate=richardson,
     """How far ``extrapolate(h, f)``'s value (relative to itself) and observed order (absolute) move when each
     frequency moves by ``eps`` of itself: the sum of the three moves, a first-order bound. Where the
     observed order is low, (h2 / h3)^p - 1 is small and the extrapolation amplifies the frequencies' round-off
-    (flap1 at order 0.54: x40)."""
+    (flap1 at order 0.54: about x40 in the runs measured)."""
     value, order = extrapolate(h, f)
     moved_value = moved_order = 0.0
     for k in range(len(f)):
