@@ -350,15 +350,14 @@ def shell_sequence(params, opts, rpms, labels, solid_hz: np.ndarray, solid_sprea
                                              error_rounding(r["frequencies_hz"], converged, spread)),
                              versus_solid_pct=error_rounding(r["frequencies_hz"], solid_hz, solid_spread))
                for r in rows]
-    return with_rounding({"meshes": as_json, "converged_hz": converged.tolist(), "observed_order": orders,
-            "converged_versus_solid_pct": (100 * (converged / solid_hz - 1.0)).tolist(),
-            "tolerance_pct": opts["shell_tolerance_pct"],
-            "chosen": None if chosen is None else with_rounding(
-                {"mesh_size_m": chosen["mesh_size_m"], "dofs": chosen["dofs"],
-                 "worst_error_pct": chosen["worst_error_pct"]}, ROUNDING_REASON,
-                worst_error_pct=error_rounding(chosen["frequencies_hz"], converged, spread))},
-        ROUNDING_REASON, observed_order=float(np.max(order_spread)),
-        converged_versus_solid_pct=error_rounding(converged, solid_hz, solid_spread, eps=spread))
+    chosen_json = None if chosen is None else with_rounding(
+        {"mesh_size_m": chosen["mesh_size_m"], "dofs": chosen["dofs"], "worst_error_pct": chosen["worst_error_pct"]},
+        ROUNDING_REASON, worst_error_pct=error_rounding(chosen["frequencies_hz"], converged, spread))
+    shell = {"meshes": as_json, "converged_hz": converged.tolist(), "observed_order": orders,
+             "converged_versus_solid_pct": (100 * (converged / solid_hz - 1.0)).tolist(),
+             "tolerance_pct": opts["shell_tolerance_pct"], "chosen": chosen_json}
+    return with_rounding(shell, ROUNDING_REASON, observed_order=float(np.max(order_spread)),
+                         converged_versus_solid_pct=error_rounding(converged, solid_hz, solid_spread, eps=spread))
 
 
 SHELL_ORDERS = (1.0, 4.0)    # plausible observed orders of the shell's frequencies (CR rotations: 2)
