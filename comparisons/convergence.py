@@ -37,7 +37,7 @@ from shroud.base.errors import InputError
 from shroud.params import FE
 from shroud.base.markdown import markdown_table
 from shroud.core.plotting import MODEL_COLOURS, figure, save
-from shroud.core.verdict import Verdict, timing
+from shroud.core.verdict import MEMORY_MB, MEMORY_RATIO, TIME_RATIO, Verdict, cost, declared_rounding, with_rounding
 from shroud.base.outputs import open_replacing
 
 OPTIONS = {
@@ -60,6 +60,17 @@ KINDS = ("tet", "hex")
 # order within ASYMPTOTIC of it marks a sequence in its asymptotic range.
 ELEMENT_ORDER = 4.0
 ASYMPTOTIC = (3.0, 5.0)
+
+# The frequencies' round-off, relative: the eigen-solve's last digits (SLEPc Krylov-Schur, shift-invert on
+# MUMPS's factor) are set by rounding that the rank count changes (the partition, the factor's ordering
+# and pivots): the quick scene's frequencies moved by up to 2.5e-10 of themselves under
+# mpirun -n 2 and 3 (docs/reproducibility.md), declared at 5e-10 (the full scene's finer meshes were not
+# measured). Numbers drawn from differences of frequencies (the errors in %, Richardson's observed orders)
+# carry it amplified, and declare it so.
+FREQUENCY_ROUNDING = 5e-10
+ROUNDING_REASON = ("the eigen-solve's rounding, which the rank count changes (frequencies moved by up to 2.5e-10 "
+                   f"of themselves under mpirun -n 2 and 3; declared at {FREQUENCY_ROUNDING:g}), carried through "
+                   "Richardson's extrapolation to the errors and orders drawn from differences of frequencies")
 
 # Paper Table 1, FE column (ANSYS Beam188, torsion restrained), 8500 r/min, Hz.
 PAPER_FE = paper.TABLE1_FE
@@ -87,6 +98,42 @@ def richardson(h: np.ndarray, f: np.ndarray) -> tuple[float, float | None]:
         return float(f3), None
     p = brentq(gap, lo, hi)
     return float(f3 - d23 / ((h2 / h3) ** p - 1.0)), float(p)
+
+
+def richardson_rounding(h: np.ndarray, f: np.ndarray, extrapolate=richardson,
+                        eps: float = FREQUENCY_ROUNDING) -> tuple[float, float]:
+    """How far ``extrapolate(h, f)``'s value (relative to itself) and observed order (absolute) move when each
+    frequency moves by ``eps`` of itself: the sum of the three moves, a first-order bound. Where the
+    observed order is low, (h2 / h3)^p - 1 is small and the extrapolation amplifies the frequencies' round-off
+    (flap1 at order 0.54: about x40 in the runs measured)."""
+    value, order = extrapolate(h, f)
+    moved_value = moved_order = 0.0
+    for k in range(len(f)):
+        g = np.array(f, dtype=float)
+        g[k] *= 1.0 + eps
+        v, p = extrapolate(h, g)
+        moved_value += abs(v - value)
+        if p is not None and order is not None:
+            moved_order += abs(p - order)
+    return moved_value / abs(value), moved_order
+
+
+def error_rounding(f: np.ndarray, reference: np.ndarray, reference_spread: np.ndarray,
+                   eps: float | np.ndarray = FREQUENCY_ROUNDING) -> float:
+    """The round-off (in %) of the errors 100 (f / reference - 1), largest entry: ``f`` known to ``eps`` of
+    itself and ``reference`` to ``reference_spread`` of itself (relative, per entry)."""
+    return float(np.max(100.0 * np.abs(f / reference) * (eps + reference_spread)))
+
+
+def _extrapolated(h: np.ndarray, f: np.ndarray, extrapolate=richardson) -> tuple[np.ndarray, list, np.ndarray,
+                                                                                  np.ndarray]:
+    """Per speed and mode of ``f`` (sizes, speeds, modes): the extrapolated values, the observed orders, and
+    their round-off (:func:`richardson_rounding`: the values' relative, the orders' absolute)."""
+    speeds, modes = range(f.shape[1]), range(f.shape[2])
+    est = [[extrapolate(h, f[:, i, j]) for j in modes] for i in speeds]
+    spread = np.array([[richardson_rounding(h, f[:, i, j], extrapolate) for j in modes] for i in speeds])
+    return (np.array([[e for e, _ in row] for row in est]), [[p for _, p in row] for row in est],
+            spread[..., 0], spread[..., 1])
 
 
 def _check(params, opts) -> None:
@@ -133,31 +180,52 @@ class ConvergenceResult:
     labels: list[str]              # the modes, by tip-kinematics label
     rows: list[dict]               # per mesh: kind, size, DOF, solve time, factor bytes, f, errors, params
     estimates: dict[str, tuple]    # cell kind -> (Richardson values (speeds, modes), observed orders)
+    round_off: dict[str, tuple]    # cell kind -> round-off of those values (relative) and orders (absolute)
     reference: str                 # the cell kind whose estimates are the converged values
     tolerance_pct: float
     known: float | None            # how well the converged values are known (the other kind's estimate), %
     chosen: dict | None            # the row of the mesh with the fewest DOF within the tolerance
-    growth: dict[str, dict]        # cell kind -> time and factor-memory slopes over DOF
+    growth: dict[str, dict]        # cell kind -> time and factor-memory slopes over DOF (costs)
     chosen_modes: object | None    # the chosen mesh's modes at the first speed (option pictures)
     shell: dict | None             # the shell model's own mesh sequence (shell_sequence; None: no shell_sizes)
 
     def to_json(self) -> dict:
         rows, chosen, estimates = self.rows, self.chosen, self.estimates
+        reference, reference_spread = estimates[self.reference][0], self.round_off[self.reference][0]
         results = {"labels": self.labels, "rpms": self.rpms, "tolerance_pct": self.tolerance_pct,
                    "converged_known_to_pct": self.known,
-                   "meshes": [{"cell": r["kind"], "mesh_size_m": r["size"], "dofs": r["dofs"], "solve_s": r["solve_s"],
-                               "factor_MB": r["factor_bytes"] / 1e6, "frequencies_hz": r["f"].tolist(),
-                               "error_pct": r["error_pct"].tolist(), "worst_error_pct": r["worst_pct"]} for r in rows],
+                   "meshes": [_mesh_json(r, error_rounding(r["f"], reference, reference_spread)) for r in rows],
                    "converged_hz": estimates[self.reference][0].tolist(), "reference": self.reference,
                    "richardson_hz": {kind: e[0].tolist() for kind, e in estimates.items()},
                    "observed_order": {kind: e[1] for kind, e in estimates.items()},
-                   # the time slope is a fit of run times: declared so (shroud compare skips it)
-                   "cost_growth": {kind: {**g, "time_slope": timing(g["time_slope"])} for kind, g in self.growth.items()},
-                   "chosen": None if chosen is None else {"cell": chosen["kind"], "mesh_size_m": chosen["size"],
-                                                           "dofs": chosen["dofs"], "worst_error_pct": chosen["worst_pct"]},
+                   # fits of run times and of factor memory: declared so (shroud compare skips them)
+                   "cost_growth": {kind: {"time_slope": cost(g["time_slope"], TIME_RATIO),
+                                          "memory_slope": cost(g["memory_slope"], MEMORY_RATIO)}
+                                   for kind, g in self.growth.items()},
+                   "chosen": None if chosen is None else with_rounding(
+                       {"cell": chosen["kind"], "mesh_size_m": chosen["size"], "dofs": chosen["dofs"],
+                        "worst_error_pct": chosen["worst_pct"]}, ROUNDING_REASON,
+                       worst_error_pct=error_rounding(chosen["f"], reference, reference_spread)),
                    "paper_fe_hz": list(PAPER_FE), "shell": self.shell}
+        # how well the converged values are known: the other kind's estimates against them, both rounded
+        known = {} if self.known is None else {"converged_known_to_pct": max(
+            error_rounding(e[0], reference, reference_spread, eps=self.round_off[kind][0])
+            for kind, e in estimates.items() if kind != self.reference)}
+        results = with_rounding(results, ROUNDING_REASON, observed_order=max(
+            float(np.max(orders)) for _, orders in self.round_off.values()), **known)
         results["conclusions"] = conclusions(results)
         return results
+
+
+def _mesh_json(row: dict, error_spread: float) -> dict:
+    """One mesh's row of results.json, its errors' round-off declared. The factor's memory is a cost the rank
+    count sets (a distributed factor has its own fill and buffers: 0.1-2.2 % more or less on 2 and 3 ranks),
+    declared so, as its solve time is one the machine sets: shroud compare skips both."""
+    return with_rounding({"cell": row["kind"], "mesh_size_m": row["size"], "dofs": row["dofs"],
+                          "solve_s": row["solve_s"], "factor_MB": cost(row["factor_bytes"] / 1e6, MEMORY_MB),
+                          "frequencies_hz": row["f"].tolist(), "error_pct": row["error_pct"].tolist(),
+                          "worst_error_pct": row["worst_pct"]}, ROUNDING_REASON,
+                         error_pct=error_spread, worst_error_pct=error_spread)
 
 
 def compute(scene) -> ConvergenceResult:
@@ -181,15 +249,14 @@ def compute(scene) -> ConvergenceResult:
                          "solve_s": time.perf_counter() - t0, "f": np.array(f),
                          "factor_bytes": factor_bytes(params.updated({"speed.rpm": rpms[-1]})),
                          "params": params})
-    estimates = {}
+    estimates, round_off = {}, {}
     for kind in KINDS:
         mine = [r for r in rows if r["kind"] == kind]
         if len(mine) < 3:
             continue
         h = np.array([r["dofs"] for r in mine[-3:]], dtype=float) ** (-1.0 / 3.0)
-        f = np.array([r["f"] for r in mine[-3:]])              # (3, speeds, k)
-        est = [[richardson(h, f[:, i, j]) for j in range(k)] for i in range(len(rpms))]
-        estimates[kind] = (np.array([[e for e, _ in s] for s in est]), [[p for _, p in s] for s in est])
+        values, orders, value_spread, order_spread = _extrapolated(h, np.array([r["f"] for r in mine[-3:]]))
+        estimates[kind], round_off[kind] = (values, orders), (value_spread, order_spread)
     reference = estimates[opts["reference"]][0]
     labels = rows[0]["labels"]
     for r in rows:
@@ -207,10 +274,12 @@ def compute(scene) -> ConvergenceResult:
                      "memory_slope": slope([r["dofs"] for r in rows if r["kind"] == kind],
                                            [r["factor_bytes"] for r in rows if r["kind"] == kind])}
               for kind in KINDS if sum(r["kind"] == kind for r in rows) >= 2}
-    shell = shell_sequence(scene.params, opts, rpms, labels, reference) if opts["shell_sizes"] else None
+    shell = (shell_sequence(scene.params, opts, rpms, labels, reference, round_off[opts["reference"]][0])
+             if opts["shell_sizes"] else None)
     chosen_modes = (solve_modes(chosen["params"], rpms[0], k, coriolis=False)
                     if opts["pictures"] and chosen is not None else None)
-    return ConvergenceResult(rpms=rpms, labels=labels, rows=rows, estimates=estimates, reference=opts["reference"],
+    return ConvergenceResult(rpms=rpms, labels=labels, rows=rows, estimates=estimates, round_off=round_off,
+                             reference=opts["reference"],
                              tolerance_pct=opts["tolerance_pct"], known=known, chosen=chosen, growth=growth,
                              chosen_modes=chosen_modes, shell=shell)
 
@@ -241,14 +310,15 @@ def report(result: ConvergenceResult, scene, files: list[str]) -> str:
 run = study(compute, plot, report)
 
 
-def shell_sequence(params, opts, rpms, labels, solid_hz: np.ndarray) -> dict:
+def shell_sequence(params, opts, rpms, labels, solid_hz: np.ndarray, solid_spread: np.ndarray) -> dict:
     """The shell model's frequencies over ``options.shell_sizes``, its Richardson values and chosen size.
 
     Each size's frequencies for the solid's ``labels`` (matched by label) at every speed; the error
     against the shell's own converged values (Richardson on the three finest sizes, h = the size)
     chooses the cheapest size within ``shell_tolerance_pct`` among those from which every frequency
     moves one way down to the finest size (:func:`monotone_to_finest`); the converged shell against the
-    converged solid (``solid_hz``) is the model's own difference, which no mesh removes.
+    converged solid (``solid_hz``, known to ``solid_spread`` of itself) is the model's own difference, which
+    no mesh removes. The errors and orders declare their round-off (:data:`ROUNDING_REASON`).
     """
     from reference_fe.modal import solve_modes
     rows = []
@@ -266,8 +336,7 @@ def shell_sequence(params, opts, rpms, labels, solid_hz: np.ndarray) -> dict:
                      "frequencies_hz": np.array(f)})
     h = np.array([r["mesh_size_m"] for r in rows[-3:]])
     f = np.array([r["frequencies_hz"] for r in rows[-3:]])
-    est = [[_shell_richardson(h, f[:, i, j]) for j in range(len(labels))] for i in range(len(rpms))]
-    converged = np.array([[e for e, _ in row] for row in est])
+    converged, orders, spread, order_spread = _extrapolated(h, f, _shell_richardson)
     for r, monotone in zip(rows, monotone_to_finest(np.array([r["frequencies_hz"] for r in rows]))):
         r["monotone_to_finest"] = monotone
         r["error_pct"] = 100 * (r["frequencies_hz"] / converged - 1.0)
@@ -275,13 +344,20 @@ def shell_sequence(params, opts, rpms, labels, solid_hz: np.ndarray) -> dict:
         r["versus_solid_pct"] = 100 * (r["frequencies_hz"] / solid_hz - 1.0)
     fit = [r for r in rows if r["worst_error_pct"] <= opts["shell_tolerance_pct"] and r["monotone_to_finest"]]
     chosen = min(fit, key=lambda r: r["dofs"]) if fit else None
-    as_json = [{k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in r.items()} for r in rows]
-    return {"meshes": as_json, "converged_hz": converged.tolist(),
-            "observed_order": [[p for _, p in row] for row in est],
-            "converged_versus_solid_pct": (100 * (converged / solid_hz - 1.0)).tolist(),
-            "tolerance_pct": opts["shell_tolerance_pct"],
-            "chosen": None if chosen is None else {"mesh_size_m": chosen["mesh_size_m"], "dofs": chosen["dofs"],
-                                                    "worst_error_pct": chosen["worst_error_pct"]}}
+    as_json = [with_rounding({k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in r.items()},
+                             ROUNDING_REASON,
+                             **dict.fromkeys(("error_pct", "worst_error_pct"),
+                                             error_rounding(r["frequencies_hz"], converged, spread)),
+                             versus_solid_pct=error_rounding(r["frequencies_hz"], solid_hz, solid_spread))
+               for r in rows]
+    chosen_json = None if chosen is None else with_rounding(
+        {"mesh_size_m": chosen["mesh_size_m"], "dofs": chosen["dofs"], "worst_error_pct": chosen["worst_error_pct"]},
+        ROUNDING_REASON, worst_error_pct=error_rounding(chosen["frequencies_hz"], converged, spread))
+    shell = {"meshes": as_json, "converged_hz": converged.tolist(), "observed_order": orders,
+             "converged_versus_solid_pct": (100 * (converged / solid_hz - 1.0)).tolist(),
+             "tolerance_pct": opts["shell_tolerance_pct"], "chosen": chosen_json}
+    return with_rounding(shell, ROUNDING_REASON, observed_order=float(np.max(order_spread)),
+                         converged_versus_solid_pct=error_rounding(converged, solid_hz, solid_spread, eps=spread))
 
 
 SHELL_ORDERS = (1.0, 4.0)    # plausible observed orders of the shell's frequencies (CR rotations: 2)
@@ -386,14 +462,16 @@ def conclusions(results: dict) -> dict:
     orders = {kind: {f"{lab} at {rpm:g} r/min": p for rpm, row in zip(results["rpms"], per_speed)
                      for lab, p in zip(results["labels"], row)}
               for kind, per_speed in results["observed_order"].items()}
-    return {"meets_tolerance": meets,
-            "chosen": None if results["chosen"] is None else
-            mesh_name(results["chosen"]["cell"], results["chosen"]["mesh_size_m"]),
-            "default_mesh_meets_tolerance": meets.get(default),
-            "observed_order": orders,
-            "asymptotic": {kind: all(p is not None and ASYMPTOTIC[0] <= p <= ASYMPTOTIC[1] for p in o.values())
-                           for kind, o in orders.items()},
-            "cheaper_at_equal_error": _cheaper(meshes, {n for n, v in meets.items() if v.answer is True})}
+    found = {"meets_tolerance": meets,
+             "chosen": None if results["chosen"] is None else
+             mesh_name(results["chosen"]["cell"], results["chosen"]["mesh_size_m"]),
+             "default_mesh_meets_tolerance": meets.get(default),
+             "observed_order": orders,
+             "asymptotic": {kind: all(p is not None and ASYMPTOTIC[0] <= p <= ASYMPTOTIC[1] for p in o.values())
+                            for kind, o in orders.items()},
+             "cheaper_at_equal_error": _cheaper(meshes, {n for n, v in meets.items() if v.answer is True})}
+    spread = declared_rounding(results).get("observed_order")     # the orders' round-off, as results declare it
+    return found if spread is None else with_rounding(found, ROUNDING_REASON, observed_order=spread)
 
 
 def _cheaper(meshes: list[dict], within_tolerance: set[str]) -> str | None:

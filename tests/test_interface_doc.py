@@ -21,8 +21,9 @@ DOC = (ROOT / "docs/interface.md").read_text()
 # and once it exists the test asks for its documentation like any other's.
 PENDING_KEYS: set[str] = set()
 PENDING_OPTIONS: dict[str, set[str]] = {}
-# Printed only with ring.blades = N or --interface, which the runs below do not use.
-CONDITIONAL_JSON = {"nodal_diameters", "nd", "blades", "N", "Ff", "blades_amplitude_v_L", "interface"}
+# Printed only with ring.blades = N or --interface, which the runs below do not use; compare's count of
+# skipped memory only when a study declares memory (convergence).
+CONDITIONAL_JSON = {"nodal_diameters", "nd", "blades", "N", "Ff", "blades_amplitude_v_L", "interface", "memory"}
 
 
 def _section(command: str) -> str:

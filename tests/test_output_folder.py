@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from shroud.core.verdict import is_timing_record
+from shroud.core.verdict import is_cost_record
 from workbench.compare import is_timing
 
 from workbench.cli import main
@@ -38,11 +38,12 @@ def _files(folder: Path) -> dict[str, bytes]:
 
 
 def _numbers(value):
-    """``value`` without its timings (what the machine took, not results), recognised as `shroud compare`
-    recognises them (workbench.compare.is_timing, and values whose unit says they were drawn from run times)."""
+    """``value`` without its costs (what the machine took, not results), recognised as `shroud compare`
+    recognises them (workbench.compare.is_timing, and values whose unit says they were drawn from run time or
+    memory)."""
     if isinstance(value, dict):
         return {k: _numbers(v) for k, v in value.items()
-                if not (is_timing(k) or is_timing_record(v))}
+                if not (is_timing(k) or is_cost_record(v))}
     if isinstance(value, list):
         return [_numbers(v) for v in value]
     return value

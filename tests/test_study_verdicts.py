@@ -6,6 +6,7 @@ uncertainties (speed grid, settling, timing noise); shroud.core.verdict holds th
 hold that each study hands it the right number, threshold and margin and reads the right side.
 """
 
+import itertools
 import json
 import math
 from types import SimpleNamespace
@@ -248,6 +249,25 @@ def test_convergence_mesh_within_tolerance_is_not_decided_within_how_well_the_va
     """Tolerance 0.15 %; the converged values known to 0.02 % (the other cell kind's estimate)."""
     assert convergence.within(worst, 0.15, 0.02).answer == answer
     assert convergence.within(worst, 0.15, None).margin == 0.0
+
+
+@pytest.mark.parametrize("order, amplified", [(4.0, False), (0.6, True)])
+def test_richardson_round_off_is_the_worst_move_of_its_inputs_and_grows_as_the_order_falls(order, amplified):
+    """f_k = 300 Hz + 2 h_k^p on three meshes: the declared round-off of the extrapolated value (each input
+    moved by eps of itself, moves summed) is the worst of the 2^3 sign combinations, found by brute force
+    (to first order: within 1 %); and a low observed order amplifies the inputs' round-off tenfold or more
+    ((h2 / h3)^p - 1 small), a high one does not."""
+    h = np.array([1.0, 0.8, 0.6])
+    f = 300.0 + 2.0 * h ** order
+    eps = 1e-9
+    value, found = convergence.richardson(h, f)
+    assert found == pytest.approx(order, rel=1e-6)
+    spread, order_spread = convergence.richardson_rounding(h, f, eps=eps)
+    worst = max(abs(convergence.richardson(h, f * (1.0 + eps * np.array(signs)))[0] - value) / value
+                for signs in itertools.product((-1.0, 1.0), repeat=3))
+    assert spread == pytest.approx(worst, rel=0.01)
+    assert order_spread > 0.0
+    assert (spread > 10 * eps) == amplified
 
 
 @pytest.mark.parametrize("difference, step_error, answer", [(0.005, 1e-4, True), (0.0095, 1e-3, NOT_DECIDED),

@@ -5,13 +5,16 @@ A number agrees when |new - base| <= atol + rtol |base|; a boolean or a word
 when it is equal, so a flipped verdict is a drift. A value present in one run
 and missing in the other (or null there: NaN or infinity) is a drift.
 
-Timings are recognised by what they are, not by a list of names
-(:func:`is_timing`): a key ending in ``_s`` holds wall or CPU times of the
+Costs (what the run's machine, load and rank count set: run time and
+memory) are recognised by what they are, not by a list of names
+(:func:`cost_paths`): a key ending in ``_s`` holds wall or CPU times of the
 run's machine (the runner refuses anything but numbers under such a key,
 :func:`check_timings`), a key ending in ``_time_ratio`` a ratio of them, and
-an object whose unit is ``shroud.core.verdict.TIME_RATIO`` (a verdict, or a
-number the study declared with ``shroud.core.verdict.timing``: a fit of run
-times) was drawn from them; these vary from run to run and are skipped, with the paths matching a
+an object whose unit is a cost's (``shroud.core.verdict.COSTS``: a verdict of
+unit ``TIME_RATIO``, or a value the study declared with
+``shroud.core.verdict.cost``: a fit of run times, a factor's memory, which the
+rank count changes) was drawn from them; these vary from run to run and are
+skipped, counted by resource, with the paths matching a
 pattern of ``DEFAULT_IGNORE`` (where and how the run was made) or of
 ``--ignore``. Physical times (a time step) are named otherwise
 (``time_step``). Paths are those of gates (workbench.gates): lists of
@@ -37,6 +40,7 @@ from __future__ import annotations
 import fnmatch
 import json
 import math
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
@@ -44,7 +48,7 @@ from typing import Any, Sequence
 from workbench import junit
 from workbench.gates import children, is_number
 from shroud.base.errors import InputError
-from shroud.core.verdict import ROUNDING, declared_rounding, is_timing_record
+from shroud.core.verdict import COSTS, ROUNDING, TIME_RATIO, declared_rounding, resource
 
 DEFAULT_RTOL = 1e-6
 DEFAULT_ATOL = 1e-12
@@ -93,7 +97,8 @@ class Comparison:
     ignore: tuple[str, ...]
     campaign: bool                   # paths start with "<scene>/"
     compared: list[str]              # paths held (in BASE order, then NEW's own)
-    ignored: int                     # by pattern or as timings
+    ignored: int                     # by pattern or as costs
+    skipped: dict[str, int]          # resource ("run_time", "memory") -> how many values skipped as its cost
     drifts: list[Drift]              # changed words and yes/no first, then largest relative change
     rounded: dict[str, float]        # path -> declared rounding spread it was held to instead of rtol/atol
 
@@ -106,7 +111,7 @@ class Comparison:
     def to_json(self) -> dict:
         return {"base": self.base, "new": self.new, "rtol": self.rtol, "atol": self.atol,
                 "ignore": list(self.ignore), "compared": len(self.compared), "ignored": self.ignored,
-                "rounded": self.rounded,
+                "skipped": self.skipped, "rounded": self.rounded,
                 "drifted": [{"path": d.path, "base": d.base, "new": d.new,
                              "relative_change": None if math.isinf(d.relative) else d.relative,
                              "note": d.note} for d in self.drifts]}
@@ -129,15 +134,20 @@ def is_timing(path: str) -> bool:
     return any(segment.endswith(TIMING_SUFFIXES) for segment in path.split("."))
 
 
-def timing_paths(document: Any, prefix: str = "") -> set[str]:
-    """Paths of the values drawn from run times: under a timing key, or in an object whose unit is TIME_RATIO."""
-    found: set[str] = set()
+def cost_paths(document: Any, prefix: str = "") -> dict[str, str]:
+    """Path -> resource ("run_time", "memory") of every value drawn from the run's resources: under a timing
+    key, or in an object whose unit is a cost's (``shroud.core.verdict.resource``; its unit itself is held:
+    a value declared a cost in one run and not in the other drifts)."""
+    found: dict[str, str] = {}
     for segment, value in children(document):
         path = f"{prefix}.{segment}" if prefix else segment
-        if is_timing(segment) or is_timing_record(value):
-            found |= set(scalars(value, path)) if isinstance(value, (dict, list)) else {path}
+        if is_timing(segment):
+            found.update(dict.fromkeys(scalars(value, path) if isinstance(value, (dict, list)) else [path],
+                                       COSTS[TIME_RATIO]))
+        elif (kind := resource(value)) is not None:
+            found.update(dict.fromkeys((p for p in scalars(value, path) if p != f"{path}.unit"), kind))
         elif isinstance(value, (dict, list)):
-            found |= timing_paths(value, path)
+            found.update(cost_paths(value, path))
     return found
 
 
@@ -185,7 +195,7 @@ class RunValues:
 
     campaign: bool
     values: dict[str, Any]           # path -> number, yes/no, word or null
-    timings: set[str]                # paths drawn from run times
+    costs: dict[str, str]            # path -> resource, of the values drawn from run time or memory
     rounded: dict[str, float]        # path -> declared rounding spread
     name: str                        # study or campaign title
 
@@ -197,19 +207,19 @@ def run_values(folder: str | Path, key: str) -> RunValues:
         raise InputError(key, f"{str(folder)!r} is not a folder; allowed: an output folder of shroud run")
     document = _record(folder / "results.json", key)
     if "campaign" not in document:
-        return RunValues(False, scalars(document), timing_paths(document), rounding_spreads(document),
+        return RunValues(False, scalars(document), cost_paths(document), rounding_spreads(document),
                          str(document.get("study")))
     found: dict[str, Any] = {}
-    timings: set[str] = set()
+    costs: dict[str, str] = {}
     rounded: dict[str, float] = {}
     for scene in document.get("scenes", []):
         record = folder / scene["results"]
         if record.is_file():          # a scene that never ran has no numbers: each of BASE's drifts
             run = _record(record, key)
             found.update({f"{scene['name']}/{p}": v for p, v in scalars(run).items()})
-            timings |= {f"{scene['name']}/{p}" for p in timing_paths(run)}
+            costs.update({f"{scene['name']}/{p}": v for p, v in cost_paths(run).items()})
             rounded.update({f"{scene['name']}/{p}": v for p, v in rounding_spreads(run).items()})
-    return RunValues(True, found, timings, rounded, str(document["campaign"]))
+    return RunValues(True, found, costs, rounded, str(document["campaign"]))
 
 
 def _record(path: Path, key: str) -> dict:
@@ -257,16 +267,17 @@ def compare(base: str | Path, new: str | Path, rtol: float = DEFAULT_RTOL, atol:
         raise InputError("NEW", f"BASE is a run of {kind} {b.name!r}, NEW of {kind} {n.name!r}; "
                          f"allowed: two runs of one {kind}")
     patterns = DEFAULT_IGNORE + tuple(ignore)
-    timings = b.timings | n.timings
+    costs = {**b.costs, **n.costs}
     paths = list(b.values) + [p for p in n.values if p not in b.values]
-    held = [p for p in paths if p not in timings and not _ignored(p, patterns, n.campaign)]
+    held = [p for p in paths if p not in costs and not _ignored(p, patterns, n.campaign)]
+    skipped = dict(Counter(costs[p] for p in paths if p in costs))
     rounded = {p: max(b.rounded.get(p, 0.0), n.rounded.get(p, 0.0)) for p in held
                if p in b.rounded or p in n.rounded}
     drifts = [d for p in held if (d := _drift(p, b.values.get(p, _ABSENT), n.values.get(p, _ABSENT),
                                              rtol, atol, rounded.get(p, 0.0))) is not None]
     drifts.sort(key=lambda d: (-d.relative, d.path))
     comparison = Comparison(str(base), str(new), rtol, atol, patterns, n.campaign, held,
-                            len(paths) - len(held), drifts, rounded)
+                            len(paths) - len(held), skipped, drifts, rounded)
     if target is not None:
         target.parent.mkdir(parents=True, exist_ok=True)
         junit.write(target, f"shroud compare {base} {new}", _suites(comparison))
@@ -290,7 +301,7 @@ def markdown(comparison: Comparison) -> str:
     """The verdict and the drifted numbers, largest relative change first, as a Markdown table."""
     head = (f"Compared {len(comparison.compared)} values of {comparison.new} against {comparison.base} "
             f"(numbers within rtol {comparison.rtol:g}, atol {comparison.atol:g}; yes/no and words equal; "
-            f"{comparison.ignored} timings or ignored by pattern)." + _rounded_sentence(comparison))
+            f"{_skipped_words(comparison)})." + _rounded_sentence(comparison))
     if not comparison.drifts:
         return head + "\nAll within tolerance."
     rows = ["| path | BASE | NEW | relative change | note |", "|---|---|---|---|---|"]
@@ -298,6 +309,14 @@ def markdown(comparison: Comparison) -> str:
         rows.append(f"| `{d.path}` | {_cell(d.base)} | {_cell(d.new)} | "
                     f"{_change(d)} | {d.note or '-'} |")
     return f"{head}\n**{len(comparison.drifts)} drifted:**\n\n" + "\n".join(rows)
+
+
+def _skipped_words(comparison: Comparison) -> str:
+    """What was not compared: the costs by resource, then the paths ignored by pattern."""
+    costs = sum(comparison.skipped.values())
+    words = [f"{n} of {kind.replace('_', ' ')}" for kind, n in sorted(comparison.skipped.items())]
+    skipped = (f"skipped as costs of the machine and rank count: {', '.join(words)}; " if words else "")
+    return f"{skipped}{comparison.ignored - costs} ignored by pattern"
 
 
 def _rounded_sentence(comparison: Comparison) -> str:

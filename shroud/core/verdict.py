@@ -34,6 +34,11 @@ from typing import Any
 NOT_DECIDED = "not decided"
 KEYS = ("answer", "value", "threshold", "margin", "unit", "reason")   # a verdict's JSON, in this order
 TIME_RATIO = "time ratio"   # the unit of a number or verdict drawn from run times: a timing, whatever its answer
+MEMORY_MB = "MB of memory"  # the unit of a memory size the run allocated (a factor's, a buffer's), 1e6 bytes
+MEMORY_RATIO = "memory ratio"   # ... of a ratio or a fit of memory sizes
+# The units of costs: what the run's machine, load and rank count set (run time, memory), not the blade;
+# by unit, the resource each measures.
+COSTS = {TIME_RATIO: "run_time", MEMORY_MB: "memory", MEMORY_RATIO: "memory"}
 ROUNDING = "rounding"       # the key under which a JSON object declares its values' round-off (with_rounding)
 
 
@@ -204,15 +209,20 @@ def is_verdict(document: Any) -> bool:
     return isinstance(document, dict) and set(document) - {ROUNDING} == set(KEYS)
 
 
-def timing(value: Any) -> dict:
-    """A value drawn from run times (a ratio or a fit of them, the points a time axis ranks: anything the
-    machine's speed and load decide) as a results.json holds it, its unit declared:
-    ``{"value": value, "unit": TIME_RATIO}``.
+def cost(value: Any, unit: str) -> dict:
+    """A value the run's resources set, not the physics (a fit of run times, the points a time axis ranks,
+    a factor's memory, which the rank count changes: anything the machine, its load and the partition
+    decide), as a results.json holds it, its unit (one of :data:`COSTS`) declared:
+    ``{"value": value, "unit": unit}``. ``shroud compare`` skips such values and counts them by resource.
 
-    >>> timing(1.86), timing(["reduced nr = 4"])
+    >>> cost(1.86, TIME_RATIO), cost(["reduced nr = 4"], TIME_RATIO)
     ({'value': 1.86, 'unit': 'time ratio'}, {'value': ['reduced nr = 4'], 'unit': 'time ratio'})
+    >>> cost(87.8, MEMORY_MB), resource(cost(87.8, MEMORY_MB))
+    ({'value': 87.8, 'unit': 'MB of memory'}, 'memory')
     """
-    return {"value": value, "unit": TIME_RATIO}
+    if unit not in COSTS:
+        raise ValueError(f"a cost's unit is one of {sorted(COSTS)} (got {unit!r})")
+    return {"value": value, "unit": unit}
 
 
 def with_rounding(record: dict, reason: str, **spreads: float) -> dict:
@@ -254,10 +264,17 @@ def declared_rounding(document: Any) -> dict[str, float]:
             and not isinstance(v, bool)}
 
 
-def is_timing_record(document: Any) -> bool:
-    """Whether a JSON value was drawn from run times by its declared unit: an object (a verdict, or a
-    number of :func:`timing`) whose ``unit`` is :data:`TIME_RATIO`. ``shroud compare`` skips such values."""
-    return isinstance(document, dict) and document.get("unit") == TIME_RATIO
+def resource(document: Any) -> str | None:
+    """The resource a JSON value measures by its declared unit (:data:`COSTS`: "run_time", "memory"), for
+    an object (a verdict, or a value of :func:`cost`) whose ``unit`` is a cost's; None for anything else.
+    ``shroud compare`` skips such values."""
+    unit = document.get("unit") if isinstance(document, dict) else None
+    return COSTS.get(unit) if isinstance(unit, str) else None
+
+
+def is_cost_record(document: Any) -> bool:
+    """Whether a JSON value was drawn from the run's resources (run time, memory) by its declared unit."""
+    return resource(document) is not None
 
 
 def answer_of(document: Any) -> Any:
