@@ -37,7 +37,7 @@ from shroud.base.errors import InputError
 from shroud.params import FE
 from shroud.base.markdown import markdown_table
 from shroud.core.plotting import MODEL_COLOURS, figure, save
-from shroud.core.verdict import MEMORY_MB, MEMORY_RATIO, TIME_RATIO, Verdict, cost, declared_rounding, with_rounding
+from shroud.core.verdict import MEMORY_MB, MEMORY_RATIO, Verdict, cost, declared_rounding, timing, with_rounding
 from shroud.base.outputs import open_replacing
 
 OPTIONS = {
@@ -199,7 +199,7 @@ class ConvergenceResult:
                    "richardson_hz": {kind: e[0].tolist() for kind, e in estimates.items()},
                    "observed_order": {kind: e[1] for kind, e in estimates.items()},
                    # fits of run times and of factor memory: declared so (shroud compare skips them)
-                   "cost_growth": {kind: {"time_slope": cost(g["time_slope"], TIME_RATIO),
+                   "cost_growth": {kind: {"time_slope": timing(g["time_slope"]),
                                           "memory_slope": cost(g["memory_slope"], MEMORY_RATIO)}
                                    for kind, g in self.growth.items()},
                    "chosen": None if chosen is None else with_rounding(

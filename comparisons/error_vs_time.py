@@ -50,7 +50,7 @@ from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.analysis.transient import simulate
 from shroud.core.signals import amplitude
-from shroud.core.verdict import TIME_RATIO, RatioVerdict, cost
+from shroud.core.verdict import RatioVerdict, timing
 from shroud.base.outputs import open_replacing
 
 OPTIONS = {
@@ -193,7 +193,7 @@ class ErrorVsTime:
                               "time_s": self.reference_s, "amplitudes": self.reference_amplitudes},
                 # which points are on the front is decided by run times: declared so (shroud compare skips it)
                 "points": [{k: v for k, v in r.items() if k != "pareto"} for r in rows],
-                "pareto": cost([f"{r['model']} {r['setting']}" for r in rows if r["pareto"]], TIME_RATIO),
+                "pareto": timing([f"{r['model']} {r['setting']}" for r in rows if r["pareto"]]),
                 "harmonic_balance": self.hb_rows, "conclusions": self.conclusions}
 
 

@@ -21,7 +21,7 @@ import pytest
 
 from workbench import gates
 from workbench.cli import main
-from shroud.core.verdict import MEMORY_MB, MEMORY_RATIO, TIME_RATIO, RatioVerdict, Verdict, cost, with_rounding
+from shroud.core.verdict import MEMORY_MB, MEMORY_RATIO, TIME_RATIO, RatioVerdict, Verdict, cost, timing, with_rounding
 
 FLAP1 = "results.modal.rows.flap1.reduced"
 BEAM = 'study = "default"\ntitle = "beam frequencies"\n' \
@@ -235,7 +235,7 @@ def test_run_times_are_skipped_by_what_they_are(two_runs):
         verdict = RatioVerdict(scale * 1.0, 10.0, factor=3.0, noise=2.0, above="costlier", below="cheaper",
                                between="comparable", reason="timing noise", unit=TIME_RATIO)
         return {"cost": verdict.to_json(), "solve_s": {"4": scale * 0.003}, "reduced_to_full_time_ratio": scale,
-                "cost_growth": {"hex": {"time_slope": cost(1.8 * scale, TIME_RATIO), "memory_slope": 1.2 * scale}},
+                "cost_growth": {"hex": {"time_slope": timing(1.8 * scale), "memory_slope": 1.2 * scale}},
                 "gap": {"value": scale * 1e-4, "unit": "m"}, "time_step": scale * 1e-5}
     base = _with_conclusions(two_runs, "timed_base", found(1.0))
     slower = _with_conclusions(two_runs, "timed_slower", found(5.0))

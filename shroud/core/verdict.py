@@ -225,6 +225,15 @@ def cost(value: Any, unit: str) -> dict:
     return {"value": value, "unit": unit}
 
 
+def timing(value: Any) -> dict:
+    """A value drawn from run times: :func:`cost` in :data:`TIME_RATIO`.
+
+    >>> timing(1.86)
+    {'value': 1.86, 'unit': 'time ratio'}
+    """
+    return cost(value, TIME_RATIO)
+
+
 def with_rounding(record: dict, reason: str, **spreads: float) -> dict:
     """``record`` (a JSON object: a table's row, a verdict's record) with the round-off of some of its
     values declared: ``{**record, "rounding": {key: spread, ..., "reason": reason}}``.
