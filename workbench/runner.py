@@ -148,13 +148,13 @@ def output_folder(scene_path: str | Path, out: str | Path | None) -> Path:
 
 
 @contextlib.contextmanager
-def shielded_from_interrupts():
-    """SIGINT and SIGTERM ignored for the block: a second Ctrl-C (a user's,
-    or a batch system's repeat) must not cut the partial result half-written."""
+def signal_handlers(handlers: dict):
+    """``handlers`` (signal -> handler) in force for the block, the previous ones after it; a no-op
+    outside the main thread, where Python cannot set them."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = {sig: signal.signal(sig, signal.SIG_IGN) for sig in (signal.SIGINT, signal.SIGTERM)}
+    previous = {sig: signal.signal(sig, handler) for sig, handler in handlers.items()}
     try:
         yield
     finally:
@@ -162,21 +162,19 @@ def shielded_from_interrupts():
             signal.signal(sig, handler)
 
 
-@contextlib.contextmanager
+def shielded_from_interrupts():
+    """SIGINT and SIGTERM ignored for the block: a second Ctrl-C (a user's,
+    or a batch system's repeat) must not cut the partial result half-written."""
+    return signal_handlers({signal.SIGINT: signal.SIG_IGN, signal.SIGTERM: signal.SIG_IGN})
+
+
+def _raise_interrupt(signum, frame):
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
 def sigterm_as_interrupt():
     """A batch system's SIGTERM ends the run like Ctrl-C: with a marked partial result."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def handler(signum, frame):
-        raise KeyboardInterrupt(f"signal {signum}")
-
-    previous = signal.signal(signal.SIGTERM, handler)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    return signal_handlers({signal.SIGTERM: _raise_interrupt})
 
 
 def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), quick: bool = False,
