@@ -78,20 +78,20 @@ def test_amplification_is_not_decided_against_a_settled_tuned_ring_when_no_sampl
 def test_the_sweep_rises_only_where_its_samples_settle():
     """Two scatters whose samples' worst blades are 1 % and 9 % above the settled tuned peak, pattern by
     pattern: settled samples say the amplification rises with the scatter (a paired rise of 0.08 against a
-    margin of 1e-6 settling); unsettled ones, read against a tuned ring that overshoots its wave by 30 % where
-    it rattles, decide nothing; and the largest sample is held to Whitehead's (1 + sqrt 4) / 2 = 1.5."""
-    from comparisons.ring_mistuning import ScatterSweep, paired_rise
+    margin of 1e-6 settling), also with a third, larger scatter whose samples rattle (the rise is read up to
+    the last scatter that settles); unsettled ones, read against a tuned ring that overshoots its wave by 30 %
+    where it rattles, decide nothing; the largest sample is held to Whitehead's (1 + sqrt 4) / 2 = 1.5."""
+    from comparisons.ring_mistuning import ScatterSweep
 
     def at(change: float, std: float, worst: float):
         c = replace(_comparison(change), std=std, case="preloaded")
         c = replace(c, records=[{**r, "amplitudes": [r["amplitudes"][0], [worst] * 4]} for r in c.records])
         return replace(c, stats={"median": (float(np.median(c.ratio)),) * 3})
 
-    for change, answer in ((1e-6, True), (0.2, "not decided")):
-        low, high = at(change, 0.005, 11.11e-6), at(change, 0.013, 11.99e-6)
-        sweep = ScatterSweep(case="preloaded", preload=20.0, scatters=(low, high),
-                             rise=paired_rise(low.ratio, high.ratio, 200, np.random.default_rng(0)))
+    for changes, answer in (((1e-6, 1e-6), True), ((1e-6, 1e-6, 0.2), True), ((0.2, 0.2), "not decided")):
+        scatters = tuple(at(c, x, w) for c, x, w in zip(changes, (0.005, 0.013, 0.02), (11.11e-6, 11.99e-6, 12.5e-6)))
+        sweep = ScatterSweep(case="preloaded", preload=20.0, scatters=scatters, bootstrap=200)
         verdicts = sweep.verdicts(0.013)
-        assert abs(sweep.rise[0] - 0.08) < 1e-9
+        assert sweep.settled_range == (0, 1) and abs(sweep.rise[0] - 0.08) < 1e-9
         assert verdicts["preloaded_rises_with_scatter"].answer == answer
         assert verdicts["preloaded_within_whitehead"].answer is True
