@@ -426,29 +426,31 @@ def compute(scene, out: Path) -> MistuningStudy:
 
 
 def plot(result: MistuningStudy, scene, out: Path) -> list[str]:
-    """(a) the samples' amplification against Whitehead's bound, (b) the worst sample blade by blade; then
-    the amplification against the scatter, one panel a case."""
+    """(a) the samples' amplification against Whitehead's bound, (b) the worst sample blade by blade, (c) the
+    same for each other case at the largest scatter its samples all settle at; then the amplification against
+    the scatter, one panel a case."""
     main = result.main
-    N, ratio, bound, rpms = main.N, main.ratio, main.bound, main.rpms
-    i, at = main.worst
-    worst = main.records[i]
-    fig, axes = figure(1, 2, width=9.0, height=3.4)
+    N, ratio, bound = main.N, main.ratio, main.bound
+    others = [(s.case, s.scatters[s.settled_range[1]]) for s in result.sweeps if s.case != MAIN_CASE]
+    fig, axes = figure(1, 2 + len(others), width=4.5 * (2 + len(others)), height=3.6)
     ax = axes[0][0]
     ax.plot(np.sort(ratio), np.arange(1, ratio.size + 1) / ratio.size, "o-", ms=2)
     ax.axvline(bound, color="k", ls="--", lw=0.8, label=f"Whitehead {bound:.2f}")
     ax.axvline(1.0, color="gray", lw=0.8)
     ax.set_xlabel("worst blade / tuned peak (settled speeds)")
     ax.set_ylabel("share of samples")
-    ax.set_title(f"(a) {ratio.size} samples, std {100 * main.std:g} % of E")
+    ax.set_title(f"(a) {MAIN_CASE}: {ratio.size} samples, std {100 * main.std:g} % of E")
     ax.legend()
-    ax = axes[0][1]
-    ax.plot(range(N), 1e6 * np.array(worst["amplitudes"][at]), "o-", label=f"worst sample (seed {worst['seed']})")
-    ax.plot(range(N), 1e6 * main.tuned[at], "s--", label="tuned")
-    ax.axhline(1e6 * main.wave[at], color="gray", lw=0.8, label="tuned wave (sector HB)")
-    ax.set_xlabel("blade")
-    ax.set_ylabel(f"amplitude of v_L (um) at {rpms[at]:g} r/min")
-    ax.set_title("(b) localisation")
-    ax.legend()
+    for ax, (case, c), letter in zip(axes[0][1:], [(MAIN_CASE, main)] + others, "bcd"):
+        i, at = c.worst
+        worst = c.records[i]
+        ax.plot(range(N), 1e6 * np.array(worst["amplitudes"][at]), "o-", label=f"worst sample (seed {worst['seed']})")
+        ax.plot(range(N), 1e6 * c.tuned[at], "s--", label="tuned")
+        ax.axhline(1e6 * c.wave[at], color="gray", lw=0.8, label="tuned wave (sector HB)")
+        ax.set_xlabel("blade")
+        ax.set_ylabel(f"amplitude of v_L (um) at {c.rpms[at]:g} r/min")
+        ax.set_title(f"({letter}) localisation, {case}, std {100 * c.std:g} %")
+        ax.legend(fontsize=8)
     save(fig, out / "ring_mistuning.png")
 
     fig, axes = figure(1, len(result.sweeps), width=4.6 * len(result.sweeps), height=3.8)
