@@ -95,3 +95,14 @@ def test_the_sweep_rises_only_where_its_samples_settle():
         assert sweep.settled_range == (0, 1) and abs(sweep.rise[0] - 0.08) < 1e-9
         assert verdicts["preloaded_rises_with_scatter"].answer == answer
         assert verdicts["preloaded_within_whitehead"].answer is True
+
+
+def test_a_sweep_that_misses_the_main_scatter_or_runs_backwards_is_refused(tmp_path, capsys):
+    """Bad input, one line and exit 2, before any ring is run: scatters not holding options.std, scatters
+    not increasing, a preload that is none."""
+    from workbench.cli import main
+    for bad in ("options.scatters=[0.005, 0.02]", "options.scatters=[0.02, 0.013]", "options.preload=0.0"):
+        assert main(["run", str(SCENE), "--out", str(tmp_path / "bad"), "--set", bad]) == 2
+        err = capsys.readouterr().err
+        assert ("options.scatters" in err or "options.preload" in err) and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "bad" / "samples.jsonl").exists()
