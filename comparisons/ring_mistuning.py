@@ -56,7 +56,7 @@ from shroud.analysis.ring import build_ring, run_ring
 from shroud.analysis.ring_hb import sector_at
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
-from shroud.base.parallel import map_parallel
+from shroud.base.parallel import map_parallel, on_rank_zero
 from shroud.core import signals
 from shroud.core.plotting import figure, save
 from shroud.core.verdict import Verdict
@@ -135,6 +135,14 @@ def _done(stream: Path) -> dict[tuple[str, float, int], dict]:
                 continue
             found[_key(record)] = record
     return found
+
+
+def _opened(stream: Path) -> tuple[Path, dict[tuple[str, float, int], dict]]:
+    """The stream and the samples it holds, a killed run's cut last line dropped from it (the whole ones stay)."""
+    done = _done(stream)
+    if stream.exists():
+        stream.write_text("".join(json.dumps(r) + "\n" for r in done.values()))
+    return stream.resolve(), done
 
 
 def percentile_with_ci(values: np.ndarray, q: float, resamples: int, rng) -> tuple[float, float, float]:
@@ -399,10 +407,9 @@ def compute(scene, out: Path) -> MistuningStudy:
     scatters = [float(s) for s in o["scatters"]]
     wanted = list(dict.fromkeys([(MAIN_CASE, std, s) for s in main_seeds] +
                                 [(case, x, s) for case in cases for x in scatters for s in sweep_seeds]))
-    stream = out / "samples.jsonl"
-    done = _done(stream)
-    if stream.exists():                              # a killed run's cut last line goes; the whole ones stay
-        stream.write_text("".join(json.dumps(r) + "\n" for r in done.values()))
+    # Rank 0 reads the stream and every rank gets its path and samples: under mpirun the other ranks run in
+    # scratch folders, and a stream of their own would leave their samples out of a resumed run.
+    stream, done = on_rank_zero(lambda: _opened(out / "samples.jsonl"))
     todo = [(case, cases[case][0], model, cases[case][1], x, s, stream) for case, x, s in wanted
             if (case, x, s) not in done]
     for record in map_parallel(_sample, todo):
