@@ -33,12 +33,14 @@ sample s is one pattern of E scaled), for two cases: the scene's ring
 12000-13000 r/min on a travelling wave the sector HB calls stable, and so
 do mistuned samples, so there the question is answered by settled rings).
 Whether the amplification rises with the scatter is read on each sample's
-own pattern: the paired difference between the largest and the smallest
-scatter, its median with a bootstrap interval. The stream's lines are keyed
+own pattern: the paired difference between the smallest scatter and the
+largest up to which every sample settles, its median with a bootstrap
+interval. The stream's lines are keyed
 by (case, scatter, seed), so a killed sweep resumes scatter by scatter.
 
 The study is compute (:func:`compute`, which streams the samples into the run's folder ->
-:class:`MistuningComparison`) -> plot -> report.
+:class:`MistuningStudy`: the main :class:`MistuningComparison` and a :class:`ScatterSweep` a case) -> plot ->
+report.
 """
 
 from __future__ import annotations
@@ -124,16 +126,16 @@ def _key(record: dict) -> tuple[str, float, int]:
 
 
 def _done(stream: Path) -> dict[tuple[str, float, int], dict]:
-    """The samples a stream holds by (case, scatter, seed) (a killed run's last line may be cut: it is run
-    again)."""
+    """The samples a stream holds by (case, scatter, seed) (a killed run's last line may be cut, and a line of
+    an older study may lack the key: either is run again)."""
     found = {}
     if stream.exists():
         for line in stream.read_text().splitlines():
             try:
                 record = json.loads(line)
-            except json.JSONDecodeError:
+                found[_key(record)] = record
+            except (json.JSONDecodeError, KeyError):
                 continue
-            found[_key(record)] = record
     return found
 
 
