@@ -25,8 +25,22 @@ blade (localisation). Samples are spread over MPI ranks or local processes
 it finishes (memory flat in the number of samples), and a run that was
 killed resumes from the samples the file holds.
 
+Amplification against the scatter's size: the same Monte Carlo at each of
+``scatters`` (``scatter_samples`` samples, seeds shared across scatters, so
+sample s is one pattern of E scaled), for two cases: the scene's ring
+("unloaded", ``rpms``) and the ring with the shrouds preloaded by
+``preload`` N ("preloaded", ``preload_rpms``: 24 blades at 20 N settle at
+12000-13000 r/min on a travelling wave the sector HB calls stable, and so
+do mistuned samples, so there the question is answered by settled rings).
+Whether the amplification rises with the scatter is read on each sample's
+own pattern: the paired difference between the smallest scatter and the
+largest up to which every sample settles, its median with a bootstrap
+interval. The stream's lines are keyed
+by (case, scatter, seed), so a killed sweep resumes scatter by scatter.
+
 The study is compute (:func:`compute`, which streams the samples into the run's folder ->
-:class:`MistuningComparison`) -> plot -> report.
+:class:`MistuningStudy`: the main :class:`MistuningComparison` and a :class:`ScatterSweep` a case) -> plot ->
+report.
 """
 
 from __future__ import annotations
@@ -44,13 +58,16 @@ from shroud.analysis.ring import build_ring, run_ring
 from shroud.analysis.ring_hb import sector_at
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
-from shroud.base.parallel import map_parallel
+from shroud.base.parallel import map_parallel, on_rank_zero
 from shroud.core import signals
 from shroud.core.plotting import figure, save
 from shroud.core.verdict import Verdict
 
 OPTIONS = {"samples": 100, "std": 0.013, "rpms": [9500.0, 10000.0, 10500.0], "model": "reduced",
-           "first_seed": 1, "bootstrap": 2000}
+           "first_seed": 1, "bootstrap": 2000,
+           "scatters": [0.0025, 0.005, 0.01, 0.013, 0.02, 0.04, 0.08], "scatter_samples": 24,
+           "preload": 20.0, "preload_rpms": [12000.0, 12500.0, 13000.0]}
+MAIN_CASE = "unloaded"  # the scene's ring, whose Monte Carlo at ``std`` is the main one (``samples``)
 SETTLED = 1e-3         # settled: the last period repeats the one before to this share of the amplitude
 ON_WAVE = 5e-3         # on the wave: every blade within this share of the sector HB's wave (its 0.5 % test)
 WAVE_HARMONICS = 20    # the beams' impacts need H = 20 for 0.1 % (docs/ring.md)
@@ -62,6 +79,13 @@ def check(scene) -> None:
         raise InputError("ring.blades", "mistuning is a ring's; allowed: ring.blades >= 2")
     if o["samples"] < 2 or not o["std"] > 0 or not o["rpms"] or min(o["rpms"]) <= 0:
         raise InputError("options.samples", "allowed: samples >= 2, std > 0 and speeds > 0 r/min")
+    scatters = o["scatters"]
+    if (len(scatters) < 2 or sorted(set(scatters)) != list(scatters) or min(scatters) <= 0
+            or o["std"] not in scatters or o["scatter_samples"] < 2):
+        raise InputError("options.scatters", "allowed: two or more increasing scatters > 0 holding options.std, "
+                         "scatter_samples >= 2")
+    if not o["preload"] > 0 or not o["preload_rpms"] or min(o["preload_rpms"]) <= 0:
+        raise InputError("options.preload", "allowed: a preload > 0 N and speeds > 0 r/min")
 
 
 def ring_in_time(params, model: str, rpms) -> tuple[list[list[float]], list[float]]:
@@ -83,18 +107,13 @@ def blade_amplitudes(params, model: str, rpms) -> list[list[float]]:
     return ring_in_time(params, model, rpms)[0]
 
 
-def travelling_wave(params, model: str, rpms) -> list[float]:
-    """The tuned ring's travelling-wave amplitude of v_L (m) at each speed: the sector's harmonic balance."""
-    return [float(sector_at(params.updated({"speed.rpm": float(rpm)}), model, float(rpm), harmonics=WAVE_HARMONICS,
-                            stability=False)["amplitude_v_L"]) for rpm in rpms]
-
-
 def _sample(task) -> dict:
     """One mistuned ring (module level: it is sent to the workers); appended to the stream as it ends."""
-    params, model, rpms, std, seed, stream = task
+    case, params, model, rpms, std, seed, stream = task
     p = params.updated({"ring.mistuning_std": std, "ring.seed": seed})
     amplitudes, change = ring_in_time(p, model, rpms)
-    record = {"seed": seed, "deviations": list(p.ring.deviations), "amplitudes": amplitudes, "change": change}
+    record = {"case": case, "std": std, "seed": seed, "deviations": list(p.ring.deviations),
+              "amplitudes": amplitudes, "change": change}
     with open(stream, "a") as fh:                    # one line a sample, appended whole
         fh.write(json.dumps(record) + "\n")
         fh.flush()
@@ -102,17 +121,30 @@ def _sample(task) -> dict:
     return record
 
 
-def _done(stream: Path) -> dict[int, dict]:
-    """The samples a stream holds (a killed run's last line may be cut: it is run again)."""
+def _key(record: dict) -> tuple[str, float, int]:
+    return record["case"], record["std"], record["seed"]
+
+
+def _done(stream: Path) -> dict[tuple[str, float, int], dict]:
+    """The samples a stream holds by (case, scatter, seed) (a killed run's last line may be cut, and a line of
+    an older study may lack the key: either is run again)."""
     found = {}
     if stream.exists():
         for line in stream.read_text().splitlines():
             try:
                 record = json.loads(line)
-            except json.JSONDecodeError:
+                found[_key(record)] = record
+            except (json.JSONDecodeError, KeyError):
                 continue
-            found[record["seed"]] = record
     return found
+
+
+def _opened(stream: Path) -> tuple[Path, dict[tuple[str, float, int], dict]]:
+    """The stream and the samples it holds, a killed run's cut last line dropped from it (the whole ones stay)."""
+    done = _done(stream)
+    if stream.exists():
+        stream.write_text("".join(json.dumps(r) + "\n" for r in done.values()))
+    return stream.resolve(), done
 
 
 def percentile_with_ci(values: np.ndarray, q: float, resamples: int, rng) -> tuple[float, float, float]:
@@ -121,9 +153,23 @@ def percentile_with_ci(values: np.ndarray, q: float, resamples: int, rng) -> tup
     return float(np.percentile(values, q)), float(np.percentile(boot, 2.5)), float(np.percentile(boot, 97.5))
 
 
+def paired_rise(low: np.ndarray, high: np.ndarray, resamples: int, rng) -> tuple[float, float, float]:
+    """The median of ``high - low`` sample by sample (each sample's own pattern of E at two scatters) and its
+    95 % bootstrap interval: pairing takes the patterns' spread out of the difference."""
+    return percentile_with_ci(np.asarray(high) - np.asarray(low), 50.0, resamples, rng)
+
+
+PERCENTILES = (("median", 50.0), ("p95", 95.0), ("p99", 99.0))
+
+
+def _answer(stable) -> str:
+    return "not decided" if stable is None else ("yes" if stable else "no")
+
+
 @dataclass(frozen=True)
 class MistuningComparison:
-    """The tuned ring's amplitudes and every sample's, with the amplification's statistics."""
+    """One case at one scatter: the tuned ring's amplitudes and every sample's, with the amplification's
+    statistics."""
 
     N: int                        # blades
     model: str
@@ -134,6 +180,8 @@ class MistuningComparison:
     wave: np.ndarray              # (speeds,) the tuned travelling wave by the sector's HB (m)
     records: list[dict]           # per sample: seed, deviations, amplitudes (speeds x N, m), change
     stats: dict[str, tuple[float, float, float]]   # median, p95, p99: (value, 95 % interval low, high)
+    case: str = MAIN_CASE
+    stable: tuple = ()            # (speeds,) the wave's stability by the sector HB (True, False, None: not decided)
 
     @property
     def settled(self) -> np.ndarray:
@@ -191,37 +239,50 @@ class MistuningComparison:
         off = ~self.settled
         return float(max(self.tuned[off].max(axis=1) / self.wave[off] - 1.0)) if off.any() else 0.0
 
+    def settling(self) -> tuple[float, str]:
+        """The amplification's error from settling, and why. Where every sample settles at the reference
+        speeds: the largest change a period there (tuned ring and samples). Where some do not, an unsettled
+        ring's largest blade is read against a steady (perhaps unstable) wave, and the tuned ring itself,
+        unsettled, overshoots its wave by ``unsettled_overshoot``: that is the error."""
+        ref = self.reference
+        changes = np.array([np.array(r["change"])[ref].max() for r in self.records])
+        largest_change = float(max(changes.max(), self.tuned_change[ref].max()))
+        if (changes <= SETTLED).all() or self.unsettled_overshoot == 0.0:
+            return largest_change, "the largest change a period at the reference speeds (settling error)"
+        return self.unsettled_overshoot, ("not every sample settles at the reference speeds, and an unsettled "
+                                          "ring's largest blade exceeds its wave by up to this much (the tuned "
+                                          "ring's, where it does not settle)")
+
     def verdicts(self) -> tuple[Verdict, Verdict]:
         """(mistuning amplifies, within Whitehead's bound)."""
         median = self.stats["median"]
-        margin, why = 0.5 * (median[2] - median[1]), "half its 95 % bootstrap interval"
-        overshoot = self.unsettled_overshoot
-        if self.samples_settled[self.reference].min() == 0 and overshoot > margin:
-            # No sample settles where the tuned ring does: an unsettled ring's largest blade is read against
-            # a steady (perhaps unstable) wave, and the tuned ring itself, unsettled, overshoots its wave so.
-            margin, why = overshoot, ("no sample settles at the reference speeds, and an unsettled ring's "
-                                      "largest blade exceeds its wave by up to this much (the tuned ring's, "
-                                      "where it does not settle)")
-        amplifies = Verdict.of(median[0], threshold=1.0, margin=margin, below=False, above=True,
-                               reason=f"median worst-blade amplification against 1, margin {why}")
+        error, why = self.settling()
+        amplifies = Verdict.of(median[0], threshold=1.0, margin=0.5 * (median[2] - median[1]) + error,
+                               below=False, above=True,
+                               reason="median worst-blade amplification against 1, margin half its 95 % "
+                                      f"bootstrap interval plus {why}")
         within = Verdict.of(float(self.ratio.max()), threshold=self.bound, margin=0.0, below=True, above=False,
                             reason=f"largest sample against Whitehead's (1 + sqrt {self.N}) / 2 = {self.bound:.3f} "
                                    "(one linear family; friction is outside its assumptions)")
         return amplifies, within
 
-    def conclusions(self) -> dict:
-        amplifies, within = self.verdicts()
-        return {"mistuning_amplifies": amplifies.answer, "within_whitehead": within.answer}
+    def tuned_json(self) -> list[dict]:
+        """The tuned ring per speed: blades, change, settled, wave, on the wave, the wave's stability."""
+        return [{"rpm": r, "blades_m": [float(self.tuned[i].min()), float(self.tuned[i].max())],
+                 "change_a_period": float(self.tuned_change[i]), "settled": bool(self.settled[i]),
+                 "wave_m": float(self.wave[i]), "on_wave": bool(self.on_wave[i]),
+                 "wave_stable": _answer(self.stable[i]) if self.stable else "not asked",
+                 "reference": bool(self.reference[i])} for i, r in enumerate(self.rpms)]
+
+    def statistics_json(self) -> dict:
+        return {name: {"value": v, "ci95": [lo, hi]} for name, (v, lo, hi) in self.stats.items()}
 
     def to_json(self) -> dict:
-        return {"conclusions": self.conclusions(),
-                "amplification": {name: {"value": v, "ci95": [lo, hi]} for name, (v, lo, hi) in self.stats.items()},
+        amplifies, within = self.verdicts()
+        return {"conclusions": {"mistuning_amplifies": amplifies.answer, "within_whitehead": within.answer},
+                "amplification": self.statistics_json(),
                 "largest": float(self.ratio.max()), "whitehead": self.bound, "tuned_peak_m": self.tuned_peak,
-                "tuned": [{"rpm": r, "blades_m": [float(self.tuned[i].min()), float(self.tuned[i].max())],
-                           "change_a_period": float(self.tuned_change[i]), "settled": bool(self.settled[i]),
-                           "wave_m": float(self.wave[i]), "on_wave": bool(self.on_wave[i]),
-                           "reference": bool(self.reference[i])} for i, r in enumerate(self.rpms)],
-                "samples_settled": [int(n) for n in self.samples_settled],
+                "tuned": self.tuned_json(), "samples_settled": [int(n) for n in self.samples_settled],
                 "per_speed": [float(x) for x in self.per_speed], "samples": len(self.records)}
 
 
@@ -230,88 +291,264 @@ def amplification(records: list[dict], reference: np.ndarray, tuned_peak: float)
     return np.array([np.array(r["amplitudes"])[reference].max() for r in records]) / tuned_peak
 
 
-def compute(scene, out: Path) -> MistuningComparison:
-    """The tuned ring, then the samples (those ``out/samples.jsonl`` holds from a killed run are kept, the
+def rises_verdict(rise: tuple[float, float, float], error: float, low: float, high: float) -> Verdict:
+    """Whether the amplification rises from scatter ``low`` to ``high``: the samples' paired median rise
+    (value, 95 % interval) against 0, margin half the interval plus ``error`` (both scatters' settling)."""
+    value, lo, hi = rise
+    return Verdict.of(value, threshold=0.0, margin=0.5 * (hi - lo) + error, below=False, above=True,
+                      reason=f"median over the samples of the amplification at {100 * high:g} % less that at "
+                             f"{100 * low:g} % (each sample's own pattern of E), margin half its 95 % bootstrap "
+                             "interval plus both scatters' settling errors")
+
+
+@dataclass(frozen=True)
+class ScatterSweep:
+    """One case's Monte Carlo at each scatter (ascending; the same seeds, so the same patterns, at each)."""
+
+    case: str                                       # "unloaded" (the scene's ring) or "preloaded"
+    preload: float                                  # contact.N0, N per side
+    scatters: tuple[MistuningComparison, ...]
+    bootstrap: int                                  # resamples for the paired rise's interval
+
+    @property
+    def stds(self) -> np.ndarray:
+        return np.array([c.std for c in self.scatters])
+
+    def at(self, std: float) -> MistuningComparison:
+        return self.scatters[int(np.flatnonzero(self.stds == std)[0])]
+
+    @property
+    def settled_range(self) -> tuple[int, int]:
+        """(first, last) scatters the rise is read between: from the smallest to the largest up to which every
+        sample settles at the reference speeds (a rattling sample's largest blade is no steady response); the
+        whole range where not even two scatters settle (their margins then say what that is worth)."""
+        settled = [c.settling()[0] <= SETTLED for c in self.scatters]
+        last = next((k - 1 for k, ok in enumerate(settled) if not ok), len(settled) - 1)
+        return (0, last) if last >= 1 else (0, len(settled) - 1)
+
+    @property
+    def rise(self) -> tuple[float, float, float]:
+        """The paired median rise over :attr:`settled_range`, with its 95 % bootstrap interval."""
+        first, last = self.settled_range
+        return paired_rise(self.scatters[first].ratio, self.scatters[last].ratio, self.bootstrap,
+                           np.random.default_rng(0))
+
+    def verdicts(self, std: float) -> dict[str, Verdict]:
+        """Whether the amplification rises with the scatter (over :attr:`settled_range`), whether every sample
+        stays within Whitehead's bound, and (not for the main case, whose 100 samples say it) whether
+        mistuning amplifies at ``std``."""
+        first, last = self.settled_range
+        low, high = self.scatters[first], self.scatters[last]
+        errors = [c.settling()[0] for c in self.scatters]
+        largest = max(float(c.ratio.max()) for c in self.scatters)
+        out = {f"{self.case}_rises_with_scatter": rises_verdict(self.rise, errors[first] + errors[last], low.std,
+                                                                high.std),
+               f"{self.case}_within_whitehead": Verdict.of(
+                   largest, threshold=low.bound, margin=max(errors), below=True, above=False,
+                   reason=f"largest sample over the scatters against Whitehead's (1 + sqrt {low.N}) / 2 = "
+                          f"{low.bound:.3f}, margin the largest settling error")}
+        if self.case != MAIN_CASE:
+            out[f"{self.case}_mistuning_amplifies"] = self.at(std).verdicts()[0]
+        return out
+
+    def to_json(self) -> dict:
+        first, last = self.settled_range
+        return {"preload_N": self.preload, "rpms": self.scatters[0].rpms, "tuned": self.scatters[0].tuned_json(),
+                "rise": {"from": self.scatters[first].std, "to": self.scatters[last].std, "value": self.rise[0],
+                         "ci95": list(self.rise[1:])},
+                "scatters": [{"std": c.std, "samples": len(c.records), "amplification": c.statistics_json(),
+                              "largest": float(c.ratio.max()), "settling_error": c.settling()[0],
+                              "samples_settled": [int(n) for n in c.samples_settled]} for c in self.scatters]}
+
+
+@dataclass(frozen=True)
+class MistuningStudy:
+    """The main Monte Carlo (the scene's ring at ``std``) and each case's sweep over the scatter."""
+
+    main: MistuningComparison
+    sweeps: tuple[ScatterSweep, ...]
+
+    def verdicts(self) -> dict[str, Verdict]:
+        amplifies, within = self.main.verdicts()
+        out = {"mistuning_amplifies": amplifies, "within_whitehead": within}
+        for sweep in self.sweeps:
+            out.update(sweep.verdicts(self.main.std))
+        return out
+
+    def conclusions(self) -> dict:
+        return {name: v.answer for name, v in self.verdicts().items()}
+
+    def to_json(self) -> dict:
+        return {**self.main.to_json(), "conclusions": self.conclusions(),
+                "verdicts": {name: v.to_json() for name, v in self.verdicts().items()},
+                "scatter": {sweep.case: sweep.to_json() for sweep in self.sweeps}}
+
+
+def tuned_ring(params, model: str, rpms) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple]:
+    """The tuned ring in time (blade amplitudes, change a period) and its travelling wave by the sector's
+    HB (amplitude, stability against every nodal diameter) at each speed."""
+    amplitudes, change = ring_in_time(params, model, rpms)
+    waves = [sector_at(params.updated({"speed.rpm": float(rpm)}), model, float(rpm), harmonics=WAVE_HARMONICS)
+             for rpm in rpms]
+    return (np.array(amplitudes), np.array(change), np.array([float(w["amplitude_v_L"]) for w in waves]),
+            tuple(w["stable"] for w in waves))
+
+
+def compute(scene, out: Path) -> MistuningStudy:
+    """The tuned rings, then the samples (those ``out/samples.jsonl`` holds from a killed run are kept, the
     rest spread over ranks or processes and streamed there), and the percentiles' bootstrap intervals."""
-    params, o = scene.params.updated({"ring.mistuning": (), "ring.mistuning_std": 0.0}), scene.options
-    model, rpms = o["model"], [float(r) for r in o["rpms"]]
-    tuned, change = (np.array(a) for a in ring_in_time(params, model, rpms))
-    wave = np.array(travelling_wave(params, model, rpms))
-    stream = out / "samples.jsonl"
-    seeds = [o["first_seed"] + s for s in range(o["samples"])]
-    done = _done(stream)
-    if stream.exists():                              # a killed run's cut last line goes; the whole ones stay
-        stream.write_text("".join(json.dumps(r) + "\n" for r in done.values()))
-    todo = [(params, model, rpms, o["std"], s, stream) for s in seeds if s not in done]
+    o = scene.options
+    model, std = o["model"], float(o["std"])
+    base = scene.params.updated({"ring.mistuning": (), "ring.mistuning_std": 0.0})
+    cases = {MAIN_CASE: (base, [float(r) for r in o["rpms"]]),
+             "preloaded": (base.updated({"contact.N0": float(o["preload"])}), [float(r) for r in o["preload_rpms"]])}
+    tuned = {case: tuned_ring(params, model, rpms) for case, (params, rpms) in cases.items()}
+    main_seeds = [o["first_seed"] + s for s in range(o["samples"])]
+    sweep_seeds = main_seeds[:o["scatter_samples"]] if o["scatter_samples"] <= o["samples"] else \
+        [o["first_seed"] + s for s in range(o["scatter_samples"])]
+    scatters = [float(s) for s in o["scatters"]]
+    wanted = list(dict.fromkeys([(MAIN_CASE, std, s) for s in main_seeds] +
+                                [(case, x, s) for case in cases for x in scatters for s in sweep_seeds]))
+    # Rank 0 reads the stream and every rank gets its path and samples: under mpirun the other ranks run in
+    # scratch folders, and a stream of their own would leave their samples out of a resumed run.
+    stream, done = on_rank_zero(lambda: _opened(out / "samples.jsonl"))
+    todo = [(case, cases[case][0], model, cases[case][1], x, s, stream) for case, x, s in wanted
+            if (case, x, s) not in done]
     for record in map_parallel(_sample, todo):
-        done[record["seed"]] = record
-    records = [done[s] for s in seeds]
-    result = MistuningComparison(N=params.ring.blades, model=model, std=o["std"], rpms=rpms, tuned=tuned,
-                                 tuned_change=change, wave=wave, records=records, stats={})
+        done[_key(record)] = record
     rng = np.random.default_rng(0)
-    stats = {name: percentile_with_ci(result.ratio, q, o["bootstrap"], rng) for name, q in
-             (("median", 50.0), ("p95", 95.0), ("p99", 99.0))}
-    return replace(result, stats=stats)
+
+    def comparison(case: str, x: float, seeds: list[int]) -> MistuningComparison:
+        amplitudes, change, wave, stable = tuned[case]
+        result = MistuningComparison(N=base.ring.blades, model=model, std=x, rpms=cases[case][1], tuned=amplitudes,
+                                     tuned_change=change, wave=wave, records=[done[case, x, s] for s in seeds],
+                                     stats={}, case=case, stable=stable)
+        return replace(result, stats={name: percentile_with_ci(result.ratio, q, o["bootstrap"], rng)
+                                      for name, q in PERCENTILES})
+
+    main = comparison(MAIN_CASE, std, main_seeds)
+    sweeps = []
+    for case, (params, _) in cases.items():
+        sweeps.append(ScatterSweep(case=case, preload=float(params.contact.N0), bootstrap=o["bootstrap"],
+                                   scatters=tuple(comparison(case, x, sweep_seeds) for x in scatters)))
+    return MistuningStudy(main=main, sweeps=tuple(sweeps))
 
 
-def plot(result: MistuningComparison, scene, out: Path) -> list[str]:
-    """(a) the samples' amplification against Whitehead's bound, (b) the worst sample blade by blade."""
-    N, ratio, bound, rpms = result.N, result.ratio, result.bound, result.rpms
-    i, at = result.worst
-    worst = result.records[i]
-    fig, axes = figure(1, 2, width=9.0, height=3.4)
+def plot(result: MistuningStudy, scene, out: Path) -> list[str]:
+    """(a) the samples' amplification against Whitehead's bound, (b) the worst sample blade by blade, (c) the
+    same for each other case at the largest scatter its samples all settle at; then the amplification against
+    the scatter, one panel a case."""
+    main = result.main
+    N, ratio, bound = main.N, main.ratio, main.bound
+    others = [(s.case, s.scatters[s.settled_range[1]]) for s in result.sweeps if s.case != MAIN_CASE]
+    fig, axes = figure(1, 2 + len(others), width=4.5 * (2 + len(others)), height=3.6)
     ax = axes[0][0]
     ax.plot(np.sort(ratio), np.arange(1, ratio.size + 1) / ratio.size, "o-", ms=2)
     ax.axvline(bound, color="k", ls="--", lw=0.8, label=f"Whitehead {bound:.2f}")
     ax.axvline(1.0, color="gray", lw=0.8)
     ax.set_xlabel("worst blade / tuned peak (settled speeds)")
     ax.set_ylabel("share of samples")
-    ax.set_title(f"(a) {ratio.size} samples, std {100 * result.std:g} % of E")
+    ax.set_title(f"(a) {MAIN_CASE}: {ratio.size} samples, std {100 * main.std:g} % of E")
     ax.legend()
-    ax = axes[0][1]
-    ax.plot(range(N), 1e6 * np.array(worst["amplitudes"][at]), "o-", label=f"worst sample (seed {worst['seed']})")
-    ax.plot(range(N), 1e6 * result.tuned[at], "s--", label="tuned")
-    ax.axhline(1e6 * result.wave[at], color="gray", lw=0.8, label="tuned wave (sector HB)")
-    ax.set_xlabel("blade")
-    ax.set_ylabel(f"amplitude of v_L (um) at {rpms[at]:g} r/min")
-    ax.set_title("(b) localisation")
-    ax.legend()
+    for ax, (case, c), letter in zip(axes[0][1:], [(MAIN_CASE, main)] + others, "bcd"):
+        i, at = c.worst
+        worst = c.records[i]
+        ax.plot(range(N), 1e6 * np.array(worst["amplitudes"][at]), "o-", label=f"worst sample (seed {worst['seed']})")
+        ax.plot(range(N), 1e6 * c.tuned[at], "s--", label="tuned")
+        ax.axhline(1e6 * c.wave[at], color="gray", lw=0.8, label="tuned wave (sector HB)")
+        ax.set_xlabel("blade")
+        ax.set_ylabel(f"amplitude of v_L (um) at {c.rpms[at]:g} r/min")
+        ax.set_title(f"({letter}) localisation, {case}, std {100 * c.std:g} %")
+        ax.legend(fontsize=8)
     save(fig, out / "ring_mistuning.png")
-    return ["ring_mistuning.png"]
+
+    fig, axes = figure(1, len(result.sweeps), width=4.6 * len(result.sweeps), height=3.8)
+    for ax, sweep in zip(axes[0], result.sweeps):
+        x, lowest = 100 * sweep.stds, 0.0
+        for (name, _), marker in zip(PERCENTILES, "os^"):
+            value, lo, hi = (np.array([c.stats[name][k] for c in sweep.scatters]) - 1.0 for k in range(3))
+            ax.errorbar(x, value, yerr=[value - lo, hi - value], marker=marker, ms=4, capsize=3, label=name)
+            lowest = min(lowest, lo.min())
+        ax.axhline(bound - 1.0, color="k", ls="--", lw=0.8, label=f"Whitehead {bound:.2f}")
+        ax.set_xscale("log")
+        ax.set_xticks(x, [f"{v:g}" for v in x], minor=False)    # the scatters measured, in plain numbers
+        ax.set_xticks([], minor=True)
+        ax.set_yscale("symlog", linthresh=1e-3)      # linear through 0 (a sample below its tuned peak), log above
+        ax.set_ylim(1.2 * lowest, 1.5 * (bound - 1.0))
+        ax.set_xlabel("scatter of E (std, %)")
+        ax.set_ylabel("worst blade / tuned peak - 1")
+        first = sweep.scatters[0]
+        settled = [c.settling()[0] <= SETTLED for c in sweep.scatters]
+        said = ("every sample settled" if all(settled) else "some samples rattle at every scatter" if not any(settled)
+                else f"every sample settled up to {100 * sweep.stds[sweep.settled_range[1]]:g} %")
+        ax.set_title(f"{sweep.case}: N0 {sweep.preload:g} N, {', '.join(f'{r:g}' for r in first.rpms)} r/min\n"
+                     f"{len(first.records)} samples a scatter, {said}", fontsize=9)
+        ax.legend(fontsize=8)
+    save(fig, out / "ring_mistuning_scatter.png")
+    return ["ring_mistuning.png", "ring_mistuning_scatter.png"]
 
 
-def report(result: MistuningComparison, scene, files: list[str]) -> str:
-    amplifies, within = result.verdicts()
-    ratio = result.ratio
-    rows = [(name, f"{v:.4f}", f"{lo:.4f} .. {hi:.4f}") for name, (v, lo, hi) in result.stats.items()]
-    tuned = [(f"{r:g}", f"{1e6 * result.tuned[i].min():.3f} .. {1e6 * result.tuned[i].max():.3f}",
-              f"{result.tuned_change[i]:.1e}", "yes" if result.settled[i] else "no", f"{1e6 * result.wave[i]:.3f}",
-              "yes" if result.on_wave[i] else "no", "yes" if result.reference[i] else "no",
-              f"{result.samples_settled[i]} / {ratio.size}", f"{result.per_speed[i]:.4f}")
-             for i, r in enumerate(result.rpms)]
-    at = int(np.flatnonzero(result.reference)[np.argmax(result.tuned[result.reference].max(axis=1))])
-    if not result.settled.any():
+def _tuned_rows(c: MistuningComparison, samples: bool) -> list[tuple]:
+    return [(f"{r:g}", f"{1e6 * c.tuned[i].min():.3f} .. {1e6 * c.tuned[i].max():.3f}",
+             f"{c.tuned_change[i]:.1e}", "yes" if c.settled[i] else "no", f"{1e6 * c.wave[i]:.3f}",
+             "yes" if c.on_wave[i] else "no", _answer(c.stable[i]) if c.stable else "not asked",
+             "yes" if c.reference[i] else "no")
+            + ((f"{c.samples_settled[i]} / {len(c.records)}", f"{c.per_speed[i]:.4f}") if samples else ())
+            for i, r in enumerate(c.rpms)]
+
+
+TUNED_HEADER = ["r/min", "blades (um)", "change a period", "settled", "wave (um)", "on the wave", "wave stable (HB)",
+                "reference"]
+
+
+def report(result: MistuningStudy, scene, files: list[str]) -> str:
+    main = result.main
+    verdicts = result.verdicts()
+    amplifies, within = verdicts["mistuning_amplifies"], verdicts["within_whitehead"]
+    ratio = main.ratio
+    rows = [(name, f"{v:.4f}", f"{lo:.4f} .. {hi:.4f}") for name, (v, lo, hi) in main.stats.items()]
+    at = int(np.flatnonzero(main.reference)[np.argmax(main.tuned[main.reference].max(axis=1))])
+    if not main.settled.any():
         what = ("the tuned ring settles at none of these speeds: the tuned peak is the largest blade of an "
                 "unsettled ring over its last periods, and every speed counts")
     else:
-        what = (f"the tuned ring's largest blade where it settles, at {result.rpms[at]:g} r/min"
-                f"{' on its travelling wave' if result.on_wave[at] else ', off its travelling wave'}; speeds "
+        what = (f"the tuned ring's largest blade where it settles, at {main.rpms[at]:g} r/min"
+                f"{' on its travelling wave' if main.on_wave[at] else ', off its travelling wave'}; speeds "
                 "where it does not settle (its last period differs from the one before by more than "
                 f"{SETTLED:g} of its amplitude) have no steady tuned response and are left out of the "
                 "amplification, the samples' included")
     lines = [f"# {scene.title}\n",
-             f"{result.N} blades, {result.model}, E scattered by {100 * result.std:g} %, {ratio.size} samples, "
-             f"speeds {', '.join(f'{r:g}' for r in result.rpms)} r/min.\n",
+             f"## Case `{MAIN_CASE}` at {100 * main.std:g} %\n",
+             f"{main.N} blades, {main.model}, E scattered by {100 * main.std:g} %, {ratio.size} samples, "
+             f"speeds {', '.join(f'{r:g}' for r in main.rpms)} r/min, contact.N0 "
+             f"{result.sweeps[0].preload:g} N.\n",
              "The tuned ring in time from rest, against its travelling wave by the sector's harmonic balance "
              f"(H = {WAVE_HARMONICS}):\n",
-             markdown_table(["r/min", "blades (um)", "change a period", "settled", "wave (um)", "on the wave",
-                             "reference", "samples settled", "samples' median worst / tuned there"], tuned), "",
-             f"Tuned peak {1e6 * result.tuned_peak:.3f} um: {what}. At the reference speeds "
-             f"{int(result.samples_settled[result.reference].min())} of {ratio.size} samples settle; a sample that "
+             markdown_table(TUNED_HEADER + ["samples settled", "samples' median worst / tuned there"],
+                            _tuned_rows(main, samples=True)), "",
+             f"Tuned peak {1e6 * main.tuned_peak:.3f} um: {what}. At the reference speeds "
+             f"{int(main.samples_settled[main.reference].min())} of {ratio.size} samples settle; a sample that "
              "does not counts its largest blade over its last periods.\n",
              markdown_table(["amplification", "value", "95 % interval (bootstrap)"], rows), "",
-             f"Largest {ratio.max():.4f} against Whitehead's {result.bound:.3f}: {within.answer}. Mistuning "
-             f"amplifies: {amplifies.sentence()}.\n"]
+             f"Largest {ratio.max():.4f} against Whitehead's {main.bound:.3f}: `within_whitehead` "
+             f"{within.answer}. `mistuning_amplifies`: {amplifies.sentence()}.\n",
+             "## Amplification against the scatter's size\n",
+             "Each case's Monte Carlo at each scatter, the same seeds (so the same pattern of E, scaled) at each; "
+             "amplification as above (worst blade over the case's reference speeds against its tuned peak).\n"]
+    for sweep in result.sweeps:
+        first = sweep.scatters[0]
+        table = [(f"{100 * c.std:g}", str(len(c.records)))
+                 + tuple(f"{c.stats[n][0]:.4f} ({c.stats[n][1]:.4f} .. {c.stats[n][2]:.4f})" for n, _ in PERCENTILES)
+                 + (f"{c.ratio.max():.4f}", f"{c.settling()[0]:.2g}",
+                    f"{int(c.samples_settled[c.reference].min())} / {len(c.records)}") for c in sweep.scatters]
+        lines += [f"### Case `{sweep.case}`: contact.N0 {sweep.preload:g} N, "
+                  f"{', '.join(f'{r:g}' for r in first.rpms)} r/min\n",
+                  markdown_table(TUNED_HEADER, _tuned_rows(first, samples=False)), "",
+                  markdown_table(["scatter (%)", "samples", "median (95 %)", "p95 (95 %)", "p99 (95 %)", "largest",
+                                  "settling error", "samples settled (fewest over the reference speeds)"], table), "",
+                  f"Against Whitehead's {first.bound:.3f}. Verdicts of this case:\n"]
+        lines += [f"- `{name}`: {v.sentence()}" for name, v in verdicts.items() if name.startswith(sweep.case + "_")]
+        lines.append("")
     lines += [f"![{f}]({f})" for f in files]
     return "\n".join(lines) + "\n"
 

@@ -192,3 +192,23 @@ def test_shell_campaign_and_sweep_on_two_ranks_give_the_serial_answers(tmp_path)
     assert parallel["rpm"] == serial["rpm"] and parallel["dofs"] == serial["dofs"]
     for key in ("amplitude_v_L", "amplitude_w_L"):
         assert parallel[key] == pytest.approx(serial[key], rel=1e-9)
+
+
+def test_a_mistuning_study_on_two_ranks_streams_every_sample_to_rank_zeros_folder_and_resumes(tmp_path):
+    """comparisons/ring_mistuning.py under mpirun -n 2: the samples of both ranks land in the one samples.jsonl
+    of the run's folder (the other rank runs in a scratch folder), and a run killed in the middle of a line
+    resumes on two ranks with the serial run's statistics."""
+    scene = Path(__file__).resolve().parents[1] / "scenes" / "ring_mistuning.toml"
+    small = ["ring.blades=4", "time.periods=20", "options.samples=3", "options.rpms=[10000.0]",
+             "options.scatters=[0.005, 0.013]", "options.scatter_samples=2", "options.preload_rpms=[12000.0]"]
+    sets = [arg for s in small for arg in ("--set", s)]
+    serial, spread = tmp_path / "serial", tmp_path / "spread"
+    shroud(["run", str(scene), "--quick", "--out", str(serial), *sets])
+    shroud(["run", str(scene), "--quick", "--out", str(spread), *sets], ranks=2)
+    lines = (spread / "samples.jsonl").read_text().splitlines()
+    assert len(lines) == 9                                 # 3 main, 2 unloaded at 0.5 %, 2 x 2 preloaded
+    (spread / "samples.jsonl").write_text("\n".join(lines[:4]) + "\n" + lines[4][:25])
+    shroud(["run", str(scene), "--quick", "--out", str(spread), *sets], ranks=2)
+    results = [json.loads((d / "results.json").read_text())["results"] for d in (serial, spread)]
+    assert results[0]["scatter"] == results[1]["scatter"] and results[0]["amplification"] == results[1]["amplification"]
+    assert len((spread / "samples.jsonl").read_text().splitlines()) == 9
