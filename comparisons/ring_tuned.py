@@ -15,7 +15,7 @@ travelling wave, U_{j+1,h} = exp(i h phi) U_{j,h}, phi = 2 pi ke / N
   nodal diameter (the ring's monodromy by the wave's symmetry, its error
   the largest of floquet's floor, the change at half the samples and at
   2 H), both at ``branch_harmonics``. The ring's stability is taken at
-  ``branch_stability_points`` points spread over a longer branch and
+  ``branch_stability_points`` points (per ring size) spread over a longer branch and
   between neighbours whose verdicts differ until they are adjacent
   (ring_hb.located_changes): every point not evaluated lies between two
   evaluated ones with one verdict, which it is drawn with. A branch the
@@ -77,8 +77,8 @@ OPTIONS = {
     "branch_harmonics": 10,            # the branches' (at H = 20 the 1 um gap's first point fails)
     "stability_harmonics": 20,         # the stability verdict at 2 x this against this
     "stability_blades": [12, 24, 48],  # ring sizes whose waves get the stability verdict
-    "branch_stability_points": 40,     # the sector branches' stability at most at this many points before
-                                       # locating its changes (0: at every point)
+    "branch_stability_points": [0, 40, 12],   # per ring size of blades: the sector branch's stability at
+                                              # this many spread points, then where it changes (0: every point)
     "symmetry_break": 1e-4,            # std of E's scatter in the time runs
     "wave_spread": 0.005,              # (max - min) / mean of the blades' amplitudes on a travelling wave
     "agree": 0.005,                    # the issue's: the sector's HB within 0.5 % of the ring in time
@@ -97,6 +97,9 @@ def check(scene) -> None:
     if any(g < 0 for g in o["gaps_um"]) or not (o["gaps_um"] or o["preloads_N"]):
         raise InputError("options.gaps_um", f"{o['gaps_um']!r}; allowed: gaps >= 0 um (or preloads, at least one "
                                             "case)")
+    if len(o["branch_stability_points"]) != len(o["blades"]) or min(o["branch_stability_points"]) < 0:
+        raise InputError("options.branch_stability_points", f"{o['branch_stability_points']!r}; allowed: one "
+                                                            "count >= 0 per ring size of options.blades")
     if any(n <= 0 for n in o["preloads_N"]):
         raise InputError("options.preloads_N", f"{o['preloads_N']!r}; allowed: preloads > 0 N")
 
@@ -362,12 +365,12 @@ def compute(scene) -> RingTunedComparison:
         fixed = run_hb(case, model, o["rpm_from"], o["rpm_to"], harmonics=H)
         sectors, failures, points = {}, {}, []
         costs = {}
-        for n in o["blades"]:
+        for n, spread in zip(o["blades"], o["branch_stability_points"]):
             p = case.updated({"ring.blades": int(n)})
             wall, cpu = time.perf_counter(), time.process_time()
             try:
                 sectors[n] = run_ring_hb(p, model, o["rpm_from"], o["rpm_to"], H,
-                                         stability_points=o["branch_stability_points"] or None).branch
+                                         stability_points=spread or None).branch
                 costs[n] = {"cpu_s": time.process_time() - cpu, "wall_s": time.perf_counter() - wall,
                             "points": len(sectors[n].rpm),
                             "evaluated": int(np.isfinite(sectors[n].max_multiplier).sum())}
