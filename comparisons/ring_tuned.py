@@ -223,9 +223,12 @@ class RingTunedComparison:
         return [(c, p) for c in self.cases for p in c.points]
 
     def conclusions(self) -> dict:
-        """Per time point its naming (on the wave: 'stable wave' ...; off it: what explains it) and the HB's
-        agreement there; over all points on a wave, whether the HB agrees within ``agree``; whether every
-        departure is explained by the HB (instability or a coexisting branch)."""
+        """Per time point its naming (on the wave: 'stable wave' ...; off it: what explains it), the HB's
+        agreement there and the sector branch's verdict at its speed; over all points on a wave, whether the
+        HB agrees within ``agree``; whether every departure is explained by the HB (instability or a
+        coexisting branch); whether the branch's verdict (H = branch_harmonics) equals the wave's own
+        (2 H of the time points) wherever both are decided; how many points on and off the wave the branch
+        calls stable, unstable, not decided or has no stretch at (None)."""
         on = [(c, p) for c, p in self.points() if p.on is True]
         diffs = [p.difference() for _, p in on if p.difference() is not None]
         worst = max(diffs, default=None)
@@ -244,6 +247,10 @@ class RingTunedComparison:
                                                       "branch_stable": p.branch_stable}
                            for c, p in self.points()},
                 "branch_agrees_with_points": None if not both else all(a == b for a, b in both),
+                "branch_against_time": {side: {str(a): sum(str(p.branch_stable) == str(a)
+                                                           for _, p in self.points() if p.on is on)
+                                               for a in (True, False, NOT_DECIDED, None)}
+                                        for side, on in (("on_wave", True), ("off_wave", False))},
                 "hb_agrees_where_on_wave": agrees,
                 "hb_stable_where_on_wave": stable,
                 "departures_explained": all(e in ("wave unstable", "coexisting branch") for e in off)
@@ -533,7 +540,12 @@ def report(result: RingTunedComparison, scene, files: list[str]) -> str:
               f"{concl['departures_explained']}.",
               f"- The sector branch's stability (H = {o['branch_harmonics']}) at the time points' speeds, on the "
               f"stretch nearest the wave, equals the wave's own verdict (H = {2 * o['stability_harmonics']}) "
-              f"wherever both are decided: {concl['branch_agrees_with_points']}.", ""]
+              f"wherever both are decided: {concl['branch_agrees_with_points']}.",
+              "- The branch's verdict at the time points, where the ring in time settled on the wave: "
+              + ", ".join(f"{k} {v}" for k, v in concl["branch_against_time"]["on_wave"].items())
+              + "; where it left the wave: "
+              + ", ".join(f"{k} {v}" for k, v in concl["branch_against_time"]["off_wave"].items())
+              + " (None: no stretch of the branch at that speed).", ""]
     lines += [f"![{f}]({f})" for f in files]
     return "\n".join(lines) + "\n"
 
