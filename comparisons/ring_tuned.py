@@ -15,7 +15,8 @@ travelling wave, U_{j+1,h} = exp(i h phi) U_{j,h}, phi = 2 pi ke / N
   nodal diameter (the ring's monodromy by the wave's symmetry, its error
   the largest of floquet's floor, the change at half the samples and at
   2 H), both at ``branch_harmonics``. The ring's stability is taken at
-  ``branch_stability_points`` points (per ring size) spread over a longer branch and
+  ``branch_stability_points`` points (per ring size) spread over a longer branch, at both ends of
+  every stretch crossing a time point's speed (there the branch is held to the wave's own verdict) and
   between neighbours whose verdicts differ until they are adjacent
   (ring_hb.located_changes): every point not evaluated lies between two
   evaluated ones with one verdict, which it is drawn with. A branch the
@@ -377,7 +378,8 @@ def compute(scene) -> RingTunedComparison:
             wall, cpu = time.perf_counter(), time.process_time()
             try:
                 sectors[n] = run_ring_hb(p, model, o["rpm_from"], o["rpm_to"], H,
-                                         stability_points=spread or None).branch
+                                         stability_points=spread or None,
+                                         stability_at=tuple(o["td_rpms"])).branch
                 costs[n] = {"cpu_s": time.process_time() - cpu, "wall_s": time.perf_counter() - wall,
                             "points": len(sectors[n].rpm),
                             "evaluated": int(np.isfinite(sectors[n].max_multiplier).sum())}

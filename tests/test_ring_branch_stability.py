@@ -60,3 +60,15 @@ def test_the_branch_stability_is_every_points_and_the_ring_in_time_follows_it():
         a = np.array([signals.amplitude(tip[:, j], spp) for j in range(tip.shape[1])])
         on_wave = bool(signals.detect_period(tip[:, 0], spp) == 1 and np.ptp(a) / a.mean() < 0.005)
         assert on_wave is stable
+
+
+def test_located_changes_finds_a_stretch_between_spread_points_from_an_index_it_is_given():
+    """A stable stretch (indices 40-49) between two unstable spread points (0, 33, 66, 99) is missed from the
+    spread points alone and located, both its ends, once one of its indices is given (``also``: the time
+    points' stretches in ring_tuned)."""
+    def evaluate(i):
+        return Stability(multipliers=np.array([0.8 if 40 <= i <= 49 else 1.5]), error=0.02)
+    alone = located_changes(evaluate, 100, 4)
+    assert not any(done.stable for done in alone.values())
+    given = located_changes(evaluate, 100, 4, [45])
+    assert {39, 40, 49, 50} <= given.keys() and given[40].stable and not given[39].stable
