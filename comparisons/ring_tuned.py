@@ -391,12 +391,25 @@ def compute(scene) -> RingTunedComparison:
     return RingTunedComparison(cases=cases, agree=o["agree"])
 
 
+PANELS_PER_ROW = 4
+
+
+def panels(n: int, height: float):
+    """A figure of ``n`` panels, at most PANELS_PER_ROW a row (the rows' spare panels hidden): (fig, axes)."""
+    cols = min(n, PANELS_PER_ROW)
+    rows = -(-n // cols)
+    fig, axes = figure(rows, cols, width=4.8 * cols, height=height * rows)
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
+    return fig, list(axes.ravel()[:n])
+
+
 def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
     """Per case: the branches and the ring's time points (ring_tuned.png); every blade's amplitude at the time
     points (ring_tuned_blades.png); the points as CSV."""
     cases = result.cases
-    fig, axes = figure(1, len(cases), width=4.8 * len(cases), height=5.2)
-    for ax, c in zip(axes[0], cases):
+    fig, axes = panels(len(cases), 5.2)
+    for ax, c in zip(axes, cases):
         draw_branch(ax, c.fixed, "k", 1.4, "fixed neighbours (HB)")
         for i, (n, br) in enumerate(c.sectors.items()):
             colour = f"C{i}"
@@ -427,8 +440,8 @@ def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
         ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
     save(fig, out / "ring_tuned.png")
 
-    fig, axes = figure(1, len(cases), width=4.8 * len(cases), height=3.4)
-    for ax, c in zip(axes[0], cases):
+    fig, axes = panels(len(cases), 3.4)
+    for ax, c in zip(axes, cases):
         for i, n in enumerate(c.sectors):
             for k, p in enumerate(q for q in c.points if q.blades == n):
                 if p.on is True:
