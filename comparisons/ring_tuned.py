@@ -277,6 +277,7 @@ def branch_verdicts(branch) -> list[Verdict | None]:
         if not np.isfinite(mu):
             out.append(None)
             continue
+        e = e if e >= 0 else math.inf                                     # an unknown error decides nothing
         margin = math.inf if s is None and abs(mu - 1.0) > e else e      # grazing: floquet's own "undecided"
         out.append(Verdict.of(mu, threshold=1.0, margin=margin, below=True, above=False,
                               reason="largest |multiplier| of the monodromy (the ring's: every nodal diameter) "
