@@ -11,10 +11,17 @@ travelling wave, U_{j+1,h} = exp(i h phi) U_{j,h}, phi = 2 pi ke / N
 * the fixed-neighbour blade's HB branch with its stability
   (shroud.analysis.hb.run_hb, what shroud.api.continuation runs, with the
   branch's samples) and the sector's HB branch over the same speeds
-  (shroud.analysis.ring_hb.run_ring_hb without the ring's monodromy at
-  every point: each would take its monodromies at n, n / 2 samples and
-  2 H), both at ``branch_harmonics``; a branch the continuation cannot carry across the
-  range is drawn as far as it goes and its stop reported;
+  (shroud.analysis.ring_hb.run_ring_hb) with its stability against every
+  nodal diameter (the ring's monodromy by the wave's symmetry, its error
+  the largest of floquet's floor, the change at half the samples and at
+  2 H), both at ``branch_harmonics``. The ring's stability is taken at
+  ``branch_stability_points`` points (per ring size) spread over a longer branch, at both ends of
+  every stretch crossing a time point's speed (there the branch is held to the wave's own verdict) and
+  between neighbours whose verdicts differ until they are adjacent
+  (ring_hb.located_changes): every point not evaluated lies between two
+  evaluated ones with one verdict, which it is drawn with. A branch the
+  continuation cannot carry across the range is drawn as far as it goes
+  and its stop reported;
 * at each of ``td_rpms`` the whole ring in time from rest
   (shroud.api.transient; E scattered by ``symmetry_break``, 1e-4, so that a
   wave unstable in another nodal diameter can be left: a perfectly
@@ -42,6 +49,8 @@ The study is compute (:func:`compute` -> :class:`RingTunedComparison`) -> plot -
 from __future__ import annotations
 
 import csv
+import math
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -69,6 +78,8 @@ OPTIONS = {
     "branch_harmonics": 10,            # the branches' (at H = 20 the 1 um gap's first point fails)
     "stability_harmonics": 20,         # the stability verdict at 2 x this against this
     "stability_blades": [12, 24, 48],  # ring sizes whose waves get the stability verdict
+    "branch_stability_points": [0, 40, 12],   # per ring size of blades: the sector branch's stability at
+                                              # this many spread points, then where it changes (0: every point)
     "symmetry_break": 1e-4,            # std of E's scatter in the time runs
     "wave_spread": 0.005,              # (max - min) / mean of the blades' amplitudes on a travelling wave
     "agree": 0.005,                    # the issue's: the sector's HB within 0.5 % of the ring in time
@@ -87,6 +98,9 @@ def check(scene) -> None:
     if any(g < 0 for g in o["gaps_um"]) or not (o["gaps_um"] or o["preloads_N"]):
         raise InputError("options.gaps_um", f"{o['gaps_um']!r}; allowed: gaps >= 0 um (or preloads, at least one "
                                             "case)")
+    if len(o["branch_stability_points"]) != len(o["blades"]) or min(o["branch_stability_points"]) < 0:
+        raise InputError("options.branch_stability_points", f"{o['branch_stability_points']!r}; allowed: one "
+                                                            "count >= 0 per ring size of options.blades")
     if any(n <= 0 for n in o["preloads_N"]):
         raise InputError("options.preloads_N", f"{o['preloads_N']!r}; allowed: preloads > 0 N")
 
@@ -106,6 +120,8 @@ class RingPoint:
                                        # or no wave at H or 2 H)
     wave_spread: float                 # the blades' spread below which the ring is on a travelling wave
     stability_tried: bool              # the ring size is one of stability_blades
+    branch_stable: object = None       # the sector branch's verdict at rpm on the stretch nearest the wave
+                                       # (True, False, 'not decided'; None: no branch or no stretch there)
 
     @property
     def spread(self) -> float:
@@ -180,6 +196,7 @@ class RingPoint:
                 "on_wave": self.on if isinstance(self.on_wave(), bool) else self.on_wave().to_json(),
                 "wave_m": self.wave, "coexisting_waves_m": self.coexisting,
                 "stable": None if self.stability is None else self.stability.to_json(),
+                "branch_stable": self.branch_stable,
                 "agreement": None if v is None else v.to_json(), "explanation": self.explanation()}
 
 
@@ -194,6 +211,8 @@ class RingCase:
     failures: dict[int, str]            # N -> why the sector's branch was not continued
     points: list[RingPoint] = field(default_factory=list)
     preload_N: float = 0.0              # N0 per interface of a preloaded case (0 for a gap)
+    costs: dict[int, dict] = field(default_factory=dict)   # N -> the sector branch's cpu_s, wall_s, points,
+                                                           # evaluated (points with the ring's stability)
 
 
 @dataclass(frozen=True)
@@ -205,9 +224,12 @@ class RingTunedComparison:
         return [(c, p) for c in self.cases for p in c.points]
 
     def conclusions(self) -> dict:
-        """Per time point its naming (on the wave: 'stable wave' ...; off it: what explains it) and the HB's
-        agreement there; over all points on a wave, whether the HB agrees within ``agree``; whether every
-        departure is explained by the HB (instability or a coexisting branch)."""
+        """Per time point its naming (on the wave: 'stable wave' ...; off it: what explains it), the HB's
+        agreement there and the sector branch's verdict at its speed; over all points on a wave, whether the
+        HB agrees within ``agree``; whether every departure is explained by the HB (instability or a
+        coexisting branch); whether the branch's verdict (H = branch_harmonics) equals the wave's own
+        (2 H of the time points) wherever both are decided; how many points on and off the wave the branch
+        calls stable, unstable, not decided or has no stretch at (None)."""
         on = [(c, p) for c, p in self.points() if p.on is True]
         diffs = [p.difference() for _, p in on if p.difference() is not None]
         worst = max(diffs, default=None)
@@ -218,10 +240,18 @@ class RingTunedComparison:
         answers = [p.stability.answer for _, p in on if p.stability is not None]
         stable = (None if not answers else False if False in answers else NOT_DECIDED if NOT_DECIDED in answers
                   else True)
+        both = [(p.stability.answer, p.branch_stable) for _, p in self.points()
+                if p.stability is not None and p.stability.answer in (True, False) and p.branch_stable in (True, False)]
         return {"points": {f"{c.label}, {p.key()}": {"on_wave": p.on, "explanation": p.explanation(),
                                                       "agrees": None if p.on is not True or p.agreement(self.agree)
-                                                      is None else p.agreement(self.agree).answer}
+                                                      is None else p.agreement(self.agree).answer,
+                                                      "branch_stable": p.branch_stable}
                            for c, p in self.points()},
+                "branch_agrees_with_points": None if not both else all(a == b for a, b in both),
+                "branch_against_time": {side: {str(a): sum(str(p.branch_stable) == str(a)
+                                                           for _, p in self.points() if p.on is on)
+                                               for a in (True, False, NOT_DECIDED, None)}
+                                        for side, on in (("on_wave", True), ("off_wave", False))},
                 "hb_agrees_where_on_wave": agrees,
                 "hb_stable_where_on_wave": stable,
                 "departures_explained": all(e in ("wave unstable", "coexisting branch") for e in off)
@@ -233,7 +263,60 @@ class RingTunedComparison:
                            "fixed_neighbours": c.fixed.to_json(),
                            "sectors": {str(n): None if b is None else b.to_json() for n, b in c.sectors.items()},
                            "failures": {str(n): why for n, why in c.failures.items()},
+                           "sector_costs": {str(n): cost for n, cost in c.costs.items()},
                            "points": [p.to_json(self.agree) for p in c.points]} for c in self.cases]}
+
+
+def branch_verdicts(branch) -> list[Verdict | None]:
+    """Per point of an HB branch the verdict on its largest |multiplier| against 1, its margin the point's own
+    error (floquet's floor, the change at half the samples and at 2 H; infinite where no 2 H state is found
+    or a touch grazes, which floquet leaves undecided); None where the stability was not evaluated."""
+    err = branch.multiplier_error if branch.multiplier_error is not None else [math.inf] * len(branch.rpm)
+    out = []
+    for mu, e, s in zip(branch.max_multiplier, err, branch.stable):
+        if not np.isfinite(mu):
+            out.append(None)
+            continue
+        e = e if e >= 0 else math.inf                                     # an unknown error decides nothing
+        margin = math.inf if s is None and abs(mu - 1.0) > e else e      # grazing: floquet's own "undecided"
+        out.append(Verdict.of(mu, threshold=1.0, margin=margin, below=True, above=False,
+                              reason="largest |multiplier| of the monodromy (the ring's: every nodal diameter) "
+                                     "against 1, margin the point's error (floor, n / 2 samples, 2 H)"))
+    return out
+
+
+def branch_answers(branch) -> list:
+    """Per point True, False or 'not decided' (:func:`branch_verdicts`); a point whose stability was not
+    evaluated takes that of the nearest evaluated points on both sides where they agree (one verdict on both
+    sides: ring_hb.located_changes), else None."""
+    given = [None if v is None else v.answer for v in branch_verdicts(branch)]
+    known = [i for i, a in enumerate(given) if a is not None]
+    out = list(given)
+    for a, b in zip(known, known[1:]):
+        if given[a] == given[b]:
+            out[a + 1:b] = [given[a]] * (b - a - 1)
+    return out
+
+
+def branch_at(branch, rpm: float, amplitude: float | None):
+    """The branch's answer at ``rpm`` on its stretch crossing it nearest ``amplitude`` (m; None: the
+    lowest): that of the stretch's two points where they agree, 'not decided' where the verdict changes
+    between them; None where no stretch crosses ``rpm``."""
+    ans = branch_answers(branch)
+    found = [(abs(a - amplitude) if amplitude is not None else a, ans[i] if ans[i] == ans[i + 1] else NOT_DECIDED)
+             for i, a in stretches(branch, rpm)]
+    return min(found, key=lambda f: f[0])[1] if found else None
+
+
+def stretches(branch, rpm: float) -> list[tuple[int, float]]:
+    """(i, amplitude m) of every stretch i -> i + 1 of ``branch`` crossing ``rpm``, interpolated."""
+    out = []
+    for i in range(len(branch.rpm) - 1):
+        r0, r1 = branch.rpm[i], branch.rpm[i + 1]
+        if r0 != r1 and min(r0, r1) <= rpm <= max(r0, r1):
+            t = (rpm - r0) / (r1 - r0)
+            out.append((i, float((1 - t) * branch.amplitude_v_L[i] + t * branch.amplitude_v_L[i + 1])))
+    return out
 
 
 def wave_at(p, model: str, rpm: float, H: int) -> float | None:
@@ -270,8 +353,14 @@ def ring_point(p, model: str, rpm: float, o, branch) -> RingPoint:
               if q.ring.blades in o["stability_blades"] and wave is not None else None)
     return RingPoint(blades=q.ring.blades, rpm=rpm, amplitudes=[float(a) for a in now],
                      period=signals.detect_period(tip[:, 0], spp), drift=float(np.abs(before / now - 1).max()),
-                     wave=wave, coexisting=[] if branch is None else crossings(branch, rpm, None), stability=stable,
-                     wave_spread=o["wave_spread"], stability_tried=q.ring.blades in o["stability_blades"])
+                     wave=wave, coexisting=[] if branch is None else waves_on(branch, rpm), stability=stable,
+                     wave_spread=o["wave_spread"], stability_tried=q.ring.blades in o["stability_blades"],
+                     branch_stable=None if branch is None else branch_at(branch, rpm, wave))
+
+
+def waves_on(branch, rpm: float) -> list[float]:
+    """Every wave of ``branch`` at ``rpm`` (m, interpolated), whatever its stability."""
+    return sorted(a for _, a in stretches(branch, rpm))
 
 
 def compute(scene) -> RingTunedComparison:
@@ -284,34 +373,50 @@ def compute(scene) -> RingTunedComparison:
         case = params.updated({**contact, "ring.blades": 0})
         fixed = run_hb(case, model, o["rpm_from"], o["rpm_to"], harmonics=H)
         sectors, failures, points = {}, {}, []
-        for n in o["blades"]:
+        costs = {}
+        for n, spread in zip(o["blades"], o["branch_stability_points"]):
             p = case.updated({"ring.blades": int(n)})
+            wall, cpu = time.perf_counter(), time.process_time()
             try:
-                sectors[n] = run_ring_hb(p, model, o["rpm_from"], o["rpm_to"], H, stability=False).branch
+                sectors[n] = run_ring_hb(p, model, o["rpm_from"], o["rpm_to"], H,
+                                         stability_points=spread or None,
+                                         stability_at=tuple(o["td_rpms"])).branch
+                costs[n] = {"cpu_s": time.process_time() - cpu, "wall_s": time.perf_counter() - wall,
+                            "points": len(sectors[n].rpm),
+                            "evaluated": int(np.isfinite(sectors[n].max_multiplier).sum())}
             except RunDiverged as e:
                 sectors[n], failures[n] = None, str(e)
             points += [ring_point(p, model, float(r), o, sectors[n]) for r in o["td_rpms"]]
         cases.append(RingCase(label=label, gap_um=g, preload_N=n0, fixed=fixed, sectors=sectors, failures=failures,
-                              points=points))
+                              points=points, costs=costs))
     return RingTunedComparison(cases=cases, agree=o["agree"])
+
+
+PANELS_PER_ROW = 4
+
+
+def panels(n: int, height: float):
+    """A figure of ``n`` panels, at most PANELS_PER_ROW a row (the rows' spare panels hidden): (fig, axes)."""
+    cols = min(n, PANELS_PER_ROW)
+    rows = -(-n // cols)
+    fig, axes = figure(rows, cols, width=4.8 * cols, height=height * rows)
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
+    return fig, list(axes.ravel()[:n])
 
 
 def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
     """Per case: the branches and the ring's time points (ring_tuned.png); every blade's amplitude at the time
     points (ring_tuned_blades.png); the points as CSV."""
     cases = result.cases
-    fig, axes = figure(1, len(cases), width=4.8 * len(cases), height=5.2)
-    for ax, c in zip(axes[0], cases):
-        f = c.fixed
-        stable = np.array([s is True for s in f.stable])
-        amp = 1e6 * f.amplitude_v_L
-        ax.plot(f.rpm, np.where(stable, amp, np.nan), "k-", lw=1.4, label="fixed neighbours (HB), stable")
-        ax.plot(f.rpm, np.where(stable, np.nan, amp), "k:", lw=1.0, label="fixed neighbours, unstable or undecided")
+    fig, axes = panels(len(cases), 5.2)
+    for ax, c in zip(axes, cases):
+        draw_branch(ax, c.fixed, "k", 1.4, "fixed neighbours (HB)")
         for i, (n, br) in enumerate(c.sectors.items()):
             colour = f"C{i}"
             if br is not None:     # widest first: where the shrouds do not touch every ring is the free blade
-                ax.plot(br.rpm, 1e6 * br.amplitude_v_L, "-", color=colour, lw=1.0 + 0.9 * (len(c.sectors) - 1 - i),
-                        alpha=0.8, label=f"{n} blades: sector HB")
+                draw_branch(ax, br, colour, 1.0 + 0.9 * (len(c.sectors) - 1 - i), f"{n} blades: sector HB",
+                            alpha=0.8)
             for p in (q for q in c.points if q.blades == n):
                 a = 1e6 * np.asarray(p.amplitudes)
                 on = p.on is True
@@ -325,17 +430,19 @@ def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
         ax.set_xticks(np.linspace(scene.options["rpm_from"], scene.options["rpm_to"], 5))
         ax.set_ylabel("v_L amplitude (um)")
         plain_log(ax, "y")
+        for answer, style in LINE_STYLES.items():
+            ax.plot([], [], style, color="grey", lw=1.2, label=f"HB branch: {LINE_WORDS[answer]}")
         ax.plot([], [], "ko", ms=5, label="ring in time on a wave (bar: its blades)")
         ax.plot([], [], "kx", ms=5, label="ring in time off the wave")
         ax.plot([], [], "k^", mfc="white", ms=5, label="sector wave there: stable")
         ax.plot([], [], "kv", mfc="white", ms=5, label="unstable")
-        ax.plot([], [], "kd", mfc="white", ms=5, label="undecided or not computed")
+        ax.plot([], [], "kd", mfc="white", ms=5, label="not decided or not computed")
         ax.set_title(f"Fig. 11 contact, {c.label}", fontsize=9)
         ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
     save(fig, out / "ring_tuned.png")
 
-    fig, axes = figure(1, len(cases), width=4.8 * len(cases), height=3.4)
-    for ax, c in zip(axes[0], cases):
+    fig, axes = panels(len(cases), 3.4)
+    for ax, c in zip(axes, cases):
         for i, n in enumerate(c.sectors):
             for k, p in enumerate(q for q in c.points if q.blades == n):
                 if p.on is True:
@@ -365,8 +472,44 @@ def plot(result: RingTunedComparison, scene, out: Path) -> list[str]:
     return ["ring_tuned.png", "ring_tuned_blades.png"]
 
 
+LINE_STYLES = {True: "-", False: "--", NOT_DECIDED: ":"}     # a branch's line per stability verdict
+LINE_WORDS = {True: "stable", False: "unstable", NOT_DECIDED: "not decided"}
+
+
+def draw_branch(ax, branch, colour: str, lw: float, label: str, alpha: float = 1.0) -> None:
+    """``branch``'s v_L amplitude (um) over speed, its line per point's verdict (:func:`branch_answers`):
+    stable solid, unstable dashed, not decided dotted (so is a stretch whose ends differ)."""
+    answers, amp = branch_answers(branch), 1e6 * np.asarray(branch.amplitude_v_L)
+    change = np.array([a != b for a, b in zip(answers, answers[1:])] + [False])
+    change[1:] |= change[:-1]              # both ends of a stretch whose verdict changes: drawn not decided
+    for k, (answer, style) in enumerate(LINE_STYLES.items()):
+        y = np.where([a == answer and a is not None for a in answers] | (change & (answer == NOT_DECIDED)), amp,
+                     np.nan)
+        ax.plot(branch.rpm, y, style, color=colour, lw=lw, alpha=alpha, label=label if k == 0 else None)
+
+
 def _um(x: float | None) -> str:
     return "-" if x is None else f"{1e6 * x:.3f}"
+
+
+def stable_stretches(branch) -> str:
+    """The speed ranges (r/min) of the branch's stretches drawn stable, in branch order."""
+    answers, out, start = branch_answers(branch), [], None
+    for i, a in enumerate([*answers, None]):
+        if a is True and start is None:
+            start = i
+        elif a is not True and start is not None:
+            lo, hi = sorted((branch.rpm[start], branch.rpm[i - 1]))
+            out.append(f"{lo:.0f}-{hi:.0f}")
+            start = None
+    return ", ".join(out) or "none"
+
+
+def branch_row(name: str, branch, cost: dict | None) -> tuple:
+    v = [x for x in branch_verdicts(branch) if x is not None]
+    counts = [sum(x.answer == a for x in v) for a in (True, False, NOT_DECIDED)]
+    return (name, len(branch.rpm), len(v), *counts, stable_stretches(branch),
+            "-" if cost is None else f"{cost['cpu_s']:.1f}", "-" if cost is None else f"{cost['wall_s']:.1f}")
 
 
 def report(result: RingTunedComparison, scene, files: list[str]) -> str:
@@ -388,15 +531,21 @@ def report(result: RingTunedComparison, scene, files: list[str]) -> str:
                          "-" if p.period is None else f"P{p.period}", f"{100 * p.spread:.2f}", _um(p.wave),
                          len(p.coexisting), "-" if p.stability is None else
                          f"{p.stability.value:.3f} +- {p.stability.margin:.3f}",
+                         str(p.branch_stable) if p.branch_stable is not None else "-",
                          "-" if v is None else f"{100 * v.value:.2f}", p.explanation(),
                          "-" if p.pattern_nd is None else str(p.pattern_nd),
                          ", ".join(_um(a) for a in fixed_at[p.rpm]) or "-"))
         lines += [f"## {c.label}\n", markdown_table(
             ["N", "r/min", "ring in time (um)", "period", "spread %", "sector wave (um)", "waves on branch",
-             "max |mu|", "HB diff %", "named", "spread's nd", "fixed neighbours, stable (um)"], rows), ""]
+             "max |mu|", f"branch (H = {o['branch_harmonics']})", "HB diff %", "named", "spread's nd", "fixed neighbours, stable (um)"], rows), ""]
         for n, why in c.failures.items():
             lines.append(f"- {n} blades: no sector branch from {o['rpm_from']:g} r/min ({why}).")
-        lines.append("")
+        lines += ["", f"Branches' stability (H = {o['branch_harmonics']}; evaluated: points whose ring monodromy "
+                      "was computed, the others between evaluated points of one verdict):\n",
+                  markdown_table(["branch", "points", "evaluated", "stable", "unstable", "not decided",
+                                  "stable stretches (r/min)", "CPU s", "wall s"],
+                                 [branch_row(f"{n} blades" if n else "fixed neighbours", br, c.costs.get(n))
+                                  for n, br in [(0, c.fixed), *c.sectors.items()] if br is not None]), ""]
     lines += ["## Conclusions\n",
               f"- Where the ring settles on a travelling wave the sector's HB agrees within "
               f"{100 * result.agree:g} %: {concl['hb_agrees_where_on_wave']}.",
@@ -404,7 +553,15 @@ def report(result: RingTunedComparison, scene, files: list[str]) -> str:
               f"it stable: {concl['hb_stable_where_on_wave']} (a not-decided point is a multiplier within the "
               "margin of 1).",
               f"- Every departure from the wave explained by the HB (unstable wave or a coexisting branch): "
-              f"{concl['departures_explained']}.", ""]
+              f"{concl['departures_explained']}.",
+              f"- The sector branch's stability (H = {o['branch_harmonics']}) at the time points' speeds, on the "
+              f"stretch nearest the wave, equals the wave's own verdict (H = {2 * o['stability_harmonics']}) "
+              f"wherever both are decided: {concl['branch_agrees_with_points']}.",
+              "- The branch's verdict at the time points, where the ring in time settled on the wave: "
+              + ", ".join(f"{k} {v}" for k, v in concl["branch_against_time"]["on_wave"].items())
+              + "; where it left the wave: "
+              + ", ".join(f"{k} {v}" for k, v in concl["branch_against_time"]["off_wave"].items())
+              + " (None: no stretch of the branch at that speed).", ""]
     lines += [f"![{f}]({f})" for f in files]
     return "\n".join(lines) + "\n"
 

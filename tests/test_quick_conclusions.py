@@ -367,14 +367,15 @@ def test_ring_mistuning_quick_agrees_with_full(tmp_path):
 def test_ring_tuned_quick_agrees_with_full(tmp_path):
     """Every time point the quick scene runs is one the full scene runs (the same case, ring size, speed
     and settings): named alike (on or off the wave, and what explains a departure), its HB agreement
-    alike; and what the quick scene finds wrong on its points (the HB differing where the ring is on a wave,
-    a departure the HB does not explain) the full scene, which runs them all, finds too."""
+    and the sector branch's stability there alike; and what the quick scene finds wrong on its points (the
+    HB differing where the ring is on a wave, a departure the HB does not explain, the branch's stability
+    against the wave's own verdict) the full scene, which runs them all, finds too."""
     got, _ = quick("ring_tuned", tmp_path)
     full = full_conclusions("ring_tuned")
     shared = got["points"].keys() & full["points"].keys()
     assert shared == got["points"].keys()
     for point in shared:
         assert got["points"][point] == full["points"][point], point
-    for key in ("departures_explained", "hb_agrees_where_on_wave"):
+    for key in ("departures_explained", "hb_agrees_where_on_wave", "branch_agrees_with_points"):
         if got[key] is False:
             assert full[key] is False, key
