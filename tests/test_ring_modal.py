@@ -105,7 +105,7 @@ def _worst_peak(p: Parameters, lo: float, hi: float, step: float = 0.1) -> float
     peaks = np.flatnonzero((e[1:-1] >= e[:-2]) & (e[1:-1] >= e[2:])) + 1
     refined = [-minimize_scalar(lambda x: -worst(x)[0], bounds=(f[i] - step, f[i] + step), method="bounded",
                                 options={"xatol": 1e-4}).fun for i in peaks[np.argsort(e[peaks])[-4:]]]
-    return float(max(e.max(), *refined))
+    return float(max([e.max(), *refined]))
 
 
 def _amplifications(springs: float, damping: float, std: float, lo: float, hi: float) -> np.ndarray:
