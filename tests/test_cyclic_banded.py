@@ -74,3 +74,35 @@ def test_a_singular_matrix_is_refused_as_numpy_does():
     A = _assemble(np.ones((4, 3, 2, 2)), blocks)
     with pytest.raises(np.linalg.LinAlgError):
         CyclicBanded(blocks)(A, np.ones(8))
+
+
+def test_the_transposed_solve_is_the_dense_transposed_solve():
+    rng = np.random.default_rng(7)
+    blocks = harmonic_major_blocks(6, 3, 2)
+    A = _assemble(_needs_pivoting(rng, 6, 6), blocks)
+    rhs = rng.standard_normal(36)
+    truth = np.linalg.solve(A.T, rhs)
+    assert np.abs(CyclicBanded(blocks).factor(A).solve(rhs, transposed=True) - truth).max() \
+        <= 1e-10 * np.abs(truth).max()
+
+
+def test_the_continuations_bordered_solve_is_the_dense_one_near_a_fold():
+    """[[J, c], [d]] u = rhs by mixed block elimination on the banded LU of J
+    (shroud.core.continuation._bordered) against numpy.linalg.solve of the bordered matrix, with one column
+    of J scaled by 1e-13 (cond 1e15, a fold: J's null vector is the branch's tangent), the bordered
+    matrix regular (measured: 1.4e-15 here, plain bordering 5.5e-6)."""
+    from shroud.core.continuation import _bordered
+    rng = np.random.default_rng(11)
+    N, nh, m = 8, 3, 2
+    blocks = harmonic_major_blocks(N, nh, m)
+    A = _assemble(rng.uniform(-1.0, 1.0, (N, 3, nh * m, nh * m)), blocks)
+    J = A.copy()
+    J[:, blocks[3, 2]] *= 1e-13                        # one column nearly gone: the structure kept
+    n = J.shape[0]
+    c, d, rhs = rng.standard_normal(n), rng.standard_normal(n + 1), rng.standard_normal(n + 1)
+    M = np.zeros((n + 1, n + 1))
+    M[:n, :n], M[:n, n], M[n] = J, c, d
+    truth = np.linalg.solve(M, rhs)
+    u = _bordered(CyclicBanded(blocks).factor, J, c, d, rhs)
+    assert np.abs(u - truth).max() <= 1e-8 * np.abs(truth).max()
+    assert np.linalg.cond(J) > 1e12 and np.linalg.cond(M) < 1e8

@@ -42,13 +42,29 @@ def harmonic_major_blocks(N: int, nh: int, m: int) -> np.ndarray:
     return (h * N * m + j * m + l).transpose(1, 0, 2).reshape(N, nh * m)
 
 
+class BandedLU:
+    """The banded LU (LAPACK dgbtrf) of a reordered matrix: solves with it or with its transpose."""
+
+    def __init__(self, lu: np.ndarray, piv: np.ndarray, kl: int, ku: int, perm: np.ndarray):
+        self.lu, self.piv, self.kl, self.ku, self.perm = lu, piv, kl, ku, perm
+
+    def solve(self, rhs: np.ndarray, transposed: bool = False) -> np.ndarray:
+        """x with A x = rhs (A^T x = rhs if ``transposed``); rhs (n,) or (n, k)."""
+        x, info = lapack.dgbtrs(self.lu, self.kl, self.ku, np.asarray(rhs, dtype=float)[self.perm], self.piv,
+                                trans=int(transposed), overwrite_b=True)
+        out = np.empty_like(x)
+        out[self.perm] = x
+        return out
+
+
 class CyclicBanded:
-    """``solve(A, rhs)`` for a cyclic block-tridiagonal A whose block j is on the indices ``blocks[j]``
-    (N >= 3 blocks of b): numpy.linalg.solve's call and its LinAlgError where A is singular, rhs (n,) or (n, k).
+    """:meth:`factor` and ``solve(A, rhs)`` for a cyclic block-tridiagonal A whose block j is on the
+    indices ``blocks[j]`` (N >= 3 blocks of b): numpy.linalg.solve's call and its LinAlgError where A is
+    singular, rhs (n,) or (n, k).
 
     The gather from A into LAPACK's band storage (ab[kl + ku + i - j, j] = A_ij, reordered) is worked out
-    once; every solve is one gather and one dgbsv. Entries of A outside the declared structure are not
-    read: A must be cyclic block-tridiagonal in ``blocks``.
+    once; every factorization is one gather and one dgbtrf. Entries of A outside the declared structure
+    are not read: A must be cyclic block-tridiagonal in ``blocks``.
     """
 
     def __init__(self, blocks: np.ndarray):
@@ -68,13 +84,13 @@ class CyclicBanded:
         self._src = self.perm[i] * n + self.perm[j]      # flat index into A
         self._shape = (n, rows)
 
-    def __call__(self, A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    def factor(self, A: np.ndarray) -> BandedLU:
         abT = np.zeros(self._shape)
         abT.flat[self._dst] = np.ravel(A)[self._src]
-        lu, piv, x, info = lapack.dgbsv(self.kl, self.ku, abT.T, np.asarray(rhs, dtype=float)[self.perm],
-                                        overwrite_ab=True, overwrite_b=True)
+        lu, piv, info = lapack.dgbtrf(abT.T, self.kl, self.ku, overwrite_ab=True)
         if info != 0:
-            raise np.linalg.LinAlgError(f"singular cyclic block-tridiagonal matrix (dgbsv: info {info})")
-        out = np.empty_like(x)
-        out[self.perm] = x
-        return out
+            raise np.linalg.LinAlgError(f"singular cyclic block-tridiagonal matrix (dgbtrf: info {info})")
+        return BandedLU(lu, piv, self.kl, self.ku, self.perm)
+
+    def __call__(self, A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        return self.factor(A).solve(rhs)
