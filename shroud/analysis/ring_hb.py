@@ -25,7 +25,9 @@ A mistuned ring (or any ring, :func:`whole_ring_at`) is solved as a whole:
 every blade condensed on its own contact coordinates
 (shroud.core.ring.ring_harmonics), the interfaces on their relative
 coordinates, continued by shroud.analysis.hb.run_hb itself (RingOverSpeed
-is its ``build``), stability from the same ring's monodromy.
+is its ``build``), stability from the same ring's monodromy; its linear
+solves by a banded LU with pivoting (:func:`whole_ring`,
+shroud.core.cyclic_banded: blade j couples only to blades j - 1, j + 1).
 """
 
 from __future__ import annotations
