@@ -18,6 +18,10 @@ r/min unless --rpm says otherwise).
     mpirun -n 2 python benchmarks/bench_mistuning.py --samples 200 --out /tmp/mc
     mpirun -n 1 python benchmarks/bench_mistuning.py --samples 20 --out /tmp/mc1
     mpirun -n 2 python benchmarks/bench_mistuning.py --method time --samples 200 --out /tmp/mct
+
+``--compare-solves K``: one HB sample (seed 0), K times with the whole
+ring's linear solves banded (shroud.core.cyclic_banded) and K times dense,
+alternated, CPU and wall medians of each (one process; no files written).
 """
 
 from __future__ import annotations
@@ -26,11 +30,13 @@ import argparse
 import json
 import os
 import resource
+import statistics
 import time
 from pathlib import Path
 
 import reduced_model  # noqa: F401  (registers the beams)
 from comparisons.ring_mistuning import blade_amplitudes
+from shroud.analysis import ring_hb
 from shroud.analysis.ring_hb import whole_ring_at
 from shroud.base.parallel import mpi_rank, mpi_size
 from shroud.params import Parameters
@@ -52,6 +58,25 @@ def sample_in_time(seed: int, speeds: list[float], blades: int) -> dict:
     return {"seed": seed, "rpm": speeds, "worst_v_L": [max(a) for a in blade_amplitudes(p, "reduced", speeds)]}
 
 
+def compare_solves(repeat: int, speeds: list[float], blades: int) -> None:
+    """One HB sample's CPU and wall medians with the whole ring's linear solves banded and dense."""
+    times = {True: ([], []), False: ([], [])}
+    worst = {}
+    for k in range(repeat + 1):                          # the first round compiles the kernels
+        for structured in (True, False):
+            ring_hb.STRUCTURED = structured
+            w0, c0 = time.perf_counter(), time.process_time()
+            worst[structured] = sample(0, speeds, blades)["worst_v_L"]
+            if k:
+                times[structured][0].append(time.process_time() - c0)
+                times[structured][1].append(time.perf_counter() - w0)
+    ring_hb.STRUCTURED = True
+    for structured, (cpu, wall) in times.items():
+        print(f"one HB sample ({blades} blades, {len(speeds)} speeds), {'banded' if structured else 'dense'} solves: "
+              f"CPU {statistics.median(cpu):.3f} s, wall {statistics.median(wall):.3f} s (median of {repeat}); "
+              f"worst blade {', '.join(f'{1e6 * w:.5f}' for w in worst[structured])} um")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, default=200)
@@ -59,8 +84,15 @@ def main() -> None:
     ap.add_argument("--rpm", type=float, nargs="+", default=None,
                     help="speeds (default 8500 9000 9500 by HB, 9500 10000 10500 in time)")
     ap.add_argument("--method", choices=("hb", "time"), default="hb")
-    ap.add_argument("--out", type=Path, required=True)
+    ap.add_argument("--out", type=Path)
+    ap.add_argument("--compare-solves", type=int, default=0, metavar="K",
+                    help="time one HB sample K times with banded and K times with dense linear solves, and stop")
     args = ap.parse_args()
+    if args.compare_solves:
+        compare_solves(args.compare_solves, args.rpm or [8500.0, 9000.0, 9500.0], args.blades)
+        return
+    if args.out is None:
+        ap.error("--out is required")
     run = sample if args.method == "hb" else sample_in_time
     speeds = args.rpm or ([8500.0, 9000.0, 9500.0] if args.method == "hb" else [9500.0, 10000.0, 10500.0])
     rank, size = mpi_rank(), mpi_size()

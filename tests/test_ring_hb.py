@@ -221,3 +221,22 @@ def test_a_wave_the_linear_starts_miss_is_reached_from_other_harmonics_and_left_
     # start sits 8 % of the amplitude off the Newmark orbit, e[0] = 0.61 um, so the first periods are not
     # the linear regime alone and the rate is not held here)
     assert e[8] > 10 * e[1]
+
+
+def test_the_whole_rings_banded_solves_give_the_dense_solves_answers(monkeypatch):
+    """The whole mistuned ring's linear solves by the banded LU (shroud.core.cyclic_banded, through
+    ring_hb.whole_ring) against LAPACK's dense solve (ring_hb.STRUCTURED off), 6 blades, H = 5: Newton's
+    state at one speed to round-off (1e-9 of |X|), the branch over speed to its corrector's tolerance
+    (the same points, every blade within 1e-6)."""
+    from shroud.analysis import ring_hb
+    p = Parameters().with_overrides(["ring.blades=6", "ring.mistuning=0.02,-0.03,0.01,0,0.015,-0.01"])
+    answers = {}
+    for structured in (True, False):
+        monkeypatch.setattr(ring_hb, "STRUCTURED", structured)
+        point = ring_hb.whole_ring_at(p, "reduced", 6000.0, harmonics=5, samples=64, stability=False)
+        branch = ring_hb.run_ring_hb(p, "reduced", 5800.0, 6200.0, harmonics=5, samples=64, stability=False)
+        answers[structured] = point["X"], np.array(branch.branch.rpm), np.array(branch.amplitudes)
+    (X, rpm, amp), (X0, rpm0, amp0) = answers[True], answers[False]
+    assert np.abs(X - X0).max() <= 1e-9 * np.abs(X0).max()
+    assert rpm.shape == rpm0.shape and np.abs(rpm - rpm0).max() < 1e-3
+    assert np.abs(amp / amp0 - 1).max() < 1e-6

@@ -30,7 +30,7 @@ from shroud.base.resources import in_words, physical_memory
 from shroud.analysis.checks import MEMORY_SHARE
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
-from shroud.core.continuation import continue_branch
+from shroud.core.continuation import Factorize, continue_branch
 from shroud.core.linear_solvers import dense
 from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.core.results import HBResult
@@ -259,7 +259,7 @@ def model_at_speed(params: Parameters, model: str) -> Callable[[float], Structur
 def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmonics: int = DEFAULT_HARMONICS,
            samples: int | None = None, min_points: int | None = None,
            build: Callable[[float], StructuralSystem] | None = None, start: np.ndarray | None = None,
-           stability: bool = True) -> HBResult:
+           stability: bool = True, factorize: Factorize | None = None) -> HBResult:
     """The steady-state branch of ``model`` from ``rpm_from`` to ``rpm_to`` (r/min) by harmonic balance.
 
     ``min_points``: the least number of points on the branch (bounds the
@@ -268,6 +268,8 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     ``start``: the harmonics of a state at ``rpm_from`` the branch goes
     through (default: the one reached from the linear solution, with a load
     homotopy if need be), e.g. a coexisting state found otherwise.
+    ``factorize``: a structured factorization of the Jacobian for the continuation's linear solves
+    (shroud.core.continuation; a whole ring's: shroud.analysis.ring_hb.whole_ring).
     """
     t0 = time.perf_counter()
     n = check_inputs(harmonics, samples, rpm_from, rpm_to)
@@ -291,7 +293,7 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
                         f"{len(details)} points, at {rpm:.0f} r/min, amplitude {details[-1]['amplitude_v_L']:.3g} m")
 
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
-                             dp_max=(rpm_to - rpm_from) / (count - 1), on_point=on_point)
+                             dp_max=(rpm_to - rpm_from) / (count - 1), on_point=on_point, factorize=factorize)
     progress.done()
     return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
                                 iterations=branch.iterations, complete=branch.complete,

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -28,6 +28,30 @@ STALL_FROM, STALL = 4, 1e-3   # from this iteration on, a corrector still moving
 
 # residual(x, p) -> (R, dR/dx, () -> dR/dp): the parameter derivative is asked for only where it is used
 Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, Callable[[], np.ndarray]]]
+
+
+class Factor(Protocol):
+    """A factorization of dR/dx (e.g. shroud.core.cyclic_banded.BandedLU): solves with it and its transpose."""
+
+    def solve(self, rhs: np.ndarray, transposed: bool = False) -> np.ndarray: ...
+
+
+Factorize = Callable[[np.ndarray], Factor]   # dR/dx -> its factorization: a structured solve (None: dense)
+
+
+def _bordered(factorize: Factorize, J: np.ndarray, c: np.ndarray, d: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """u with [[J, c], [d]] u = rhs (J n x n, c (n,), d (n + 1,)) by mixed block elimination (BEM,
+    Govaerts & Pryce 1993) on one factorization of J: stable where J is nearly singular (a fold) as long as
+    the bordered matrix is not, which plain bordering is not."""
+    n = J.shape[0]
+    lu = factorize(J)
+    e, f, g = d[n], rhs[:n], rhs[n]
+    v = lu.solve(d[:n], transposed=True)
+    y1 = (g - v @ f) / (e - c @ v)
+    w = lu.solve(c)
+    xi = lu.solve(f - c * y1)
+    y2 = (g - e * y1 - d[:n] @ xi) / (e - d[:n] @ w)
+    return np.append(xi - w * y2, y1 + y2)
 
 
 @dataclass
@@ -42,15 +66,19 @@ class Branch:
     kinks: list[dict] = field(default_factory=list)   # {"p", "turn_rad"}: corners stepped over, not resolved
 
 
-def _tangent(J: np.ndarray, Rp: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
+def _tangent(J: np.ndarray, Rp: np.ndarray, previous: np.ndarray | None,
+             factorize: Factorize | None = None) -> np.ndarray:
     """Unit tangent of the branch: null vector of [J, R_p] (oriented along ``previous``)."""
     n = J.shape[0]
-    A = np.zeros((n + 1, n + 1))
-    A[:n, :n], A[:n, n] = J, Rp
-    A[n] = previous if previous is not None else np.r_[np.zeros(n), 1.0]
+    last = previous if previous is not None else np.r_[np.zeros(n), 1.0]
     rhs = np.zeros(n + 1)
     rhs[n] = 1.0
-    t = np.linalg.solve(A, rhs)
+    if factorize is None:
+        A = np.zeros((n + 1, n + 1))
+        A[:n, :n], A[:n, n], A[n] = J, Rp, last
+        t = np.linalg.solve(A, rhs)
+    else:
+        t = _bordered(factorize, J, Rp, last, rhs)
     t /= np.linalg.norm(t)
     if previous is not None and t @ previous < 0:
         t = -t
@@ -61,7 +89,8 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
                     ds: float = 0.02, ds_min: float = 1e-5, ds_max: float = 0.1, max_points: int = 2000,
                     dp_max: float | None = None, max_turn: float = 0.5, ds_kink: float = 2e-3,
                     on_point: Callable[[np.ndarray, float], None] | None = None,
-                    p_scale: float | None = None, stop_on_retrace: bool = False) -> Branch:
+                    p_scale: float | None = None, stop_on_retrace: bool = False,
+                    factorize: Factorize | None = None) -> Branch:
     """Follow R(x, p) = 0 from (x0, p0) until p passes ``p_end`` (p0 < p_end).
 
     ``x0`` needs only be near the solution at p0 (Newton at fixed p first).
@@ -81,7 +110,9 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     8089 r/min kink), so only branches seeded away from the continued one
     (shroud.analysis.hb.run_hb_through), where runaways were seen, use it.
     ``p_scale`` scales the parameter in the arclength (default |p0|; give it
-    where p0 may be 0, e.g. a preload continued from N0 = 0).
+    where p0 may be 0, e.g. a preload continued from N0 = 0). ``factorize``: a structured
+    factorization of dR/dx for every linear solve (Newton's, the tangent's and the corrector's bordered
+    systems, :func:`_bordered`); None: numpy.linalg.solve of the dense systems.
     """
     p_scale = abs(p0) if p_scale is None else p_scale
     branch = Branch()
@@ -93,7 +124,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     def newton_fixed_p(x, p):
         for it in range(1, 41):
             R, J, Rp = residual(x, p)
-            dx = np.linalg.solve(J, -R)
+            dx = np.linalg.solve(J, -R) if factorize is None else factorize(J).solve(-R)
             if np.linalg.norm(dx) <= CONVERGED * x_scale * (1.0 + np.linalg.norm(x) / x_scale):
                 return x, it, True, (J, Rp())
             x = x + dx
@@ -106,7 +137,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     branch.x.append(x), branch.p.append(p0), branch.iterations.append(it)
     if on_point:
         on_point(x, p0)
-    t = _tangent(J * x_scale, Rp * p_scale, None)
+    t = _tangent(J * x_scale, Rp * p_scale, None, factorize)
     if t[-1] < 0:
         t = -t
     u = scaled(x, p0)
@@ -116,10 +147,10 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
         if dp_max is not None and abs(t[-1]) * ds * p_scale > dp_max:
             ds = dp_max / (abs(t[-1]) * p_scale)
         u_pred = u + ds * t
-        u_new, it, ok, R, J, Rp = _corrector(residual, u_pred, t, x_scale, p_scale)
+        u_new, it, ok, R, J, Rp = _corrector(residual, u_pred, t, x_scale, p_scale, factorize=factorize)
         turn = 0.0
         if ok:
-            t_new = _tangent(J * x_scale, Rp() * p_scale, t)
+            t_new = _tangent(J * x_scale, Rp() * p_scale, t, factorize)
             turn = math.acos(min(1.0, max(-1.0, float(t_new @ t))))
             ok = turn <= max_turn or ds <= ds_kink     # a kink (grazing, stick onset) is passed, not resolved
         if not ok:
@@ -197,7 +228,7 @@ def _retraced(path: np.ndarray, u: np.ndarray, step: np.ndarray) -> int | None:
 
 
 def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: float, p_scale: float,
-               max_iterations: int = 10):
+               max_iterations: int = 10, factorize: Factorize | None = None):
     """Newton on [R(u); t . (u - u_pred)] = 0 from the predictor: (u, iterations, converged, R, J, R_p).
 
     Converged when the next Newton step would move u by less than
@@ -217,15 +248,19 @@ def _corrector(residual: Residual, u_pred: np.ndarray, t: np.ndarray, x_scale: f
     """
     u = u_pred.copy()
     n = u.size - 1
-    A = np.zeros((n + 1, n + 1))
+    A = np.zeros((n + 1, n + 1)) if factorize is None else None
     steps = []
     for it in range(1, max_iterations + 1):
         R, J, Rp = residual(u[:-1] * x_scale, u[-1] * p_scale)
         if not np.all(np.isfinite(R)):
             return u, it, False, R, J, Rp
-        np.multiply(J, x_scale, out=A[:n, :n])
-        A[:n, n], A[n] = Rp() * p_scale, t
-        du = np.linalg.solve(A, -np.append(R, t @ (u - u_pred)))
+        rhs = -np.append(R, t @ (u - u_pred))
+        if factorize is None:
+            np.multiply(J, x_scale, out=A[:n, :n])
+            A[:n, n], A[n] = Rp() * p_scale, t
+            du = np.linalg.solve(A, rhs)
+        else:
+            du = _bordered(factorize, J * x_scale, Rp() * p_scale, t, rhs)
         steps.append(np.linalg.norm(du) / (1.0 + np.linalg.norm(u)))
         if steps[-1] <= CONVERGED:
             return u, it, True, R, J, Rp
