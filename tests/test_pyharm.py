@@ -32,7 +32,7 @@ from shroud.analysis.ring_hb import Sector, sector_balance, sector_solve
 from shroud.core import harmonic_balance as hb
 from shroud.core import registry
 from shroud.core.contact import contact_law
-from shroud.core.cyclic import sector_projection
+from shroud.core.cyclic import Faces
 from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.core.ring import face_selectors, interface_elements
 from shroud.core.signals import amplitude
@@ -255,11 +255,11 @@ def sector_amplitude(engine_order: int, omega: float) -> float:
     S1, S2, weight = face_selectors(faces)
     law = contact_law(interface_elements(weight, np.eye(S1.shape[0])), kn=KN, kt=KT, mu=MU, N0=N0)
     ke = BLADES - engine_order
-    sector = Sector(N=BLADES, ke=ke, P=sector_projection(S1, S2, CHAIN_H, 2 * math.pi * ke / BLADES), law=law)
+    sector = Sector(N=BLADES, ke=ke, faces=Faces(S1, S2, 2 * math.pi * ke / BLADES), law=law)
     lin = hb.linear_harmonics(dataclasses.replace(alone, contact=faces), CHAIN_H)
     basis = hb.fourier(CHAIN_H, CHAIN_SAMPLES)
     X = sector_solve(lin, sector, basis)
-    forces = sector_balance(X, lin, law, basis, sector.P, jacobian=False).Lam_y
+    forces = sector_balance(X, lin, law, basis, sector.faces, jacobian=False).Lam_y
     return float(hb.amplitude_over_period(lin.tip(X.reshape(basis.nh, lin.nx), forces), 4096)[0])
 
 

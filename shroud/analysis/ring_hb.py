@@ -49,7 +49,7 @@ from shroud.core import harmonic_balance as hb
 from shroud.core.contact import KN, KT, N0, ContactLaw, contact_law
 from shroud.core.continuation import continue_branch
 from shroud.core.cyclic_banded import CyclicBanded, harmonic_major_blocks
-from shroud.core.cyclic import ring_shifts, sector_balance, sector_projection
+from shroud.core.cyclic import Faces, ring_shifts, sector_balance
 from shroud.core.results import HBResult
 from shroud.core.ring import (assembled_system, face_selectors, interface_elements, ring_harmonics, ring_of,
                               with_rayleigh)
@@ -63,7 +63,7 @@ class Sector:
 
     N: int
     ke: int
-    P: np.ndarray | None       # sector projection (nh c, nh m); None: the unknowns are the law's coordinates
+    faces: Faces | None        # interface 0 seen from the sector; None: the unknowns are the law's coordinates
     law: ContactLaw            # interface 0's points on its relative coordinates (or every interface's)
     banded: CyclicBanded | None = None   # the structure of a whole ring's Jacobian (None: dense solves)
 
@@ -88,14 +88,14 @@ def sector_of(system: StructuralSystem, params: Parameters, H: int) -> Sector:
     c = params.contact
     law = contact_law(interface_elements(weight, np.eye(S1.shape[0])), kn=c.kn, kt=c.kt, mu=c.mu, N0=c.N0)
     N, ke = params.ring.blades, params.load.ke
-    return Sector(N=N, ke=ke, P=sector_projection(S1, S2, H, 2.0 * math.pi * ke / N), law=law)
+    return Sector(N=N, ke=ke, faces=Faces(S1, S2, 2.0 * math.pi * ke / N), law=law)
 
 
 def _residual(speeds: SpeedModel, sector: Sector, basis: hb.Fourier):
     """R(X, rpm), dR/dX and, on demand, dR/drpm (the law does not depend on the speed)."""
     def residual(X, rpm):
         lin, L, F = speeds.linear(rpm)
-        b = sector_balance(X, lin, sector.law, basis, sector.P, L, F.reshape(basis.nh, lin.nx))
+        b = sector_balance(X, lin, sector.law, basis, sector.faces, L, F.reshape(basis.nh, lin.nx))
         residual.last = (X, rpm, b)
 
         def d_rpm():
@@ -106,6 +106,14 @@ def _residual(speeds: SpeedModel, sector: Sector, basis: hb.Fourier):
     return residual
 
 
+def _projected(sector: Sector, lin: hb.LinearHarmonics, H: int) -> np.ndarray:
+    """Pa (nh c, nh nx), dense: the relative coordinates' harmonics from the unknowns' (the whole ring's:
+    I (x) Wx), for the one-off uses (Newton's linear starts, the orbit for the stability)."""
+    if sector.faces is None:
+        return np.kron(np.eye(2 * H + 1), lin.Wx)
+    return sector.faces.projection(H, lin.Wx)
+
+
 def with_springs(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, share: float) -> np.ndarray:
     """A start for Newton: the linear sector with every interface as springs of ``share`` times the law's kn
     and kt (0: contact-free; 1: stuck; 0.5: the mean of open and closed)."""
@@ -113,10 +121,7 @@ def with_springs(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, sha
     D = np.zeros(sector.law.m)
     D[sector.law.rows[:, 0]] += share * sector.law.props[:, 1]
     D[sector.law.rows[:, 1]] += share * sector.law.props[:, 2]
-    if sector.P is None:                  # a whole ring: the law's coordinates are Wx x
-        Pa = np.kron(np.eye(nh), lin.Wx)
-    else:
-        Pa = sector.P if lin.condensed else sector.P @ np.kron(np.eye(nh), lin.Wx)
+    Pa = _projected(sector, lin, basis.H)
     return sector.solve(lin.L + Pa.T @ (np.tile(D, nh)[:, None] * Pa), lin.Fr.ravel())
 
 
@@ -129,7 +134,7 @@ def sector_newton(X: np.ndarray, lin: hb.LinearHarmonics, sector: Sector, basis:
     """Newton on the sector's balance at one speed, halving a step that does not lower |R| (as
     shroud.core.harmonic_balance.newton does on the blade's)."""
     scale = np.linalg.norm(lin.Fr) + 1e-300
-    b = sector_balance(X, lin, sector.law, basis, sector.P)
+    b = sector_balance(X, lin, sector.law, basis, sector.faces)
     r = np.linalg.norm(b.R)
     for _ in range(max_iterations):
         if r <= tol * scale:
@@ -137,12 +142,12 @@ def sector_newton(X: np.ndarray, lin: hb.LinearHarmonics, sector: Sector, basis:
         dX = sector.solve(b.J, -b.R)
         t = 1.0
         while True:
-            rt = np.linalg.norm(sector_balance(X + t * dX, lin, sector.law, basis, sector.P, jacobian=False).R)
+            rt = np.linalg.norm(sector_balance(X + t * dX, lin, sector.law, basis, sector.faces, jacobian=False).R)
             if rt < r or t < 1e-4:
                 break
             t *= 0.5
         X = X + t * dX
-        b = sector_balance(X, lin, sector.law, basis, sector.P)
+        b = sector_balance(X, lin, sector.law, basis, sector.faces)
         r = np.linalg.norm(b.R)
     return X, r <= 1e-6 * scale
 
@@ -171,11 +176,11 @@ def sector_solve(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, sof
             return X
 
     def residual(X, share):
-        b = sector_balance(X, lin, stiffened(sector.law, share), basis, sector.P)
+        b = sector_balance(X, lin, stiffened(sector.law, share), basis, sector.faces)
 
         def d_share():
             h = 1e-6 * share
-            return (sector_balance(X, lin, stiffened(sector.law, share + h), basis, sector.P,
+            return (sector_balance(X, lin, stiffened(sector.law, share + h), basis, sector.faces,
                                    jacobian=False).R - b.R) / h
         return b.R, b.J, d_share
     X0 = hb.linear_solution(lin)
@@ -199,8 +204,7 @@ def _ring_orbit(sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray, basis: h
     ``samples`` instants (a multiple of N / gcd(N, ke)): interface 0's, shifted for interface j."""
     fine = hb.fourier(basis.H, samples)
     nh = basis.nh
-    Pa = sector.P if lin.condensed else sector.P @ np.kron(np.eye(nh), lin.Wx)
-    Y = (Pa @ X).reshape(nh, -1)
+    Y = (_projected(sector, lin, basis.H) @ X).reshape(nh, -1)
     ch = hb.contact_harmonics(Y, np.eye(Y.shape[1]), sector.law, fine, jacobian=False)
     rate = fine.rates(Y, lin.omega)                          # (samples, c)
     shifts = ring_shifts(samples, sector.N, sector.ke)
@@ -259,19 +263,17 @@ def ring_stability(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.
     fine = speeds.refined()
     fine_basis = hb.fourier(fine.H, max(basis.samples, 4 * fine.H + 1))
     fine_lin = fine.linear(rpm)[0]
-    S1, S2, _ = face_selectors(system.contact)
-    fine_sector = replace(sector, P=sector_projection(S1, S2, fine.H, sector.phi))
     X0 = np.zeros((fine_basis.nh, X.size // basis.nh))
     X0[:basis.nh] = X.reshape(basis.nh, -1)
-    X2, ok = sector_newton(X0.ravel(), fine_lin, fine_sector, fine_basis, max_iterations=REFINED_ITERATIONS)
-    refined = float(np.abs(ring_multipliers(system, fine_sector, fine_lin, X2, fine_basis)).max()) if ok else None
+    X2, ok = sector_newton(X0.ravel(), fine_lin, sector, fine_basis, max_iterations=REFINED_ITERATIONS)
+    refined = float(np.abs(ring_multipliers(system, sector, fine_lin, X2, fine_basis)).max()) if ok else None
     return st.truncated(refined)
 
 
 def _details(speeds: SpeedModel, sector: Sector, basis: hb.Fourier, X: np.ndarray, rpm: float,
              stability: bool) -> dict:
     lin, L, F = speeds.linear(rpm)
-    b = sector_balance(X, lin, sector.law, basis, sector.P, L, F.reshape(basis.nh, lin.nx), jacobian=False)
+    b = sector_balance(X, lin, sector.law, basis, sector.faces, L, F.reshape(basis.nh, lin.nx), jacobian=False)
     tip = lin.tip(X.reshape(basis.nh, lin.nx), b.Lam_y)
     amp = hb.amplitude_over_period(tip)
     st = ring_stability(speeds, sector, basis, X, rpm) if stability else None
@@ -437,7 +439,7 @@ def ring_state(system: StructuralSystem, lin: hb.LinearHarmonics, sector: Sector
     blade 0, whose DOFs' harmonics are Q_h = Z_h^-1 (F_h + W^T Lam_h) (for starting the ring in time on it)."""
     nh, H = basis.nh, basis.H
     if lin.condensed:
-        b = sector_balance(X, lin, sector.law, basis, sector.P, jacobian=False)
+        b = sector_balance(X, lin, sector.law, basis, sector.faces, jacobian=False)
         W = np.asarray(system.contact.W)
         rhs = hb.load_harmonics(system, H) + hb._complex_coefficients(b.Lam_y) @ W
         Q = hb._real_coefficients(np.linalg.solve(hb.dynamic_stiffness(system, H), rhs[:, :, None])[:, :, 0])
@@ -495,7 +497,7 @@ def whole_ring(params: Parameters, lin: hb.LinearHarmonics, law: ContactLaw, bas
     shroud.core.cyclic_blocks breaks down on it)."""
     N = params.ring.blades
     banded = CyclicBanded(harmonic_major_blocks(N, basis.nh, lin.nx // N)) if N >= 3 and STRUCTURED else None
-    return Sector(N=N, ke=params.load.ke, P=None, law=law, banded=banded)
+    return Sector(N=N, ke=params.load.ke, faces=None, law=law, banded=banded)
 
 
 def whole_ring_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,

@@ -134,29 +134,62 @@ class SectorBalance:
     Lam_y: np.ndarray              # (nh, m) forces on the sector's contact coordinates, N
 
 
-def sector_balance(X: np.ndarray, lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier, P: np.ndarray | None,
-                   L: np.ndarray | None = None, Fr: np.ndarray | None = None,
+@dataclass(frozen=True)
+class Faces:
+    """Interface 0 seen from the sector: its relative coordinates S2 y(tau) - S1 y(tau + phi) from the
+    sector's contact coordinates y (m of them; S1, S2 (c, m) pick its faces' points), phi = 2 pi ke / N."""
+
+    S1: np.ndarray
+    S2: np.ndarray
+    phi: float
+
+    def projection(self, H: int, Wx: np.ndarray | None = None) -> np.ndarray:
+        """:func:`sector_projection` at H harmonics (nh c, nh m), dense; with ``Wx`` (y = Wx x) the one on x,
+        P (I (x) Wx) = I (x) S2 Wx - T (x) S1 Wx (nh c, nh nx)."""
+        if Wx is None:
+            return sector_projection(self.S1, self.S2, H, self.phi)
+        return sector_projection(self.S1 @ Wx, self.S2 @ Wx, H, self.phi)
+
+
+def sector_balance(X: np.ndarray, lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier,
+                   faces: Faces | None, L: np.ndarray | None = None, Fr: np.ndarray | None = None,
                    jacobian: bool = True) -> SectorBalance:
-    """R(X) = L X - F - Pa^T Lam(Pa X), Pa = P (I (x) Wx), and its analytic Jacobian L - Pa^T dLam/dY Pa.
+    """R(X) = L X - F - Pa^T Lam(Pa X), Pa = P (I (x) Wx) (P: :func:`sector_projection`), and its analytic
+    Jacobian L - Pa^T dLam/dY Pa.
 
     ``lin``: the blade's linear part (shroud.core.harmonic_balance), on its
     contact coordinates (condensed) or all DOFs; ``law``: interface 0's
     points on its relative coordinates (shroud.core.ring.interface_elements
-    on the identity); ``P``: :func:`sector_projection`, or None where the
-    unknowns are the law's coordinates themselves (a whole ring condensed
-    on its interfaces: then this is shroud.core.harmonic_balance.balance).
-    The AFT is the one of shroud.core.harmonic_balance, on interface 0's
-    relative coordinates.
+    on the identity); ``faces``: how the sector sees them, or None where the
+    unknowns are the law's coordinates themselves (a whole ring condensed on
+    its interfaces: then this is shroud.core.harmonic_balance.balance).
+
+    Pa is not formed: the AFT of shroud.core.harmonic_balance runs on the
+    unknowns and their shifted copy, Z_h = (X_h, (T(phi) X)_h), whose
+    relative coordinates are y_rel = Wz z with Wz = (S2 Wx, -S1 Wx) the
+    same at every harmonic, so the law's Jacobian comes projected element by
+    element on 2 nx coordinates (nx the unknowns a harmonic, the smaller of
+    the blade's DOFs and contact coordinates) and is brought back to X by the
+    chain rule through T, instead of a dense (nh c)^2 matrix pressed
+    through Pa (fe-reduced sector, 99 points a face, H = 10: 1.09 s ->
+    0.079 s CPU a residual with its Jacobian, docs/ring.md).
     """
-    nh, nx, c = basis.nh, lin.nx, law.m
+    nh, nx = basis.nh, lin.nx
     L = lin.L if L is None else L
     Fr = lin.Fr if Fr is None else Fr
-    if P is None:
+    if faces is None:
         b = hb.balance(X, lin, law, basis, L, Fr, jacobian)
         return SectorBalance(R=b.R, J=b.J, contact=b.contact, Lam_y=b.contact.Lam)
-    Pa = P if lin.condensed else P @ np.kron(np.eye(nh), lin.Wx)
-    Y = (Pa @ X).reshape(nh, c)
-    ch = hb.contact_harmonics(Y, np.eye(c), law, basis, jacobian, condensed=True)
-    Lam_y = (P.T @ ch.Lam.ravel()).reshape(nh, -1)
+    T = time_shift(basis.H, faces.phi)
+    Xm = X.reshape(nh, nx)
+    Wz = np.hstack([faces.S2 @ lin.Wx, -faces.S1 @ lin.Wx])          # (c, 2 nx)
+    ch = hb.contact_harmonics(np.hstack([Xm, T @ Xm]), Wz, law, basis, jacobian, condensed=False)
+    Lam_y = ch.Lam @ faces.S2 - T.T @ (ch.Lam @ faces.S1)             # P^T Lam: on the sector's y
     R = L @ X - Fr.ravel() - (Lam_y if lin.condensed else Lam_y @ lin.Wx).ravel()
-    return SectorBalance(R=R, J=L - Pa.T @ ch.dLam_x @ Pa if jacobian else None, contact=ch, Lam_y=Lam_y)
+    if not jacobian:
+        return SectorBalance(R=R, J=None, contact=ch, Lam_y=Lam_y)
+    D = ch.dLam_x.reshape(nh, 2, nx, nh, 2, nx)                       # d(Wz^T Lam)/dZ
+    dX = (D[:, 0, :, :, 0] + np.einsum("hk,hilj->kilj", T, D[:, 1, :, :, 0])
+          + np.einsum("kigj,gl->kilj", D[:, 0, :, :, 1], T)
+          + np.einsum("hk,higj,gl->kilj", T, D[:, 1, :, :, 1], T, optimize=True))
+    return SectorBalance(R=R, J=L - dX.reshape(nh * nx, nh * nx), contact=ch, Lam_y=Lam_y)
