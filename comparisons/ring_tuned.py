@@ -248,8 +248,8 @@ class RingTunedComparison:
                                                       "branch_stable": p.branch_stable}
                            for c, p in self.points()},
                 "branch_agrees_with_points": None if not both else all(a == b for a, b in both),
-                "branch_against_time": {side: {str(a): sum(str(p.branch_stable) == str(a)
-                                                           for _, p in self.points() if p.on is on)
+                "branch_against_time": {side: {_branch_word(a): sum(str(p.branch_stable) == str(a)
+                                                                    for _, p in self.points() if p.on is on)
                                                for a in (True, False, NOT_DECIDED, None)}
                                         for side, on in (("on_wave", True), ("off_wave", False))},
                 "hb_agrees_where_on_wave": agrees,
@@ -488,6 +488,12 @@ def draw_branch(ax, branch, colour: str, lw: float, label: str, alpha: float = 1
         ax.plot(branch.rpm, y, style, color=colour, lw=lw, alpha=alpha, label=label if k == 0 else None)
 
 
+def _branch_word(answer) -> str:
+    """The branch's stability verdict at a time point's speed in words (None: the branch has no stretch
+    there)."""
+    return {True: "stable", False: "unstable", NOT_DECIDED: "not decided", None: "no stretch there"}[answer]
+
+
 def _um(x: float | None) -> str:
     return "-" if x is None else f"{1e6 * x:.3f}"
 
@@ -531,7 +537,7 @@ def report(result: RingTunedComparison, scene, files: list[str]) -> str:
                          "-" if p.period is None else f"P{p.period}", f"{100 * p.spread:.2f}", _um(p.wave),
                          len(p.coexisting), "-" if p.stability is None else
                          f"{p.stability.value:.3f} +- {p.stability.margin:.3f}",
-                         str(p.branch_stable) if p.branch_stable is not None else "-",
+                         _branch_word(p.branch_stable),
                          "-" if v is None else f"{100 * v.value:.2f}", p.explanation(),
                          "-" if p.pattern_nd is None else str(p.pattern_nd),
                          ", ".join(_um(a) for a in fixed_at[p.rpm]) or "-"))
@@ -560,8 +566,7 @@ def report(result: RingTunedComparison, scene, files: list[str]) -> str:
               "- The branch's verdict at the time points, where the ring in time settled on the wave: "
               + ", ".join(f"{k} {v}" for k, v in concl["branch_against_time"]["on_wave"].items())
               + "; where it left the wave: "
-              + ", ".join(f"{k} {v}" for k, v in concl["branch_against_time"]["off_wave"].items())
-              + " (None: no stretch of the branch at that speed).", ""]
+              + ", ".join(f"{k} {v}" for k, v in concl["branch_against_time"]["off_wave"].items()) + ".", ""]
     lines += [f"![{f}]({f})" for f in files]
     return "\n".join(lines) + "\n"
 
