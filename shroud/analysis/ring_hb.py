@@ -131,25 +131,12 @@ MOST_POINTS = 300               # of the continuation in the contact's stiffness
 
 def sector_newton(X: np.ndarray, lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, tol: float = 1e-10,
                   max_iterations: int = 60) -> tuple[np.ndarray, bool]:
-    """Newton on the sector's balance at one speed, halving a step that does not lower |R| (as
-    shroud.core.harmonic_balance.newton does on the blade's)."""
-    scale = np.linalg.norm(lin.Fr) + 1e-300
-    b = sector_balance(X, lin, sector.law, basis, sector.faces)
-    r = np.linalg.norm(b.R)
-    for _ in range(max_iterations):
-        if r <= tol * scale:
-            return X, True
-        dX = sector.solve(b.J, -b.R)
-        t = 1.0
-        while True:
-            rt = np.linalg.norm(sector_balance(X + t * dX, lin, sector.law, basis, sector.faces, jacobian=False).R)
-            if rt < r or t < 1e-4:
-                break
-            t *= 0.5
-        X = X + t * dX
-        b = sector_balance(X, lin, sector.law, basis, sector.faces)
-        r = np.linalg.norm(b.R)
-    return X, r <= 1e-6 * scale
+    """Newton on the sector's balance at one speed (the core's damped Newton, with the sector's structured
+    solve), accepted at |R| <= 1e-6 |F|."""
+    X, _, _, residual, _ = hb.damped_newton(
+        lambda X, jacobian: sector_balance(X, lin, sector.law, basis, sector.faces, jacobian=jacobian),
+        X, np.linalg.norm(lin.Fr) + 1e-300, tol, max_iterations, solve=sector.solve, shortest_step=1e-4)
+    return X, residual <= hb.ACCEPT
 
 
 def stiffened(law: ContactLaw, share: float) -> ContactLaw:

@@ -595,35 +595,48 @@ class NewtonResult(NamedTuple):
         return bool(self.residual > self.tolerance)
 
 
-def newton(X0: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier, tol: float = 1e-10,
-           max_iterations: int = 50) -> NewtonResult:
-    """Newton on R(X) = 0 at one speed, halving a step that does not lower |R|.
+def damped_newton(evaluate, X0: np.ndarray, scale: float, tol: float, max_iterations: int, solve=np.linalg.solve,
+                  shortest_step: float = 1e-3) -> tuple[np.ndarray, object, int, float, bool]:
+    """Newton on R(X) = 0, halving a step that does not lower |R| down to ``shortest_step``: the one loop of
+    every harmonic balance at one speed (the blade's :func:`newton`, the ring's sectors,
+    shroud.analysis.ring_hb.sector_newton).
 
-    Ends when |R| / |F| <= ``tol``, or when the steps stall (below 1e-12 of
-    |X|: the sampled law's kinks can hold |R| above a tight ``tol``) or the
-    iterations run out; ``converged`` then says whether |R| / |F| <= ACCEPT,
-    and the residual reached is returned with ``tol``, so a Newton that
-    stopped short of it says so (``short``)."""
-    L, Fr = lin.L, lin.Fr
-    scale = np.linalg.norm(Fr) + 1e-300
+    ``evaluate(X, jacobian)`` gives an object with R (and J when asked); ``solve(J, r)`` the step's linear
+    solve (a structured one where the Jacobian has a known structure). Ends when |R| <= ``tol`` ``scale``,
+    when the steps stall (below 1e-12 of |X|: a sampled law's kinks can hold |R| above a tight tol) or the
+    iterations run out. Returns (X, its evaluation with J, iterations, |R| / scale, whether it ended by
+    the tolerance or a stall rather than by running out of iterations)."""
     X = X0.copy()
-    b = balance(X, lin, law, basis, L, Fr)
+    b = evaluate(X, True)
     r = np.linalg.norm(b.R)
     for it in range(1, max_iterations + 1):
-        dX = np.linalg.solve(b.J, -b.R)
+        if r <= tol * scale:
+            return X, b, it - 1, float(r / scale), True
+        dX = solve(b.J, -b.R)
         t = 1.0
         while True:
             Xt = X + t * dX
-            bt = balance(Xt, lin, law, basis, L, Fr, jacobian=False)
-            rt = np.linalg.norm(bt.R)
-            if rt < r or t < 1e-3:
+            rt = np.linalg.norm(evaluate(Xt, False).R)
+            if rt < r or t < shortest_step:
                 break
             t *= 0.5
-        X, r = Xt, rt
-        b = balance(X, lin, law, basis, L, Fr)
-        if r <= tol * scale or np.linalg.norm(t * dX) <= 1e-12 * (np.linalg.norm(X) + 1e-300):
-            return NewtonResult(X, b, it, bool(r <= ACCEPT * scale), float(r / scale), tol)
-    return NewtonResult(X, b, max_iterations, False, float(r / scale), tol)
+        X = Xt
+        b = evaluate(X, True)
+        r = np.linalg.norm(b.R)
+        if np.linalg.norm(t * dX) <= 1e-12 * (np.linalg.norm(X) + 1e-300):
+            return X, b, it, float(r / scale), True
+    return X, b, max_iterations, float(r / scale), False
+
+
+def newton(X0: np.ndarray, lin: LinearHarmonics, law: ContactLaw, basis: Fourier, tol: float = 1e-10,
+           max_iterations: int = 50) -> NewtonResult:
+    """Newton on the blade's R(X) = 0 at one speed (:func:`damped_newton`); ``converged`` says whether
+    |R| / |F| <= ACCEPT (False where the iterations ran out), and the residual reached is returned with ``tol``, so a Newton that stopped short
+    of it says so (``short``)."""
+    scale = np.linalg.norm(lin.Fr) + 1e-300
+    X, b, it, residual, ended = damped_newton(
+        lambda X, jacobian: balance(X, lin, law, basis, lin.L, lin.Fr, jacobian), X0, scale, tol, max_iterations)
+    return NewtonResult(X, b, it, bool(ended and residual <= ACCEPT), residual, tol)
 
 
 def spectral_tail(lam: np.ndarray, H: int) -> float:
