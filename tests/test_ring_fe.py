@@ -178,11 +178,13 @@ def test_the_sector_balance_is_the_dense_projection_of_interface_0(model):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("rpm", [6000.0, 8000.0, 10000.0])
+@pytest.mark.parametrize("rpm", [6000.0])
 def test_unloaded_sector_hb_of_the_fe_ring_is_the_ring_in_time_at_30_harmonics(rpm):
     """3 fe-reduced blades, N0 = 0 (impacts): the sector's wave at H = 30 against the whole ring in time
-    from rest on the same basis, every blade within 0.5 % (measured +0.24 to +0.27 %, +0.20 to +0.22 %,
-    -0.02 %); H = 10 is 1.0 % low at 6000 r/min and 3.0 % high at 8000 (docs/ring.md)."""
+    from rest on the same basis, every blade within 0.5 % (measured +0.24 to +0.27 %); H = 10 is 1.0 %
+    low here (docs/ring.md). CI holds the speed of the largest error; 8000 and 10000 r/min (+0.20 to
+    +0.22 %, -0.02 %) are reproduced by `python benchmarks/bench_fe_sector.py --harmonics 30 --rpm 8000
+    10000 --ring`, which prints both amplitudes."""
     p = Parameters().with_overrides(["ring.blades=3", f"speed.rpm={rpm}", "contact.N0=0", "time.periods=80"])
     wave, _, tr, amps = _sector_wave_and_ring_in_time(p, rpm, 30)
     last = slice(-p.time.steps_per_period, None)
