@@ -135,7 +135,9 @@ class SectionProperties:
     J: float               # St-Venant torsion constant, m^4
     warping: float         # Gamma = int omega^2 dA, warping constant about the shear centre, m^6
     shear_centre: tuple    # (v_s, w_s), m, in the shape's own coordinates
-    grids: tuple = field(repr=False, compare=False)   # (inside, v_range, w_range, cells_v, cells_w)
+    flexure_integrals: Callable = field(repr=False, compare=False)   # () -> (2, 5) array, see _flexure
+    method: str = "grid"   # how J, Gamma, the shear centre and the flexure were solved
+    J_bounds: tuple | None = None   # (lower, upper) bounds of J the solve proves, m^4, where it has them
 
     @property
     def I_p(self) -> float:
@@ -151,13 +153,9 @@ class SectionProperties:
     def flexure(self) -> tuple[Flexure, Flexure]:
         """The flexure integrals for shear along the principal axes nearest e_v and e_w.
 
-        Solved when first asked (the paper's beam, which keeps Cowper's formula, never asks):
-        on the grids of the torsion constant, Richardson-extrapolated.
+        Solved when first asked (the paper's beam, which keeps Cowper's formula, never asks).
         """
-        inside, v_range, w_range, cells_v, cells_w = self.grids
-        coarse = _flexure(_q1_cells(inside, v_range, w_range, cells_v, cells_w))
-        fine = _flexure(_q1_cells(inside, v_range, w_range, 2 * cells_v, 2 * cells_w))
-        return tuple(Flexure(cowper=tuple(r[:2]), energy=tuple(r[2:])) for r in fine + (fine - coarse) / 3.0)
+        return tuple(Flexure(cowper=tuple(r[:2]), energy=tuple(r[2:])) for r in self.flexure_integrals())
 
     def shear_coefficients(self, nu: float, definition: str = "cowper") -> tuple[float, float]:
         """(kappa_v, kappa_w): shear coefficients along the principal axes nearest e_v and e_w."""
@@ -379,6 +377,13 @@ def _flexure(elements: Elements) -> np.ndarray:
     return out
 
 
+def _grid_flexure(inside, v_range, w_range, cells_v, cells_w) -> np.ndarray:
+    """The flexure integrals on the grids of the torsion constant, Richardson-extrapolated."""
+    coarse = _flexure(_q1_cells(inside, v_range, w_range, cells_v, cells_w))
+    fine = _flexure(_q1_cells(inside, v_range, w_range, 2 * cells_v, 2 * cells_w))
+    return fine + (fine - coarse) / 3.0
+
+
 def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
                        cells_v: int = GRID_THICKNESS_CELLS) -> SectionProperties:
     """Properties of the shape ``inside(eta_v, eta_w) -> bool`` within the box v_range x w_range (m).
@@ -413,7 +418,8 @@ def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
     J, gamma = (f + (f - c) / 3.0 for c, f in zip(coarse[:2], fine[:2]))     # Richardson, second order
     return SectionProperties(area=A, centroid=(cv, cw), I_v=Ivv, I_w=Iww, I_vw=Ivw, I_rr=I_rr, J=J,
                              warping=gamma, shear_centre=fine[2],
-                             grids=(inside, v_range, w_range, cells_v, cells_w))
+                             flexure_integrals=functools.partial(_grid_flexure, inside, v_range, w_range,
+                                                                 cells_v, cells_w))
 
 
 def grid_bytes(span_v: float, span_w: float, cells_v: int = GRID_THICKNESS_CELLS) -> float:
