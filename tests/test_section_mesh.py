@@ -3,6 +3,7 @@ known answers: the ellipse and the tube (exact), the rectangle (Timoshenko & Goo
 thin-walled open sections (thin-wall theory), the circle's and rectangle's shear coefficients
 (Cowper), and the NACA profile against exact integrals of its parametrisation and the grid method."""
 
+import json
 import math
 
 import numpy as np
@@ -72,6 +73,21 @@ def test_circle_shear_coefficients_match_cowper(nu):
     energy = 6 * (1 + nu) ** 2 / (7 + 14 * nu + 8 * nu**2)
     assert s.shear_coefficients(nu) == pytest.approx((cowper, cowper), rel=1e-6)
     assert s.shear_coefficients(nu, "energy") == pytest.approx((energy, energy), rel=1e-6)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.3])
+def test_ellipse_shear_coefficients_match_cowpers_formula(nu):
+    """Cowper (J. Appl. Mech. 33, 1966, Table 1): an ellipse sheared along its half-axis a_s, m = a_s / a_o
+    (a_o across), kappa = 12 (1 + nu) m^2 (3 m^2 + 1) / ((40 + 37 nu) m^4 + (16 + 10 nu) m^2 + nu);
+    a 7 x 40 mm ellipse, along both axes (0.561 across the thickness at nu = 0.3, against 0.761 at 0:
+    Cowper's definition falls with nu for a flat section). 512-gon, size b/8: measured within 3e-6."""
+    a, b = 0.02, 0.0035
+    s = section_on_mesh(ellipse(a, b, 512), size=b / 8)
+
+    def cowper(m):
+        return 12 * (1 + nu) * m**2 * (3 * m**2 + 1) / ((40 + 37 * nu) * m**4 + (16 + 10 * nu) * m**2 + nu)
+
+    assert s.shear_coefficients(nu) == pytest.approx((cowper(b / a), cowper(a / b)), rel=1e-4)
 
 
 def test_thick_tube_torsion_constant_with_its_hole():
@@ -201,3 +217,24 @@ def test_naca_profile_torsion_constant_is_bracketed_and_matches_the_grid_method(
 def test_an_outline_that_crosses_itself_is_refused(outline, why):
     with pytest.raises(InputError, match=why):
         triangulate(np.array(outline), size=0.001)
+
+
+def test_shroud_section_prints_the_tapered_tip_profile_and_the_beams_rectangle(capsys):
+    """`shroud section --at L` with the spec's tapers (chord 40 -> 30 mm, thickness 7 -> 4.2 mm): the
+    NACA profile of tau = 0.14 on 30 mm, its area and moments the exact integrals'; the rectangle at
+    the root: b h and the series' J, as the beam takes them."""
+    from workbench.cli import main
+
+    def section(*sets, at="0"):
+        assert main(["section", "--json", "--at", at] + [a for s in sets for a in ("--set", s)]) == 0
+        return json.loads(capsys.readouterr().out)
+
+    tip = section("blade.section=naca4", "blade.chord_taper=0.75", "blade.thickness_taper=0.6", at="0.15")
+    assert (tip["chord"], tip["thickness"]) == pytest.approx((0.03, 0.0042), rel=1e-12)
+    A, I_v, I_w, I_vw = naca_exact_moments(0.04, 0.4, 0.14, 0.03)
+    assert (tip["area"], tip["I_vv"], tip["I_ww"], tip["I_vw"]) == pytest.approx((A, I_v, I_w, I_vw), rel=1e-3)
+    assert tip["J_bounds"][0] <= tip["J"] == tip["J_bounds"][1]
+    root = section()
+    assert (root["area"], root["J"]) == pytest.approx((0.04 * 0.007, torsion_series(0.04, 0.007)), rel=2e-5)
+    assert root["method"] == "grid" and root["J_bounds"] is None
+    assert root["shear_coefficients"] == pytest.approx([10 * 1.3 / (12 + 11 * 0.3)] * 2, rel=2e-5)
