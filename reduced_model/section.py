@@ -22,7 +22,9 @@ The beam (reduced_model.beam) needs, per section, in the section frame
 all about the centroid. They come from one function of the shape,
 :func:`section_properties`, which takes any shape given by a predicate
 ``inside(eta_v, eta_w)`` on its bounding box, so an airfoil section can
-replace the rectangle without touching the beam.
+replace the rectangle without touching the beam. A shape given by its
+outline (a polygon, with holes) is solved instead on P2 triangles by
+reduced_model.section_mesh, into the same SectionProperties (docs/sections.md).
 
 * Area and moments: sums over the cells of a grid laid on the bounding box,
   each cell whose centre lies inside counting with its exact cell integrals

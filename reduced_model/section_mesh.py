@@ -159,16 +159,12 @@ def triangulate(outline: np.ndarray, holes: tuple = (), size: float | None = Non
     return points, triangles, numbers
 
 
-def p2_elements(points: np.ndarray, triangles: np.ndarray) -> tuple[Elements, np.ndarray]:
-    """Six-node triangles on the mesh (mid-edge nodes added), with the degree-4 rule.
-
-    Returns (elements, node coordinates (nodes, 2)); nodes 0 .. p-1 are ``points``.
-    """
+def p2_elements(points: np.ndarray, triangles: np.ndarray) -> Elements:
+    """Six-node triangles on the mesh (nodes 0 .. p-1 the ``points``, then the edges' middles), degree-4 rule."""
     p = len(points)
     pairs = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
     key = np.sort(pairs, axis=1)
     unique, edge = np.unique(key[:, 0] * p + key[:, 1], return_inverse=True)
-    middles = 0.5 * (points[unique // p] + points[unique % p])
     t = len(triangles)
     conn = np.column_stack([triangles, p + edge.reshape(3, t).T])
     l1, l2, l3 = _BARY.T
@@ -185,8 +181,7 @@ def p2_elements(points: np.ndarray, triangles: np.ndarray) -> tuple[Elements, np
     dN = np.einsum("gar,crs->cgas", dref, np.linalg.inv(jac))    # inv(jac)[r, s] = d xi_r / d x_s
     X = np.einsum("gk,ckd->cgd", _BARY[:, [0, 1, 2]], corners)
     weight = 0.5 * det[:, None] * _RULE_WEIGHTS[None, :]
-    nodes = np.concatenate([points, middles])
-    return Elements(conn=conn, X=X, weight=weight, N=N, dN=dN, nodes=len(nodes)), nodes
+    return Elements(conn=conn, X=X, weight=weight, N=N, dN=dN, nodes=p + len(unique))
 
 
 def _solve_held(K, f: np.ndarray, held: np.ndarray) -> np.ndarray:
@@ -208,7 +203,7 @@ def _prandtl_J(elements: Elements, K, loops: list[np.ndarray], hole_areas: list[
     conn = elements.conn
     ends = conn[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)             # each edge's ends, in the order of conn[:, 3:]
     middles = conn[:, 3:].ravel()
-    once = np.bincount(middles, minlength=elements.nodes)[middles] == 1     # a mid-node of one triangle: on the boundary
+    once = np.bincount(middles, minlength=elements.nodes)[middles] == 1     # of one triangle: on the boundary
     onto = np.arange(elements.nodes)
     for loop in loops:
         on_loop = once & np.isin(ends, loop).all(axis=1)
@@ -225,9 +220,12 @@ def _prandtl_J(elements: Elements, K, loops: list[np.ndarray], hole_areas: list[
 
 
 def section_on_mesh(outline: np.ndarray, holes: tuple = (), size: float | None = None) -> SectionProperties:
-    """Properties of the polygon ``outline`` (n, 2) in (eta_v, eta_w), m, less ``holes``, on P2 triangles of ``size`` m."""
+    """Properties of the polygon ``outline`` (n, 2) in (eta_v, eta_w), m, less ``holes``, on P2 triangles.
+
+    ``size`` (m) bounds the triangles' edges (default a twentieth of the outline's smaller extent).
+    """
     points, triangles, loops = triangulate(outline, holes, size)
-    elements, _ = p2_elements(points, triangles)
+    elements = p2_elements(points, triangles)
     X, weight = elements.X, elements.weight
     A = float(weight.sum())
     cv, cw = np.einsum("cgi,cg->i", X, weight) / A

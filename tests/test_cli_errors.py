@@ -125,7 +125,8 @@ UNBUILT = [("blade.section=naca4", "blade.section"), ("blade.chord_taper=0.75", 
 
 
 @pytest.mark.parametrize("assignment, key", UNBUILT)
-@pytest.mark.parametrize("argv", [["modal"], ["static", "--tip-force", "0", "100", "0"], ["transient", "--out", "{out}"],
+@pytest.mark.parametrize("argv", [["modal"], ["static", "--tip-force", "0", "100", "0"],
+                                  ["transient", "--out", "{out}"],
                                   ["sweep", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "2"],
                                   ["sweep", "--method", "hb", "--checkpoints", "9000"],
                                   ["run", "{scene}", "--out", "{out}"]])

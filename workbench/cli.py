@@ -299,7 +299,8 @@ def cmd_section(args) -> None:
     params = load_scene(args.scene, list(args.set), profile=True).params
     blade = params.blade
     if not 0.0 <= args.at <= blade.length:
-        raise InputError("--at", f"{args.at!r} m is off the blade; allowed: 0 <= X <= blade.length ({blade.length:g} m)")
+        raise InputError("--at", f"{args.at!r} m is off the blade; allowed: 0 <= X <= blade.length "
+                                 f"({blade.length:g} m)")
     chord, thickness = chord_and_thickness(blade, args.at)
     s = blade_section(blade, args.at)
     kappa = s.shear_coefficients(params.material.nu)
