@@ -50,6 +50,7 @@ class SweptBlade:
     def geometry(params: Parameters) -> dict:
         """The fields of this class from ``params`` (blade, shroud, contact.alpha_deg)."""
         b, s = params.blade, params.shroud
+        b.check_modelled()               # the meshes sweep the rectangle, untapered
         return dict(disk_radius=b.disk_radius, length=b.length, width=b.width, thickness=b.thickness,
                     stagger=math.radians(b.stagger_deg), twist=math.radians(b.twist_deg),
                     shroud_length=s.length, shroud_width=s.width, shroud_thickness=s.thickness,

@@ -355,6 +355,7 @@ def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
     q: Quadrature = sample(N, blade.length)
     x, wq, phi, dphi, t = q.x, q.weight, q.value, q.slope, q.tip
     L, Rd = blade.length, blade.disk_radius
+    blade.check_modelled()               # the beam is the rectangle's, untapered
     section = rectangle(blade.width, blade.thickness)
     A = section.area
     rho, E = material.rho, material.E

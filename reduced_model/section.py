@@ -22,7 +22,9 @@ The beam (reduced_model.beam) needs, per section, in the section frame
 all about the centroid. They come from one function of the shape,
 :func:`section_properties`, which takes any shape given by a predicate
 ``inside(eta_v, eta_w)`` on its bounding box, so an airfoil section can
-replace the rectangle without touching the beam.
+replace the rectangle without touching the beam. A shape given by its
+outline (a polygon, with holes) is solved instead on P2 triangles by
+reduced_model.section_mesh, into the same SectionProperties (docs/sections.md).
 
 * Area and moments: sums over the cells of a grid laid on the bounding box,
   each cell whose centre lies inside counting with its exact cell integrals
@@ -135,7 +137,9 @@ class SectionProperties:
     J: float               # St-Venant torsion constant, m^4
     warping: float         # Gamma = int omega^2 dA, warping constant about the shear centre, m^6
     shear_centre: tuple    # (v_s, w_s), m, in the shape's own coordinates
-    grids: tuple = field(repr=False, compare=False)   # (inside, v_range, w_range, cells_v, cells_w)
+    flexure_integrals: Callable = field(repr=False, compare=False)   # () -> (2, 5) array, see _flexure
+    method: str = "grid"   # how J, Gamma, the shear centre and the flexure were solved
+    J_bounds: tuple | None = None   # (lower, upper) bounds of J the solve proves, m^4, where it has them
 
     @property
     def I_p(self) -> float:
@@ -151,13 +155,9 @@ class SectionProperties:
     def flexure(self) -> tuple[Flexure, Flexure]:
         """The flexure integrals for shear along the principal axes nearest e_v and e_w.
 
-        Solved when first asked (the paper's beam, which keeps Cowper's formula, never asks):
-        on the grids of the torsion constant, Richardson-extrapolated.
+        Solved when first asked (the paper's beam, which keeps Cowper's formula, never asks).
         """
-        inside, v_range, w_range, cells_v, cells_w = self.grids
-        coarse = _flexure(inside, v_range, w_range, cells_v, cells_w)
-        fine = _flexure(inside, v_range, w_range, 2 * cells_v, 2 * cells_w)
-        return tuple(Flexure(cowper=tuple(r[:2]), energy=tuple(r[2:])) for r in fine + (fine - coarse) / 3.0)
+        return tuple(Flexure(cowper=tuple(r[:2]), energy=tuple(r[2:])) for r in self.flexure_integrals())
 
     def shear_coefficients(self, nu: float, definition: str = "cowper") -> tuple[float, float]:
         """(kappa_v, kappa_w): shear coefficients along the principal axes nearest e_v and e_w."""
@@ -281,12 +281,49 @@ _GAUSS_POINTS, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(3)
 _GAUSS_T, _GAUSS_W = 0.5 * (_GAUSS_POINTS + 1.0), 0.5 * _GAUSS_WEIGHTS     # the 3-point rule on [0, 1]
 
 
-def _q1_cells(inside, v_range, w_range, nv, nw):
-    """Bilinear elements on the grid cells whose centres are inside.
+@dataclass(frozen=True)
+class Elements:
+    """Finite elements of a section with their quadrature, for the flexure and torsion solves.
 
-    Returns (conn (c, 4) node numbers, gauss-point coordinates V, W (c, 9),
-    weights (9,) times the cell area, values N (9, 4), gradients dN (9, 4, 2), number of nodes).
+    conn (c, a) node numbers of each element's a shape functions; X (c, g, 2)
+    the (eta_v, eta_w) of the g quadrature points, m; weight (c, g) their
+    weights, m^2; N (g, a) the shape functions' values there; dN (c, g, a, 2)
+    their gradients, 1/m; nodes the number of nodes. Arrays may be broadcast
+    views (the grid's cells share N, dN and the weights).
     """
+
+    conn: np.ndarray
+    X: np.ndarray
+    weight: np.ndarray
+    N: np.ndarray
+    dN: np.ndarray
+    nodes: int
+
+    def stiffness(self) -> scipy.sparse.csc_matrix:
+        """K_ij = int grad N_i . grad N_j dA, the Laplacian's stiffness (nodes x nodes), -."""
+        Ke = np.einsum("cgai,cgbi,cg->cab", self.dN, self.dN, self.weight)
+        a = self.conn.shape[1]
+        rows, cols = np.repeat(self.conn, a, axis=1).ravel(), np.tile(self.conn, (1, a)).ravel()
+        return scipy.sparse.csc_matrix((Ke.ravel(), (rows, cols)), shape=(self.nodes, self.nodes))
+
+    def load(self, values: np.ndarray) -> np.ndarray:
+        """int f N_i dA for f given at the quadrature points (c, g): the nodal load vector."""
+        return np.bincount(self.conn.ravel(), np.einsum("cg,cg,ga->ca", values, self.weight, self.N).ravel(),
+                           minlength=self.nodes)
+
+    def gradient_load(self, vector: np.ndarray) -> np.ndarray:
+        """int q . grad N_i dA for q given at the quadrature points (c, g, 2): the nodal load vector."""
+        return np.bincount(self.conn.ravel(), np.einsum("cgi,cgai,cg->ca", vector, self.dN, self.weight).ravel(),
+                           minlength=self.nodes)
+
+    def at_points(self, nodal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A nodal field's values (c, g) and gradients (c, g, 2) at the quadrature points."""
+        local = nodal[self.conn]
+        return local @ self.N.T, np.einsum("ca,cgai->cgi", local, self.dN)
+
+
+def _q1_cells(inside, v_range, w_range, nv, nw) -> Elements:
+    """Bilinear elements on the grid cells whose centres are inside, 3 x 3 Gauss points each."""
     v = np.linspace(*v_range, nv + 1)
     w = np.linspace(*w_range, nw + 1)
     dv, dw = v[1] - v[0], w[1] - w[0]
@@ -298,54 +335,55 @@ def _q1_cells(inside, v_range, w_range, nv, nw):
     N = np.column_stack([(1 - xi) * (1 - eta), xi * (1 - eta), xi * eta, (1 - xi) * eta])
     dN = np.stack([np.column_stack([-(1 - eta), 1 - eta, eta, -eta]) / dv,
                    np.column_stack([-(1 - xi), -xi, xi, 1 - xi]) / dw], axis=-1)
-    V = v[i][:, None] + xi[None, :] * dv
-    W = w[j][:, None] + eta[None, :] * dw
-    return conn, V, W, weight, N, dN, (nv + 1) * (nw + 1)
+    X = np.stack([v[i][:, None] + xi[None, :] * dv, w[j][:, None] + eta[None, :] * dw], axis=-1)
+    c = conn.shape[0]
+    return Elements(conn=conn, X=X, weight=np.broadcast_to(weight, (c, weight.size)), N=N,
+                    dN=np.broadcast_to(dN, (c,) + dN.shape), nodes=(nv + 1) * (nw + 1))
 
 
-def _flexure(inside, v_range, w_range, nv, nw) -> np.ndarray:
-    """Flexure integrals (2, 5) on one grid: per principal axis (nearest e_v, e_w)
+def _flexure(elements: Elements) -> np.ndarray:
+    """Flexure integrals (2, 5) on one discretisation: per principal axis (nearest e_v, e_w)
     [cowper0, cowper1, energy0, energy1, energy2] (module docstring, class Flexure).
 
-    The area, centroid and second moments are those of the same cells, so the
-    load y integrates to zero on the domain that is solved (the Neumann
+    The area, centroid and second moments are those of the same elements, so
+    the load y integrates to zero on the domain that is solved (the Neumann
     problem's condition); chi is held at one node (it is fixed up to a constant).
     """
-    conn, V, W, weight, N, dN, nodes = _q1_cells(inside, v_range, w_range, nv, nw)
-    A = weight.sum() * conn.shape[0]
-    cv, cw = float(np.sum(V @ weight)) / A, float(np.sum(W @ weight)) / A
-    P = np.stack([V - cv, W - cw], axis=-1)                       # (c, 9, 2) from the centroid
-    M2 = np.einsum("cgi,cgj,g->ij", P, P, weight)                 # [[I_v, I_vw], [I_vw, I_w]]
+    weight = elements.weight
+    A = float(weight.sum())
+    P = elements.X - np.einsum("cgi,cg->i", elements.X, weight) / A      # (c, g, 2) from the centroid
+    M2 = np.einsum("cgi,cgj,cg->ij", P, P, weight)                 # [[I_v, I_vw], [I_vw, I_w]]
     theta = 0.5 * math.atan2(2.0 * M2[0, 1], M2[1, 1] - M2[0, 0])
     axes = np.array([[math.sin(theta), math.cos(theta)], [math.cos(theta), -math.sin(theta)]])   # (v, w) comps
     near_w, near_v = axes if abs(axes[0, 1]) >= abs(axes[1, 1]) else axes[::-1]
-    Ke = np.einsum("gai,gbi,g->ab", dN, dN, weight)
-    rows, cols = np.repeat(conn, 4, axis=1).ravel(), np.tile(conn, (1, 4)).ravel()
-    K = scipy.sparse.csc_matrix((np.tile(Ke.ravel(), conn.shape[0]), (rows, cols)), shape=(nodes, nodes))
-    used = np.unique(conn)
+    K = elements.stiffness()
+    used = np.unique(elements.conn)
     keep = used[1:]                                               # chi = 0 at the first node used
     solve = scipy.sparse.linalg.splu(K[keep][:, keep].tocsc(), permc_spec=SYMMETRIC_ORDERING).solve
-    wN, wdN = N * weight[:, None], dN * weight[:, None, None]    # quadrature-weighted shape functions
     out = np.zeros((2, 5))
     for k, (e, e_perp) in enumerate(((near_v, near_w), (near_w, near_v))):
-        y, z = P @ e, P @ e_perp                                  # (c, 9)
-        I, I_o = float(np.sum((y * y) @ weight)), float(np.sum((z * z) @ weight))
-        d = 0.5 * (y * y - z * z)[..., None] * e + (y * z)[..., None] * e_perp     # (c, 9, 2)
-        loads = [y @ wN, -(d[..., 0] @ wdN[:, :, 0] + d[..., 1] @ wdN[:, :, 1])]  # (c, 4) per cell
-        fields = []
-        for load in loads:
-            f = np.bincount(conn.ravel(), load.ravel(), minlength=nodes)
-            chi = np.zeros(nodes)
+        y, z = P @ e, P @ e_perp                                  # (c, g)
+        I, I_o = float(np.sum(y * y * weight)), float(np.sum(z * z * weight))
+        d = 0.5 * (y * y - z * z)[..., None] * e + (y * z)[..., None] * e_perp     # (c, g, 2)
+        int_chi_y, tau = [], []
+        for f, part in ((elements.load(y), 0.0), (-elements.gradient_load(d), d)):
+            chi = np.zeros(elements.nodes)
             chi[keep] = solve(f[keep])
-            fields.append(chi[conn])                              # (c, 4) nodal values per cell
-        int_chi_y = [float(np.sum((chi @ wN.T) * y)) for chi in fields]
-        grads = [np.stack([chi @ dN[:, :, i].T for i in range(2)], axis=-1) for chi in fields]   # (c, 9, 2)
-        tau = [grads[0], grads[1] + d]
-        gram = [[float(np.sum(np.sum(a * b, axis=-1) @ weight)) for b in tau] for a in tau]
+            values, grads = elements.at_points(chi)
+            int_chi_y.append(float(np.sum(values * y * weight)))
+            tau.append(grads + part)
+        gram = [[float(np.sum(np.sum(a * b, axis=-1) * weight)) for b in tau] for a in tau]
         scale = A / I**2
         out[k] = (scale * int_chi_y[0], scale * int_chi_y[1] + 0.5 * (I - I_o) / I,
                   scale * gram[0][0], scale * gram[0][1], scale * gram[1][1])
     return out
+
+
+def _grid_flexure(inside, v_range, w_range, cells_v, cells_w) -> np.ndarray:
+    """The flexure integrals on the grids of the torsion constant, Richardson-extrapolated."""
+    coarse = _flexure(_q1_cells(inside, v_range, w_range, cells_v, cells_w))
+    fine = _flexure(_q1_cells(inside, v_range, w_range, 2 * cells_v, 2 * cells_w))
+    return fine + (fine - coarse) / 3.0
 
 
 def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
@@ -382,7 +420,8 @@ def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
     J, gamma = (f + (f - c) / 3.0 for c, f in zip(coarse[:2], fine[:2]))     # Richardson, second order
     return SectionProperties(area=A, centroid=(cv, cw), I_v=Ivv, I_w=Iww, I_vw=Ivw, I_rr=I_rr, J=J,
                              warping=gamma, shear_centre=fine[2],
-                             grids=(inside, v_range, w_range, cells_v, cells_w))
+                             flexure_integrals=functools.partial(_grid_flexure, inside, v_range, w_range,
+                                                                 cells_v, cells_w))
 
 
 def grid_bytes(span_v: float, span_w: float, cells_v: int = GRID_THICKNESS_CELLS) -> float:

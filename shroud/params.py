@@ -35,10 +35,33 @@ class Blade:
     thickness: float = 0.007     # h, thickness (along e_v), m
     stagger_deg: float = 30.0    # beta_1
     twist_deg: float = 10.0      # beta_t: beta(x) = beta_1 + beta_t x / L
+    section: str = "rectangle"   # "rectangle" or "naca4" (geometry.md, "Airfoil blades")
+    naca_m: float = 0.04         # NACA camber, share of the chord
+    naca_p: float = 0.4          # chord position of the camber's maximum, share of the chord
+    chord_taper: float = 1.0     # c(L) / c(0), c(0) = width
+    thickness_taper: float = 1.0  # t(L) / t(0), t(0) = thickness
+    step: str = ""               # a STEP file of blade and shroud ("" = none)
 
     @property
     def area(self) -> float:
         return self.width * self.thickness
+
+    def check_modelled(self, profile: bool = False) -> None:
+        """Refuse (InputError) the blade keys no model takes yet (issue 34): blade.step always; with
+        ``profile`` False also a NACA section or a taper, which only ``shroud section`` computes."""
+        if self.step:
+            raise InputError("blade.step", f"{self.step!r}: blades from STEP files are not built yet; "
+                                           'allowed: "" (the blade of the blade.* keys)')
+        if profile:
+            return
+        not_yet = "the models (beam, solid, shell) do not take it yet"
+        if self.section != "rectangle":
+            raise InputError("blade.section", f"{self.section!r}: {not_yet}; allowed: \"rectangle\" "
+                                              "(shroud section computes the profile)")
+        for key in ("chord_taper", "thickness_taper"):
+            if getattr(self, key) != 1.0:
+                raise InputError(f"blade.{key}", f"{getattr(self, key)!r}: {not_yet}; allowed: 1 "
+                                                 "(shroud section computes the tapered sections)")
 
     @property
     def I_v(self) -> float:
@@ -187,6 +210,8 @@ SECTIONS: dict[str, type] = {
 # (paper Sect. 2; reference_fe: linear prestress). Past this centrifugal strain at the blade root
 # they describe nothing (steel yields near 0.2 %); the paper's studies reach 8 % (70000 r/min).
 MAX_ROOT_STRAIN = 0.10
+# The four-digit thickness law describes profiles up to this thickness over chord (NACA's digits 00..40)
+MAX_NACA_THICKNESS = 0.40
 
 
 def _positive(v): return v > 0
@@ -201,6 +226,11 @@ _RULES: dict[str, tuple[Any, str]] = {
     "blade.thickness": (_positive, "a length > 0 m"),
     "blade.stagger_deg": (lambda v: -180 <= v <= 180, "an angle in [-180, 180] deg"),
     "blade.twist_deg": (lambda v: -90 <= v <= 90, "an angle in [-90, 90] deg"),
+    "blade.section": (lambda v: v in ("rectangle", "naca4"), '"rectangle" or "naca4"'),
+    "blade.naca_m": (lambda v: 0 <= v <= 0.09, "a camber in [0, 0.09] of the chord (NACA's first digit / 100)"),
+    "blade.naca_p": (lambda v: 0.1 <= v <= 0.9, "a position in [0.1, 0.9] of the chord (NACA's second digit / 10)"),
+    "blade.chord_taper": (lambda v: 0.2 <= v <= 5, "a tip/root chord ratio in [0.2, 5]"),
+    "blade.thickness_taper": (lambda v: 0.2 <= v <= 5, "a tip/root thickness ratio in [0.2, 5]"),
     "material.E": (_positive, "a modulus > 0 Pa"),
     "material.rho": (_positive, "a density > 0 kg/m^3"),
     "material.nu": (lambda v: -1.0 < v < 0.5, "a Poisson ratio in (-1, 0.5)"),
@@ -399,6 +429,11 @@ class Parameters:
 
     def _check_geometry(self) -> None:
         b, s = self.blade, self.shroud
+        tip = b.thickness * b.thickness_taper / (b.width * b.chord_taper)
+        if b.section == "naca4" and max(b.thickness / b.width, tip) > MAX_NACA_THICKNESS:
+            raise InputError("blade.thickness", f"{b.thickness!r} with blade.width {b.width!r} and the tapers makes a "
+                             f"profile {100 * max(b.thickness / b.width, tip):.3g} % of its chord thick; allowed: "
+                             f"at most {100 * MAX_NACA_THICKNESS:g} % at root and tip (NACA's last two digits)")
         if s.thickness > 0 and s.width < b.thickness:
             raise InputError("shroud.width",
                              f"{s.width!r} is narrower than blade.thickness {b.thickness!r}; "

@@ -120,6 +120,32 @@ def test_bad_analysis_commands(tmp_path, capsys, argv, key):
     _refused(capsys, argv, key, tmp_path / "out")
 
 
+UNBUILT = [("blade.section=naca4", "blade.section"), ("blade.chord_taper=0.75", "blade.chord_taper"),
+           ("blade.thickness_taper=0.6", "blade.thickness_taper"), ("blade.step=blade.step", "blade.step")]
+
+
+@pytest.mark.parametrize("assignment, key", UNBUILT)
+@pytest.mark.parametrize("argv", [["modal"], ["static", "--tip-force", "0", "100", "0"],
+                                  ["transient", "--out", "{out}"],
+                                  ["sweep", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "2"],
+                                  ["sweep", "--method", "hb", "--checkpoints", "9000"],
+                                  ["run", "{scene}", "--out", "{out}"]])
+def test_blade_keys_no_model_takes_yet_are_refused_not_dropped(tmp_path, capsys, argv, assignment, key):
+    """The airfoil, its tapers and a STEP file: every command but `shroud section` refuses them, naming
+    the key, before anything is written (a rectangle run in their place would answer another question)."""
+    out = tmp_path / "out"
+    argv = [a.format(scene=_scene(tmp_path, GOOD), out=out) for a in argv]
+    line = _refused(capsys, argv + ["--set", assignment], key, out)
+    assert "not built yet" in line if key == "blade.step" else "do not take it yet" in line
+
+
+@pytest.mark.parametrize("argv, key", [(["section", "--at", "0.16"], "--at"), (["section", "--at", "-0.01"], "--at"),
+                                       (["section", "--set", "blade.step=blade.step"], "blade.step"),
+                                       (["section", "--set", "blade.section=naca6"], "blade.section")])
+def test_bad_section_commands(tmp_path, capsys, argv, key):
+    _refused(capsys, argv, key, tmp_path / "out")
+
+
 def test_transient_at_standstill_writes_nothing(tmp_path, capsys):
     out = tmp_path / "tr"
     _refused(capsys, ["transient", "--rpm", "0", "--out", str(out)], "speed.rpm", out)

@@ -271,3 +271,14 @@ def test_more_resolution_than_the_machine_holds(tmp_path, capsys, argv, key, wor
     out = tmp_path / "out"
     line = _refused(capsys, argv + (["--out", str(out)] if argv[0] == "transient" else []), key, out)
     assert words in line
+
+
+@pytest.mark.parametrize("table, key", [('[blade]\nstep = "/etc/passwd"\n', "blade.step"),
+                                        ('[blade]\nsection = "naca4"\n', "blade.section"),
+                                        ('[quick.blade]\nchord_taper = 0.5\n', "blade.chord_taper")])
+def test_a_scene_asking_for_a_blade_no_model_builds_yet(tmp_path, capsys, table, key):
+    """A STEP file (any file: it is not read), the airfoil or a taper in a scene: one line, exit 2,
+    nothing written, never the rectangle run in its place."""
+    scene = tmp_path / "scene.toml"
+    scene.write_text(f'study = "fig3"\ntitle = "t"\n{table}')
+    _refused(capsys, ["run", str(scene), "--quick", "--out", str(tmp_path / "out")], key, tmp_path / "out")

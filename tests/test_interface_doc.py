@@ -158,6 +158,11 @@ def test_sweep_json(capsys):
     _check(section, checkpoints, "Checkpoints (`--method hb --checkpoints`), JSON:")
 
 
+@pytest.mark.parametrize("section", ["rectangle", "naca4"])
+def test_section_json(capsys, section):
+    _check(_section("section"), _json_of(capsys, ["section", "--json", "--set", f"blade.section={section}"]), "JSON:")
+
+
 def test_run_and_compare_json(capsys, tmp_path):
     out = tmp_path / "fig3"
     summary = _json_of(capsys, ["run", str(ROOT / "scenes/fig3.toml"), "--quick", "--json", "--out", str(out)])

@@ -55,6 +55,12 @@ def test_gap_sets_negative_preload_and_back():
     ("blade.lenght=0.1", "blade.lenght"),
     ("shroud.width=0.005", "shroud.width"),       # narrower than the blade is thick
     ("material.E=nan", "material.E"),
+    ("blade.section=naca6", "blade.section"),
+    ("blade.naca_m=0.1", "blade.naca_m"),
+    ("blade.naca_p=0.05", "blade.naca_p"),
+    ("blade.chord_taper=0", "blade.chord_taper"),
+    ("blade.thickness_taper=6", "blade.thickness_taper"),
+    ("blade.step=3", "blade.step"),                # a file name, not a number
 ])
 def test_bad_values_name_their_key(assignment, key):
     with pytest.raises(InputError) as err:
@@ -62,6 +68,21 @@ def test_bad_values_name_their_key(assignment, key):
     assert err.value.key == key
     assert err.value.line().startswith(f"error: {key}: ")
     assert "\n" not in err.value.line()
+
+
+@pytest.mark.parametrize("assignment, share", [("blade.thickness=0.017", "42.5"), ("blade.chord_taper=0.2", "87.5")])
+def test_a_naca_profile_thicker_than_the_four_digit_law_is_refused(assignment, share):
+    """The law describes profiles up to 40 % of their chord: 17 mm on 40 mm at the root, or the default
+    7 mm root on a tip chord of 0.2 x 40 mm, are refused; the rectangle has no such bound."""
+    with pytest.raises(InputError, match=f"blade.thickness: .* {share} % of its chord"):
+        Parameters().with_overrides(["blade.section=naca4", assignment])
+    assert Parameters().with_overrides([assignment]).blade.section == "rectangle"
+
+
+def test_the_airfoil_keys_default_to_the_papers_rectangle():
+    b = Parameters().blade
+    assert (b.section, b.naca_m, b.naca_p, b.chord_taper, b.thickness_taper, b.step) == ("rectangle", 0.04, 0.4,
+                                                                                       1.0, 1.0, "")
 
 
 def test_gap_and_preload_together_refused():

@@ -93,6 +93,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="--method hb at these speeds only, r/min, no continuation (the full solid: condensed "
                         "exactly on its contact coordinates, Newton started from the fe-reduced state)")
 
+    p = sub.add_parser("section", help="the blade's cross-section at one span position, as the beams use it")
+    _common(p)
+    p.add_argument("--at", type=float, default=0.0, metavar="X",
+                   help="span position x, m from the root, 0 <= X <= blade.length (default 0, the root)")
+
     p = sub.add_parser("run", help="run a whole scene (a study), or a campaign of scenes, into a folder")
     p.add_argument("scene", help="scene file, or campaign file (it has campaign = [...])")
     p.add_argument("--out", metavar="DIR", help="output folder (default out/<file name>); one run at a time")
@@ -288,6 +293,36 @@ def _sweep_checkpoints(args) -> None:
     _emit(args, payload, json.dumps(payload, indent=1))
 
 
+def cmd_section(args) -> None:
+    from reduced_model.airfoil import blade_section, chord_and_thickness
+    from workbench.scene import load_scene
+    params = load_scene(args.scene, list(args.set), profile=True).params
+    blade = params.blade
+    if not 0.0 <= args.at <= blade.length:
+        raise InputError("--at", f"{args.at!r} m is off the blade; allowed: 0 <= X <= blade.length "
+                                 f"({blade.length:g} m)")
+    chord, thickness = chord_and_thickness(blade, args.at)
+    s = blade_section(blade, args.at)
+    kappa = s.shear_coefficients(params.material.nu)
+    payload = {"x": args.at, "section": blade.section, "chord": chord, "thickness": thickness, "area": s.area,
+               "centroid": list(s.centroid), "I_vv": s.I_v, "I_ww": s.I_w, "I_vw": s.I_vw,
+               "principal_angle": s.principal_angle, "J": s.J,
+               "J_bounds": None if s.J_bounds is None else list(s.J_bounds), "warping": s.warping,
+               "shear_centre": list(s.shear_centre), "shear_coefficients": list(kappa), "method": s.method}
+    rows = [("area", s.area, "m^2"), ("I_vv (flap)", s.I_v, "m^4"), ("I_ww (chord)", s.I_w, "m^4"),
+            ("I_vw", s.I_vw, "m^4"), ("principal angle", s.principal_angle, "rad"), ("J", s.J, "m^4"),
+            ("warping Gamma", s.warping, "m^6")]
+    text = [f"{blade.section} section at x = {args.at:g} m: chord {chord:g} m, thickness {thickness:g} m ({s.method})"]
+    text += [f"  {name:16s} {value: .6e} {unit}" for name, value, unit in rows]
+    text.append(f"  {'centroid':16s} ({s.centroid[0]: .6e}, {s.centroid[1]: .6e}) m (eta_v, eta_w)")
+    text.append(f"  {'shear centre':16s} ({s.shear_centre[0]: .6e}, {s.shear_centre[1]: .6e}) m (eta_v, eta_w)")
+    text.append(f"  {'kappa (Cowper)':16s} {kappa[0]:.6f} (nearest e_v), {kappa[1]:.6f} (nearest e_w) "
+                f"at nu = {params.material.nu:g}")
+    if s.J_bounds is not None:
+        text.append(f"  {'J bounds':16s} [{s.J_bounds[0]:.6e}, {s.J_bounds[1]:.6e}] m^4")
+    _emit(args, payload, "\n".join(text))
+
+
 def cmd_run(args) -> int:
     from workbench.campaign import is_campaign, run_campaign
     from workbench.gates import from_option, merged
@@ -353,7 +388,7 @@ def main(argv: list[str] | None = None) -> int:
             from shroud.base.cache import check_cache
             check_cache()                # a cache that cannot be written stops the run before any work
         return {"modal": cmd_modal, "static": cmd_static, "transient": cmd_transient, "sweep": cmd_sweep,
-                "run": cmd_run, "compare": cmd_compare, "record": cmd_record}[args.command](args) or 0
+                "section": cmd_section, "run": cmd_run, "compare": cmd_compare, "record": cmd_record}[args.command](args) or 0
     except InputError as exc:
         print(exc.line(), file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -1,0 +1,89 @@
+"""The blade's cross-section along the span: the paper's rectangle or a NACA four-digit profile, tapered.
+
+shared/spec/geometry.md, "Airfoil blades and the user's own CAD":
+* chord c(x) and maximum thickness t(x) linear from root (x = 0) to tip
+  (x = L): c(0) = blade.width, c(L) = blade.width * blade.chord_taper, t(0) =
+  blade.thickness, t(L) = blade.thickness * blade.thickness_taper, m;
+* the NACA profile in chord fractions s in [0, 1] from the leading edge:
+  camber y_c(s) = m / p^2 (2 p s - s^2) for s < p, m / (1 - p)^2 ((1 - 2 p) +
+  2 p s - s^2) for s >= p; half-thickness y_t(s) = 5 tau (0.2969 sqrt(s) -
+  0.1260 s - 0.3516 s^2 + 0.2843 s^3 - 0.1036 s^4) (the closed trailing edge:
+  y_t(1) = 0), tau = t(x) / c(x); surfaces (s -/+ y_t sin theta, y_c +/- y_t cos
+  theta), theta = atan(dy_c/ds);
+* in the section frame the chord runs along e_w with the leading edge towards
+  -e_w and the camber towards +e_v, the area centroid at the origin (the
+  sections are stacked on their centroids).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from shroud.params import Blade
+from reduced_model.section import SectionProperties, rectangle
+from reduced_model.section_mesh import section_on_mesh
+
+PROFILE_POINTS = 240          # points along each surface, cosine-spaced (dense at both edges)
+MESH_CELLS_THICK = 16         # P2 triangles' size: the profile's maximum thickness over this
+
+
+def naca4_surfaces(m: float, p: float, tau: float, s: np.ndarray):
+    """Upper and lower surfaces (s, y) in chord units at chord fractions ``s``: two (n, 2) arrays."""
+    s = np.asarray(s, dtype=float)
+    front = s < p
+    if m > 0:
+        y_c = np.where(front, m / p**2 * (2 * p * s - s**2), m / (1 - p) ** 2 * ((1 - 2 * p) + 2 * p * s - s**2))
+        slope = np.where(front, 2 * m / p**2 * (p - s), 2 * m / (1 - p) ** 2 * (p - s))
+    else:
+        y_c, slope = np.zeros_like(s), np.zeros_like(s)
+    y_t = 5 * tau * (0.2969 * np.sqrt(s) - 0.1260 * s - 0.3516 * s**2 + 0.2843 * s**3 - 0.1036 * s**4)
+    theta = np.arctan(slope)
+    upper = np.column_stack([s - y_t * np.sin(theta), y_c + y_t * np.cos(theta)])
+    lower = np.column_stack([s + y_t * np.sin(theta), y_c - y_t * np.cos(theta)])
+    return upper, lower
+
+
+def polygon_centroid(loop: np.ndarray) -> np.ndarray:
+    """Area centroid of a simple polygon (n, 2) (Green's theorem)."""
+    a, b = loop, np.roll(loop, -1, axis=0)
+    cross = a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]
+    return np.sum((a + b) * cross[:, None], axis=0) / (3.0 * np.sum(cross))
+
+
+def naca4_outline(m: float, p: float, tau: float, chord: float, points: int = PROFILE_POINTS) -> np.ndarray:
+    """The profile as a polygon (eta_v, eta_w), m, in the section frame, its area centroid at the origin.
+
+    Upper surface from the trailing edge to the leading edge, then the lower
+    one back; ``points`` per surface.
+    """
+    s = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, points)))      # 0 .. 1, dense at both edges
+    upper, lower = naca4_surfaces(m, p, tau, s)
+    chordwise = np.concatenate([upper[::-1], lower[1:-1]])          # (s, y): the edges shared once each
+    loop = chord * chordwise[:, ::-1]                                # (eta_v, eta_w) = c (y, s)
+    return loop - polygon_centroid(loop)
+
+
+def chord_and_thickness(blade: Blade, x: float) -> tuple[float, float]:
+    """(c(x), t(x)), m, at x m from the root: linear between root and tip values."""
+    share = x / blade.length
+    return (blade.width * (1.0 + (blade.chord_taper - 1.0) * share),
+            blade.thickness * (1.0 + (blade.thickness_taper - 1.0) * share))
+
+
+@functools.lru_cache(maxsize=64)
+def _naca4_section(m: float, p: float, tau: float, chord: float) -> SectionProperties:
+    return section_on_mesh(naca4_outline(m, p, tau, chord), size=tau * chord / MESH_CELLS_THICK)
+
+
+def blade_section(blade: Blade, x: float) -> SectionProperties:
+    """The section at x m from the root, in the section frame about its centroid (SI).
+
+    The rectangle by the grid method (what reduced_model.beam takes), the
+    NACA profile by P2 triangles on its outline (reduced_model.section_mesh).
+    """
+    chord, thickness = chord_and_thickness(blade, x)
+    if blade.section == "naca4":
+        return _naca4_section(blade.naca_m, blade.naca_p, thickness / chord, chord)
+    return rectangle(chord, thickness)
