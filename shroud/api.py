@@ -38,6 +38,7 @@ from typing import Any, Mapping, Sequence
 
 from shroud.analysis import api as _analysis
 from shroud.analysis import hb as _hb
+from shroud.analysis.systems import solver
 from shroud.core import registry as _registry
 from shroud.core.registry import ModelEntry
 from shroud.core.results import ModalResult, RingSweepResult, StaticResult, SweepResult
@@ -69,8 +70,9 @@ def register_model(entry: ModelEntry) -> None:
 
 
 def build_system(params: Parameters, model: str) -> StructuralSystem:
-    """``model``'s linear part (M, C, K, loads) plus its contact elements at ``params.speed.rpm``."""
-    return _analysis.build_system(params, model)
+    """``model``'s linear part (M, C, K, loads) plus its contact elements at ``params.speed.rpm`` (the blade's;
+    a ring: refused, shroud.analysis.systems)."""
+    return solver("system", params)(params, model)
 
 
 def modal(params: Parameters, model: str, rpm: float | None = None, n_modes: int = 6,

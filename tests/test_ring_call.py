@@ -111,6 +111,7 @@ def test_the_commands_that_answer_answer_for_the_ring(capsys, tmp_path):
 
 def test_the_api_refuses_as_the_commands():
     ring = api.parameters({"ring.blades": 4})
-    for call in (lambda: api.modal(ring, "reduced"), lambda: api.static(ring, "reduced", (0.0, 100.0, 0.0))):
+    for call in (lambda: api.modal(ring, "reduced"), lambda: api.static(ring, "reduced", (0.0, 100.0, 0.0)),
+                 lambda: api.build_system(ring, "reduced")):
         with pytest.raises(InputError, match="ring.blades"):
             call()

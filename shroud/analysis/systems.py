@@ -17,6 +17,7 @@ path solves the blade where a ring was asked for.
 | modal | the blade | refused: ``--interface`` | refused |
 | linear limits | the blade | per nodal diameter | refused (on ring.mistuning) |
 | static | the blade | refused | refused |
+| system (api.build_system) | the blade | refused | refused |
 """
 
 from __future__ import annotations
@@ -53,6 +54,7 @@ SOLVERS: dict[str, dict[str, str | None]] = {
     "linear limits": _every("shroud.analysis.limits:interface_modal",       # it refuses a mistuned ring itself
                             "shroud.analysis.limits:interface_modal"),
     "static": _every("shroud.analysis.api:blade_static", None),
+    "system": _every("shroud.analysis.api:build_system", None),
 }
 REFUSED: dict[str, tuple[str, str]] = {      # analysis -> (why a ring is not solved, what is allowed)
     "continuation to a spectral tail": ("a ring's branch is solved at one H",
@@ -60,6 +62,8 @@ REFUSED: dict[str, tuple[str, str]] = {      # analysis -> (why a ring is not so
     "modal": ("these are one blade's modes without its neighbours",
               "the ring's per nodal diameter: modal --interface free or stuck (api: linear_limits)"),
     "static": ("a tip force on one blade is solved without its neighbours", "ring.blades = 0"),
+    "system": ("a ring's travelling-wave load has no single StructuralSystem",
+               "ring.blades = 0; the ring's blades: shroud.analysis.ring.build_ring"),
 }
 
 
