@@ -88,6 +88,13 @@ def test_a_command_that_cannot_solve_a_ring_refuses_it(args, capsys):
     assert err.startswith("error: ring.blades:") and "allowed:" in err and len(err.strip().splitlines()) == 1
 
 
+def test_a_study_that_solves_the_blade_refuses_a_ring_before_writing(capsys, tmp_path):
+    """`shroud run` of a blade's study (fig4) with ring.blades = 4: exit 2 on ring.blades, no folder made."""
+    code, out, err = _run(capsys, "run", "scenes/fig4.toml", "--quick", "--set", "ring.blades=4",
+                          "--out", str(tmp_path / "fig4"))
+    assert code == 2 and err.startswith("error: ring.blades:") and not (tmp_path / "fig4").exists()
+
+
 def test_the_commands_that_answer_answer_for_the_ring(capsys, tmp_path):
     """transient, the time-domain sweep, modal --interface: every blade's answer (4 tuned blades, preload
     20 N, 9000 r/min): the sweep's every blade is the ring transient's (the same run from rest, extended
