@@ -28,6 +28,7 @@ from shroud.base.errors import InputError, RunDiverged
 from shroud.base.log import Progress
 from shroud.base.resources import in_words, physical_memory
 from shroud.analysis.checks import MEMORY_SHARE
+from shroud.analysis.systems import solver
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
 from shroud.core.continuation import Factorize, continue_branch
@@ -732,7 +733,6 @@ def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAU
     """The checkpoint at each speed of ``rpms`` (r/min) of the system ``params`` describe (the blade's
     :func:`checkpoint`, a ring's shroud.analysis.ring_hb.ring_checkpoint: shroud.analysis.systems), as the
     JSON of ``shroud sweep --checkpoints``: a point Newton did not converge on has null amplitudes."""
-    from shroud.analysis.systems import solver
     t0 = time.perf_counter()
     solve = solver("checkpoint", params)
     for rpm in rpms:
