@@ -51,8 +51,8 @@ def test_a_checkpoint_newton_did_not_converge_on_exits_1_with_null_amplitudes(ca
     speed, the amplitudes null."""
     code, out, err = _run(capsys, "sweep", "--method", "hb", "--checkpoints", "8000", "--harmonics", "10",
                           "--samples", "256", "--json",
-                          *_sets(["ring.blades=12", "ring.mistuning=[1e-9,0,0,0,0,0,0,0,0,0,0,0]", "contact.alpha_deg=30",
-                                  "contact.kt=5e6", "contact.mu=0.3", "contact.gap=1e-6"]))
+                          *_sets(["ring.blades=12", "ring.mistuning=[1e-9,0,0,0,0,0,0,0,0,0,0,0]",
+                                  "contact.alpha_deg=30", "contact.kt=5e6", "contact.mu=0.3", "contact.gap=1e-6"]))
     assert code == 1
     assert len(err.strip().splitlines()) == 1 and "8000 r/min" in err and "did not converge" in err
     payload = json.loads(out)

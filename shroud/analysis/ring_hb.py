@@ -39,8 +39,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, NOT_ASKED, NOT_CONVERGED, REFINED_ITERATIONS, Checkpoint, SpeedModel,
-                                check_inputs, model_at_speed, point_details, run_hb)
+from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, NOT_ASKED, NOT_CONVERGED, REFINED_ITERATIONS,
+                                Checkpoint, SpeedModel, check_inputs, model_at_speed, point_details, run_hb)
 from shroud.analysis.ring import RING_MODELS, blade_parameters, pairing
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError, RunDiverged

@@ -70,8 +70,9 @@ SETTLING_OPTIONS = {"settle_tolerance": Settling.tolerance, "settle_max_periods"
 
 
 def amplitude_change(tr: Trajectory, steps_per_period: int, window: int) -> float:
-    """Largest relative change of the v_L, w_L amplitudes (of every blade of a ring's trajectory) ((max - min)/2) between the last ``window``
-    periods and the ``window`` periods before (inf when the run is shorter than two windows)."""
+    """Largest relative change of the v_L, w_L amplitudes ((max - min)/2; every blade's of a ring's trajectory)
+    between the last ``window`` periods and the ``window`` periods before (inf when the run is shorter than two
+    windows)."""
     n = window * steps_per_period
     if tr.steps < 2 * n:
         return math.inf
