@@ -38,9 +38,10 @@ from typing import Any, Mapping, Sequence
 
 from shroud.analysis import api as _analysis
 from shroud.analysis import hb as _hb
+from shroud.analysis.systems import solver
 from shroud.core import registry as _registry
 from shroud.core.registry import ModelEntry
-from shroud.core.results import HBResult, ModalResult, StaticResult, SweepResult
+from shroud.core.results import ModalResult, RingSweepResult, StaticResult, SweepResult
 from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
 
@@ -69,8 +70,9 @@ def register_model(entry: ModelEntry) -> None:
 
 
 def build_system(params: Parameters, model: str) -> StructuralSystem:
-    """``model``'s linear part (M, C, K, loads) plus its contact elements at ``params.speed.rpm``."""
-    return _analysis.build_system(params, model)
+    """``model``'s linear part (M, C, K, loads) plus its contact elements at ``params.speed.rpm`` (the blade's;
+    a ring: refused, shroud.analysis.systems)."""
+    return solver("system", params)(params, model)
 
 
 def modal(params: Parameters, model: str, rpm: float | None = None, n_modes: int = 6,
@@ -89,9 +91,7 @@ def linear_limits(params: Parameters, model: str, interface: str = "stuck", rpm:
                   n_modes: int = 6, coriolis: bool = True):
     """The contact's linear limits: modes with no contact springs (``interface="free"``) or with every
     contact point as springs k_n, k_t (``"stuck"``); with ``ring.blades = N``, per nodal diameter."""
-    from shroud.analysis.limits import interface_modal
-    rpm = params.speed.rpm if rpm is None else rpm
-    return interface_modal(params, model, rpm, n_modes, coriolis, interface)
+    return _analysis.linear_limits(params, model, rpm, n_modes, coriolis, interface)
 
 
 def transient(params: Parameters, model: str, csv_path: Path | None = None):
@@ -100,8 +100,9 @@ def transient(params: Parameters, model: str, csv_path: Path | None = None):
     return _analysis.transient(params, model, csv_path)
 
 
-def sweep(params: Parameters, model: str, rpms: Sequence[float]) -> SweepResult:
-    """Settled steady-state tip amplitude at each speed of ``rpms`` (r/min), in the time domain."""
+def sweep(params: Parameters, model: str, rpms: Sequence[float]) -> SweepResult | RingSweepResult:
+    """Settled steady-state tip amplitude at each speed of ``rpms`` (r/min), in the time domain (with
+    ``ring.blades = N``, the ring's: every blade's)."""
     return _analysis.sweep(params, model, rpms)
 
 
@@ -110,15 +111,14 @@ def harmonic_balance(params: Parameters, model: str, rpm: float, harmonics: int 
                      multipliers: bool = True) -> _hb.Checkpoint:
     """The periodic steady state at one speed by harmonic balance, with its Floquet stability
     (shroud.analysis.hb.checkpoint: ``start`` the harmonics Newton begins from, ``retry`` from the linear
-    solution where it fails from there, ``multipliers=False`` without stability)."""
-    return _hb.checkpoint(params, model, rpm, harmonics, samples, start, retry, multipliers)
+    starts where it fails from there, ``multipliers=False`` without stability); with ``ring.blades = N``,
+    the ring's (one sector when tuned, the whole ring when mistuned: ``blades_amplitude_v_L``). Read
+    ``converged`` before the amplitudes: where Newton did not converge they are no answer."""
+    return _analysis.harmonic_balance(params, model, rpm, harmonics, samples, start, retry, multipliers)
 
 
 def continuation(params: Parameters, model: str, rpm_from: float, rpm_to: float,
                  harmonics: int = _hb.DEFAULT_HARMONICS, min_points: int | None = None):
     """The steady-state branch from ``rpm_from`` to ``rpm_to`` by harmonic balance with continuation: an
     HBResult; with ``ring.blades = N``, the ring's (one sector when tuned, the whole ring when mistuned)."""
-    if params.ring.blades:
-        from shroud.analysis.ring_hb import run_ring_hb
-        return run_ring_hb(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)
-    return _hb.run_hb(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)
+    return _analysis.continuation(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)

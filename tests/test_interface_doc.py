@@ -23,7 +23,8 @@ PENDING_KEYS: set[str] = set()
 PENDING_OPTIONS: dict[str, set[str]] = {}
 # Printed only with ring.blades = N or --interface, which the runs below do not use; compare's count of
 # skipped memory only when a study declares memory (convergence).
-CONDITIONAL_JSON = {"nodal_diameters", "nd", "blades", "N", "Ff", "blades_amplitude_v_L", "interface", "memory"}
+CONDITIONAL_JSON = {"nodal_diameters", "nd", "blades", "N", "Ff", "blades_amplitude_v_L", "blades_amplitude_w_L",
+                    "interface", "memory"}
 
 
 def _section(command: str) -> str:

@@ -20,7 +20,8 @@ from shroud.analysis.api import build_system
 from shroud.analysis.limits import interface_modal
 from shroud.analysis.hb import SpeedModel
 from shroud.analysis.ring import build_ring, run_ring
-from shroud.analysis.ring_hb import _details, ring_model_at_speed, sector_of, sector_solve, with_springs
+from shroud.analysis.ring_hb import _details, ring_model_at_speed, sector_of, sector_solve
+from shroud.core.starts import with_springs
 from shroud.analysis.transient import run
 from shroud.core import harmonic_balance as hb
 from shroud.core import signals

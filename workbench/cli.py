@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from workbench.compare import DEFAULT_ATOL, DEFAULT_IGNORE, DEFAULT_RTOL
+from shroud.analysis.systems import solver
 from shroud.base.errors import InputError, RunDiverged
 
 EXIT_RUN_FAILED = 1
@@ -155,13 +156,12 @@ def _emit(args, payload: dict, text: str) -> None:
 
 
 def cmd_modal(args) -> None:
-    from shroud.analysis.api import modal
+    from shroud.analysis.api import linear_limits, modal
     if args.modes < 1:
         raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
     params = _params(args)
     if args.interface is not None:
-        from shroud.analysis.limits import interface_modal
-        limit = interface_modal(params, args.model, params.speed.rpm, args.modes, args.coriolis, args.interface)
+        limit = linear_limits(params, args.model, params.speed.rpm, args.modes, args.coriolis, args.interface)
         diameters = "".join(f"\n  nd {d['nd']:3d}: " + " ".join(f"{m['f_hz']:.2f}" for m in d["modes"])
                             for d in limit.nodal_diameters or [])
         rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in limit.blade.modes)
@@ -214,22 +214,21 @@ def cmd_sweep(args) -> int | None:
             raise InputError("--model", f"{args.model} is solved by harmonic balance at single speeds; "
                                         "allowed: --checkpoints RPM [RPM ...] instead of a range")
         return _sweep_hb(args)
+    from shroud.analysis.checks import check_speed_count
     if args.model not in registry.names("sweep"):
         raise InputError("--model", f"{args.model} is too costly to rebuild at every speed of a time-domain "
                                     f"sweep; allowed: {', '.join(registry.names('sweep'))}, or --method hb "
                                     "--checkpoints")
-    from shroud.analysis.api import sweep
-    from shroud.analysis.checks import check_speed_count
     if args.rpm_count is None:
         raise InputError("command line", "the following arguments are required: --rpm-count "
                                          "(with --method time)")
-    params = _params(args)
     if args.rpm_count < 1:
         raise InputError("--rpm-count", f"{args.rpm_count} is out of range; allowed: an integer >= 1")
     check_speed_count(args.rpm_count, "--rpm-count")
     if not 0 < args.rpm_from <= args.rpm_to:
         raise InputError("--rpm-from", "allowed: 0 < rpm-from <= rpm-to")
-    result = sweep(params, args.model, np.linspace(args.rpm_from, args.rpm_to, args.rpm_count))
+    params = _params(args)
+    result = solver("sweep", params)(params, args.model, np.linspace(args.rpm_from, args.rpm_to, args.rpm_count))
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
     diverged = result.rpm[~np.isfinite(result.amplitude_v_L)]
@@ -241,7 +240,7 @@ def cmd_sweep(args) -> int | None:
 
 def _sweep_hb(args) -> int:
     from shroud.analysis.checks import check_speed_count
-    from shroud.analysis.hb import DEFAULT_HARMONICS, check_inputs, run_hb, run_hb_to_tail
+    from shroud.analysis.hb import DEFAULT_HARMONICS, check_inputs
     if args.tail is not None and args.harmonics is not None:
         raise InputError("--tail", "give --harmonics or --tail, not both")
     if args.tail is not None and args.samples is not None:
@@ -257,18 +256,12 @@ def _sweep_hb(args) -> int:
     if params.speed.rpm_per_s != 0:
         raise InputError("speed.rpm_per_s", "harmonic balance seeks periodic states at constant speed; "
                                             "allowed: 0 with --method hb")
-    if params.ring.blades:
-        if args.tail is not None:
-            raise InputError("--tail", "a ring's branch is solved at one H; allowed: --harmonics with ring.blades")
-        from shroud.analysis.ring_hb import run_ring_hb
-        result = run_ring_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
-                             min_points=args.rpm_count)
-    elif args.tail is not None:
-        result = run_hb_to_tail(params, args.model, args.rpm_from, args.rpm_to, args.tail,
-                                min_points=args.rpm_count)
+    if args.tail is not None:
+        result = solver("continuation to a spectral tail", params)(params, args.model, args.rpm_from, args.rpm_to,
+                                                                   args.tail, min_points=args.rpm_count)
     else:
-        result = run_hb(params, args.model, args.rpm_from, args.rpm_to, harmonics=H, samples=args.samples,
-                        min_points=args.rpm_count)
+        result = solver("continuation", params)(params, args.model, args.rpm_from, args.rpm_to, H, args.samples,
+                                                args.rpm_count)
     payload = result.to_json()
     _emit(args, payload, json.dumps(payload, indent=1))
     if not result.complete:
@@ -276,7 +269,7 @@ def _sweep_hb(args) -> int:
         return EXIT_RUN_FAILED
 
 
-def _sweep_checkpoints(args) -> None:
+def _sweep_checkpoints(args) -> int | None:
     from shroud.analysis.hb import DEFAULT_HARMONICS, run_checkpoints
     for flag in ("rpm_from", "rpm_to", "rpm_count", "tail"):
         if getattr(args, flag) is not None:
@@ -291,6 +284,12 @@ def _sweep_checkpoints(args) -> None:
     H = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
     payload = run_checkpoints(params, args.model, args.checkpoints, harmonics=H, samples=args.samples)
     _emit(args, payload, json.dumps(payload, indent=1))
+    failed = [c for c in payload["checkpoints"] if not c["converged"]]
+    if failed:
+        print(f"error: Newton did not converge at {len(failed)} of {len(payload['rpm'])} speeds ("
+              + ", ".join(f"{c['rpm']:g} r/min: {c['start']}, |R|/|F| {c['residual']:.3g}" for c in failed)
+              + "): their amplitudes are null", file=sys.stderr)
+        return EXIT_RUN_FAILED
 
 
 def cmd_section(args) -> None:

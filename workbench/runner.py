@@ -182,7 +182,9 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
     """Validate scene ``path`` with ``overrides``, run its study into ``out``.
 
     A study may define ``check(scene)`` for cross-checks of its options; it
-    runs before anything is written. ``writer`` (default: rank 0) says
+    runs before anything is written. A study that solves the ring of
+    ``ring.blades`` declares ``RING = True``; the others refuse a ring
+    (shroud.analysis.systems: no path drops it). ``writer`` (default: rank 0) says
     whether this process writes files; the other ranks of an MPI job run the same study into a scratch folder that
     is removed afterwards. ``gates`` replace the scene's own bound by bound.
     Returns a summary: study, out, status, elapsed_s, gates (their records).
@@ -192,6 +194,10 @@ def run_scene(path: str | Path, out: str | Path | None = None, overrides=(), qui
     if not scene.study:
         raise InputError("study", f"scene {path} names no study; allowed: study = \"<name>\"")
     module = study_module(scene.study)
+    if scene.params.ring.blades and not getattr(module, "RING", False):
+        raise InputError("ring.blades", f"study {scene.study} solves the blade between fixed neighbours and would "
+                                        "drop the ring; allowed: ring.blades = 0 with it (the studies that solve "
+                                        "the ring of ring.blades declare RING = True, docs/ring.md)")
     check = getattr(module, "check", None)
     if check is not None:
         check(scene)                 # a study's own cross-checks of its options, before any write

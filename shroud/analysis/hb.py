@@ -24,16 +24,18 @@ import numpy as np
 
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
-from shroud.base.errors import InputError
+from shroud.base.errors import InputError, RunDiverged
 from shroud.base.log import Progress
 from shroud.base.resources import in_words, physical_memory
 from shroud.analysis.checks import MEMORY_SHARE
+from shroud.analysis.systems import solver
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
 from shroud.core.continuation import Factorize, continue_branch
 from shroud.core.linear_solvers import dense
 from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.core.results import HBResult
+from shroud.core.starts import fixed_neighbours, sector_solve
 from shroud.core.signals import detect_period
 from shroud.core.system import StructuralSystem
 from shroud.core.verdict import with_rounding
@@ -539,7 +541,10 @@ class Checkpoint:
     ``newton_s`` the model's own Newton, ``stability_s`` its multipliers
     (with the bases they are projected on, where not cached). ``X``: the
     state's harmonics (its unknowns, as HBResult.X holds a branch's; not in
-    the JSON), e.g. to start a continuation through it (:func:`run_hb_through`).
+    the JSON), e.g. to start a continuation through it (:func:`run_hb_through`). A ring's checkpoint
+    (shroud.analysis.ring_hb.ring_checkpoint) has ``blades`` N and every blade's v_L amplitude
+    (``blades_amplitude_v_L``, m); the amplitudes are blade 0's, ``dofs`` the ring's. A point Newton did not
+    converge on has no amplitudes in the JSON (null): they are not an answer.
     """
 
     model: str
@@ -552,7 +557,7 @@ class Checkpoint:
     residual: float
     short: bool              # Newton stopped short of the tolerance asked (residual above it, within hb.ACCEPT)
     tolerance: float         # the |R| / |F| Newton was asked for
-    iterations: int
+    iterations: int | None   # Newton's (None: a ring's, reached by starts tried in turn)
     spectral_tail: float
     start: str
     start_amplitude_v_L: float | None
@@ -567,6 +572,8 @@ class Checkpoint:
     newton_s: float
     stability_s: float
     X: np.ndarray = dataclasses.field(repr=False, compare=False)
+    blades: int = 0                                  # 0: the blade between fixed neighbours
+    blades_amplitude_v_L: tuple[float, ...] = ()     # a ring's: every blade's, m
 
     @property
     def elapsed_s(self) -> float:
@@ -577,12 +584,38 @@ class Checkpoint:
         """The harmonics and time samples the state was solved on."""
         return hb.fourier(self.harmonics, self.samples)
 
+    def plot(self, ax=None, scale: float = 1e3, **marker):
+        """The state's v_L amplitude (mm) at its speed, as HBResult.plot draws a branch's points: filled where
+        stable, open where unstable, a cross where undecided; a ring's every blade as small dots behind it.
+        Nothing where Newton did not converge (no answer to draw)."""
+        from shroud.core.results import _axes
+        ax = _axes(ax)
+        if not self.converged:
+            return ax
+        colour = marker.pop("color", None)
+        if self.blades:
+            dots, = ax.plot([self.rpm] * self.blades, np.asarray(self.blades_amplitude_v_L) * scale, ".", ms=2,
+                            color=colour)
+            colour = dots.get_color()
+        style = {True: {"marker": "o"}, False: {"marker": "o", "mfc": "none"}, None: {"marker": "x"}}[self.stable]
+        ax.plot([self.rpm], [self.amplitude_v_L * scale], linestyle="none", color=colour,
+                **{**style, "label": self.model + (f", {self.blades} blades" if self.blades else ""), **marker})
+        ax.set_xlabel("speed (r/min)")
+        ax.set_ylabel("amplitude of v_L (mm)")
+        return ax
+
     def to_json(self) -> dict:
         """The fields but X; a residual Newton drove below its tolerance declared as rounding: its value is
         whatever the last step's rounding left (hb_fig7's full solid: 4.46e-11 and 4.18e-11 in two runs whose
         eigen-solves started from random vectors; a rank count's ordering rounds otherwise too)."""
         out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "X"}
         out["elapsed_s"] = round(self.elapsed_s, 6)
+        if not self.blades:
+            del out["blades"], out["blades_amplitude_v_L"]
+        else:
+            out["blades_amplitude_v_L"] = list(self.blades_amplitude_v_L)
+        if not self.converged:
+            out.update({k: None for k in ("amplitude_v_L", "amplitude_w_L", "blades_amplitude_v_L") if k in out})
         if self.converged and not self.short:
             return with_rounding(out, "a residual below Newton's tolerance is rounding: held to the tolerance",
                                  residual=self.tolerance)
@@ -600,6 +633,25 @@ def _start_on_contact(params: Parameters, model: str, rpm: float, harmonics: int
 
 
 NOT_ASKED = "not computed (not asked)"
+NOT_CONVERGED = "not computed: Newton did not converge"
+
+
+def _with_contact_springs(failed: hb.HarmonicSolution, system: StructuralSystem, law, lin: hb.LinearHarmonics,
+                          how: str) -> tuple[hb.HarmonicSolution, str]:
+    """The state where Newton from the free blade's linear solution and the load homotopy both failed: Newton
+    from the linear blade with contact springs, then a continuation in the contact's stiffness (the ring's
+    starts, shroud.core.starts.sector_solve, on the blade between fixed neighbours); (``failed``, ``how``)
+    where these fail too. Preload 20 N (kn 1e7, kt 5e6 N/m, mu 0.3, alpha 30 deg), 9000 r/min: Newton stalls
+    at |R| = 244 N from the free blade (near its resonance, tens of mm) and the homotopy's first step fails
+    (the preload is not scaled with the load); from half springs Newton converges on 0.576 um."""
+    basis = failed.basis
+    try:
+        X = sector_solve(lin, fixed_neighbours(law), basis)
+    except RunDiverged:
+        return failed, how
+    sol = hb.newton(X, lin, law, basis)          # at its own tolerance (sector_solve accepts at hb.ACCEPT)
+    return (hb.solution(sol.X, sol.balance, lin, basis, sol.iterations, sol.converged, sol.tolerance),
+            f"{how} failed; linear solution with contact springs or a continuation in the contact's stiffness")
 
 
 def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
@@ -645,10 +697,14 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
     sol = hb.solve(system, law, harmonics, n, X0=X0, lin=lin)
     if not sol.converged and X0 is not None and retry:
         sol, how = hb.solve(system, law, harmonics, n, lin=lin), f"linear solution, load homotopy ({how} failed)"
+    if not sol.converged and (X0 is None or retry):
+        sol, how = _with_contact_springs(sol, system, law, lin, how)
     t3 = time.perf_counter()
     stable, stability, largest, error = None, NO_FLOQUET, {}, None
     if not multipliers:
         stability = NOT_ASKED
+    elif not sol.converged:
+        stability = NOT_CONVERGED
     elif speeds is not None:
         details = point_details(speeds, law, sol.basis, sol.X, rpm)
         stable, stability, error = details["stable"], "Floquet multipliers", details["multiplier_error"]
@@ -674,14 +730,20 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
 
 def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAULT_HARMONICS,
                     samples: int | None = None) -> dict:
-    """:func:`checkpoint` at each speed of ``rpms`` (r/min), as the JSON of ``shroud sweep --checkpoints``."""
+    """The checkpoint at each speed of ``rpms`` (r/min) of the system ``params`` describe (the blade's
+    :func:`checkpoint`, a ring's shroud.analysis.ring_hb.ring_checkpoint: shroud.analysis.systems), as the
+    JSON of ``shroud sweep --checkpoints``: a point Newton did not converge on has null amplitudes."""
     t0 = time.perf_counter()
+    solve = solver("checkpoint", params)
     for rpm in rpms:
         check_inputs(harmonics, samples, 0.5 * rpm, rpm)
         params.updated({"speed.rpm": float(rpm)})     # the models' speed bound (shroud.params)
-    points = [checkpoint(params, model, float(rpm), harmonics, samples) for rpm in rpms]
+    points = [solve(params, model, float(rpm), harmonics, samples) for rpm in rpms]
+    shown = [p.to_json() for p in points]
+    ring = {"blades": params.ring.blades,
+            "blades_amplitude_v_L": [p["blades_amplitude_v_L"] for p in shown]} if params.ring.blades else {}
     return {"model": model, "method": "hb", "harmonics": harmonics, "samples": points[0].samples,
-            "rpm": [p.rpm for p in points], "amplitude_v_L": [p.amplitude_v_L for p in points],
-            "amplitude_w_L": [p.amplitude_w_L for p in points], "stable": [p.stable for p in points],
-            "converged": [p.converged for p in points], "checkpoints": [p.to_json() for p in points],
+            "rpm": [p.rpm for p in points], "amplitude_v_L": [p["amplitude_v_L"] for p in shown],
+            "amplitude_w_L": [p["amplitude_w_L"] for p in shown], "stable": [p.stable for p in points],
+            "converged": [p.converged for p in points], **ring, "checkpoints": shown,
             "elapsed_s": round(time.perf_counter() - t0, 6)}

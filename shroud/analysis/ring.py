@@ -11,20 +11,24 @@ side 1 is interface N-1, its side 2 interface 0) plus ``blades``
 from __future__ import annotations
 
 import dataclasses
+import math
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from shroud.analysis.checks import MEMORY_SHARE, check_run
+from shroud.analysis.checks import MEMORY_SHARE, check_run, check_speed_count
+from shroud.analysis.sweep import Settling, settle
 from shroud.analysis.transient import written
 from shroud.base.resources import in_words, physical_memory
 from shroud.base.errors import InputError
+from shroud.base.parallel import map_parallel
 from shroud.core import registry, signals
 from shroud.core.contact import ContactLaw, contact_law
 from shroud.core.newmark import NewmarkScheme, Trajectory
-from shroud.core.results import TransientResult
+from shroud.core.results import RingSweepResult, SweepResult, TransientResult, steady_state
 from shroud.core.ring import BladeRing, paired_by_position, ring_of, with_rayleigh
 from shroud.core.system import StructuralSystem
 from shroud.core.ring_newmark import RingTrajectory, integrate_ring
@@ -99,6 +103,45 @@ def run_ring(ring: BladeRing, params: Parameters, held: tuple[int, ...] = (), **
                           implicit=params.time.contact == "implicit",
                           energy_window=min(signals.STEADY_PERIODS, periods) * spp,
                           bound=params.blade.length, held=held, **initial)
+
+
+def ring_point(task: tuple[Parameters, str, float, Settling]) -> tuple:
+    """One speed of the ring in time, run from rest and settled as the single blade's sweep
+    (shroud.analysis.sweep.settle: every blade's amplitudes): (every blade's v_L, w_L amplitudes (N, 2) m,
+    blade 0's period, its slip share, the ring's DOFs, seconds, settled); NaN amplitudes where it diverged."""
+    params, model, rpm, settling = task
+    t0 = time.perf_counter()
+    p = params.updated({"speed.rpm": rpm})
+    ring = build_ring(p, model)
+    spp = p.time.steps_per_period
+    tr, settled = settle(lambda n: run_ring(ring, p.updated({"time.periods": n})), p.time.periods, spp, settling)
+    if tr.diverged is not None:
+        return np.full((ring.count, 2), np.nan), None, math.nan, ring.dofs, time.perf_counter() - t0, False
+    s = steady_state(blade_view(tr, 0), spp)
+    amplitudes = [[signals.amplitude(tr.tip[:, j, k], spp) for k in (0, 1)] for j in range(ring.count)]
+    return (np.array(amplitudes), s["period"], 0.5 * (s["state_fraction"]["side1"]["slip"]
+                                                       + s["state_fraction"]["side2"]["slip"]),
+            ring.dofs, time.perf_counter() - t0, settled)
+
+
+def run_ring_sweep(params: Parameters, model: str, rpms, settling: Settling = Settling()) -> RingSweepResult:
+    """The ring's steady state in time at each speed of ``rpms`` (r/min), every blade's amplitude
+    (shroud.analysis.sweep.run_sweep's ring: each run from rest, extended until every blade has settled)."""
+    rpms = np.asarray(rpms, dtype=float)
+    check_speed_count(rpms.size * params.ring.blades, "speeds")
+    for r in (rpms.min(), rpms.max()) if rpms.size else ():
+        params.updated({"speed.rpm": float(r)}).time_step          # the speeds' bounds, before any run
+    tasks = [(params, model, float(r), settling) for r in rpms]
+    t0 = time.perf_counter()
+    points = [ring_point(tasks[0])] + map_parallel(ring_point, tasks[1:], preload=registry.packages()) if tasks else []
+    col = list(zip(*points)) if points else [[]] * 6
+    amplitudes = np.array(col[0], float).reshape(rpms.size, params.ring.blades, 2)
+    blade0 = SweepResult(model=model, rpm=rpms, amplitude_v_L=amplitudes[:, 0, 0], amplitude_w_L=amplitudes[:, 0, 1],
+                         period=tuple(col[1]), slip_fraction=np.array(col[2], float),
+                         dofs=int(col[3][0]) if points else 0, elapsed_s=time.perf_counter() - t0,
+                         cpu_s=float(np.sum(col[4])), settled=tuple(bool(x) for x in col[5]))
+    return RingSweepResult(sweep=blade0, blades_amplitude_v_L=amplitudes[:, :, 0],
+                           blades_amplitude_w_L=amplitudes[:, :, 1])
 
 
 def blade_view(tr: RingTrajectory, j: int) -> Trajectory:

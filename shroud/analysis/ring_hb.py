@@ -39,41 +39,23 @@ from typing import Any, Callable
 
 import numpy as np
 
-from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, REFINED_ITERATIONS, SpeedModel, check_inputs,
-                                model_at_speed, point_details, run_hb)
+from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, NOT_ASKED, NOT_CONVERGED, REFINED_ITERATIONS,
+                                Checkpoint, SpeedModel, check_inputs, model_at_speed, point_details, run_hb)
 from shroud.analysis.ring import RING_MODELS, blade_parameters, pairing
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError, RunDiverged
 from shroud.core import floquet
 from shroud.core import harmonic_balance as hb
-from shroud.core.contact import KN, KT, N0, ContactLaw, contact_law
+from shroud.core.contact import ContactLaw, contact_law
 from shroud.core.continuation import continue_branch
 from shroud.core.cyclic_banded import CyclicBanded, harmonic_major_blocks
 from shroud.core.cyclic import Faces, ring_shifts, sector_balance
 from shroud.core.results import HBResult
 from shroud.core.ring import (assembled_system, face_selectors, interface_elements, ring_harmonics, ring_of,
                               with_rayleigh)
+from shroud.core.starts import SECTOR_TOLERANCE, Sector, projected, sector_newton, sector_solve
 from shroud.core.system import StructuralSystem
 from shroud.params import Parameters
-
-
-@dataclass(frozen=True)
-class Sector:
-    """What the sector's balance needs besides the blade's linear part."""
-
-    N: int
-    ke: int
-    faces: Faces | None        # interface 0 seen from the sector; None: the unknowns are the law's coordinates
-    law: ContactLaw            # interface 0's points on its relative coordinates (or every interface's)
-    banded: CyclicBanded | None = None   # the structure of a whole ring's Jacobian (None: dense solves)
-
-    def solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """x with A x = b for a Newton step or a start: banded where the structure is declared."""
-        return np.linalg.solve(A, b) if self.banded is None else self.banded(A, b)
-
-    @property
-    def phi(self) -> float:
-        return 2.0 * math.pi * self.ke / self.N
 
 
 def ring_model_at_speed(params: Parameters, model: str) -> Callable[[float], StructuralSystem]:
@@ -106,79 +88,6 @@ def _residual(speeds: SpeedModel, sector: Sector, basis: hb.Fourier):
     return residual
 
 
-def _projected(sector: Sector, lin: hb.LinearHarmonics, H: int) -> np.ndarray:
-    """Pa (nh c, nh nx), dense: the relative coordinates' harmonics from the unknowns' (the whole ring's:
-    I (x) Wx), for the one-off uses (Newton's linear starts, the orbit for the stability)."""
-    if sector.faces is None:
-        return np.kron(np.eye(2 * H + 1), lin.Wx)
-    return sector.faces.projection(H, lin.Wx)
-
-
-def with_springs(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, share: float) -> np.ndarray:
-    """A start for Newton: the linear sector with every interface as springs of ``share`` times the law's kn
-    and kt (0: contact-free; 1: stuck; 0.5: the mean of open and closed)."""
-    nh = basis.nh
-    D = np.zeros(sector.law.m)
-    D[sector.law.rows[:, 0]] += share * sector.law.props[:, 1]
-    D[sector.law.rows[:, 1]] += share * sector.law.props[:, 2]
-    Pa = _projected(sector, lin, basis.H)
-    return sector.solve(lin.L + Pa.T @ (np.tile(D, nh)[:, None] * Pa), lin.Fr.ravel())
-
-
-STARTS = (0.5, 1.0, 0.1, 0.0)   # shares of the springs of the linear starts tried, in order
-MOST_POINTS = 300               # of the continuation in the contact's stiffness (96 reach 24 tuned blades)
-
-
-def sector_newton(X: np.ndarray, lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, tol: float = 1e-10,
-                  max_iterations: int = 60) -> tuple[np.ndarray, bool]:
-    """Newton on the sector's balance at one speed (the core's damped Newton, with the sector's structured
-    solve), accepted at |R| <= 1e-6 |F|."""
-    X, _, _, residual, _ = hb.damped_newton(
-        lambda X, jacobian: sector_balance(X, lin, sector.law, basis, sector.faces, jacobian=jacobian),
-        X, np.linalg.norm(lin.Fr) + 1e-300, tol, max_iterations, solve=sector.solve, shortest_step=1e-4)
-    return X, residual <= hb.ACCEPT
-
-
-def stiffened(law: ContactLaw, share: float) -> ContactLaw:
-    """``law`` with kn, kt and N0 times ``share`` (the same gap or interference N0 / kn, softer springs)."""
-    props = law.props.copy()
-    props[:, [KN, KT, N0]] *= share
-    return replace(law, props=props)
-
-
-def sector_solve(lin: hb.LinearHarmonics, sector: Sector, basis: hb.Fourier, soft: float = 1e-3) -> np.ndarray:
-    """The travelling wave at one speed by Newton from linear sectors with springs (:func:`with_springs`,
-    STARTS in order), else by continuation in the contact's stiffness from ``soft`` times it (where the
-    contact-free solution is Newton's start) up to all of it.
-
-    The contact-free blade alone is a poor start: near its resonance it moves by tens of um where the
-    ring's interfaces hold it to a few (6 blades at 10000 r/min: Newton stalls at |R| = |F| / 3 from it and
-    converges in 10 steps from half springs). A continuation in the load cannot help where N0 = 0: the
-    problem is then homogeneous in the load. 24 blades at 6000 r/min stall at |R| = |F| / 2 from every
-    linear start, and the stiffness continuation reaches the wave in 96 points (0.24 s).
-    """
-    for share in STARTS:
-        X, ok = sector_newton(with_springs(lin, sector, basis, share), lin, sector, basis)
-        if ok:
-            return X
-
-    def residual(X, share):
-        b = sector_balance(X, lin, stiffened(sector.law, share), basis, sector.faces)
-
-        def d_share():
-            h = 1e-6 * share
-            return (sector_balance(X, lin, stiffened(sector.law, share + h), basis, sector.faces,
-                                   jacobian=False).R - b.R) / h
-        return b.R, b.J, d_share
-    X0 = hb.linear_solution(lin)
-    path = continue_branch(residual, X0, soft, 1.0, float(np.abs(X0).max()) + 1e-300, ds=0.05, ds_max=0.5,
-                           p_scale=1.0, max_points=MOST_POINTS)
-    if not (path.complete and path.p and path.p[-1] == 1.0):
-        raise RunDiverged(f"no periodic state reached, neither by Newton from linear sectors with springs "
-                          f"nor by continuation in the contact's stiffness: {path.stopped}")
-    return path.x[-1]
-
-
 def _ring_samples(sector: Sector, samples: int) -> int:
     """The least multiple of N / gcd(N, ke) at or above ``samples``: interface j's states are then interface
     0's shifted by a whole number of samples (j ke / N of the period)."""
@@ -191,7 +100,7 @@ def _ring_orbit(sector: Sector, lin: hb.LinearHarmonics, X: np.ndarray, basis: h
     ``samples`` instants (a multiple of N / gcd(N, ke)): interface 0's, shifted for interface j."""
     fine = hb.fourier(basis.H, samples)
     nh = basis.nh
-    Y = (_projected(sector, lin, basis.H) @ X).reshape(nh, -1)
+    Y = (projected(sector, lin, basis.H) @ X).reshape(nh, -1)
     ch = hb.contact_harmonics(Y, np.eye(Y.shape[1]), sector.law, fine, jacobian=False)
     rate = fine.rates(Y, lin.omega)                          # (samples, c)
     shifts = ring_shifts(samples, sector.N, sector.ke)
@@ -287,6 +196,18 @@ class RingHBResult:
     def stopped(self) -> str | None:
         return self.branch.stopped
 
+    def plot(self, ax=None, label: str | None = None, scale: float = 1e3, **line):
+        """Blade 0's branch as HBResult.plot draws it (stability by line style, bifurcations marked); a
+        mistuned ring's every blade thin behind it (tuned: every blade is blade 0)."""
+        from shroud.core.results import _axes
+        ax = _axes(ax)
+        colour = line.pop("colour", None)
+        if self.amplitudes is not None:
+            drawn = ax.plot(self.branch.rpm, np.asarray(self.amplitudes) * scale, lw=0.5, alpha=0.5, color=colour)
+            colour = drawn[0].get_color()
+        return self.branch.plot(ax, label=label or f"{self.branch.model}, {self.blades} blades", colour=colour,
+                                scale=scale, **line)
+
     def to_json(self) -> dict[str, Any]:
         out = self.branch.to_json()
         if not self.stability:
@@ -371,19 +292,90 @@ def sector_at(params: Parameters, model: str, rpm: float, harmonics: int = DEFAU
     a wave's X at any number of harmonics, Newton's first start (cut or padded to ``harmonics``); then the
     linear starts (:func:`sector_solve`), then the waves at other numbers of harmonics
     (:func:`from_other_harmonics`)."""
+    speeds, sector, basis = _ring_system(params, model, rpm, harmonics, samples, whole=False)
+    X, _ = _ring_state(params, model, rpm, speeds, sector, basis, start)
+    return {**_details(speeds, sector, basis, X, rpm, stability), "X": X}
+
+
+def _ring_system(params: Parameters, model: str, rpm: float, harmonics: int, samples: int | None,
+                 whole: bool) -> tuple[SpeedModel, Sector, hb.Fourier]:
+    """(speeds, sector, basis) of the ring at ``rpm``: one sector of the tuned ring's travelling wave, or
+    (``whole``) the whole ring on all its interfaces (:func:`whole_ring`)."""
     check_ring_hb(params, model)
     n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
     basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(ring_model_at_speed(params, model), harmonics)
+    speeds = SpeedModel(RingOverSpeed(params, model) if whole else ring_model_at_speed(params, model), harmonics)
     system, lin, _, _ = speeds.at(rpm)
-    sector = sector_of(system, params, harmonics)
+    sector = (whole_ring(params, lin, contact_law_for(system, params.contact), basis) if whole
+              else sector_of(system, params, harmonics))
+    return speeds, sector, basis
+
+
+def _ring_state(params: Parameters, model: str, rpm: float, speeds: SpeedModel, sector: Sector,
+                basis: hb.Fourier, start: np.ndarray | None, retry: bool = True) -> tuple[np.ndarray, str]:
+    """(X, how it was reached) of the ring at ``rpm``: Newton from ``start`` (any number of harmonics), then
+    (``retry``, or no ``start``) the linear starts (:func:`sector_solve`), then for a sector the waves at
+    other numbers of harmonics (:func:`from_other_harmonics`); RunDiverged where none reaches a state."""
+    lin = speeds.linear(rpm)[0]
     X, ok = (None, False) if start is None else sector_newton(resized(start, basis.nh), lin, sector, basis)
-    if not ok:
-        try:
-            X = sector_solve(lin, sector, basis)
-        except RunDiverged as failed:
-            X = from_other_harmonics(params, model, rpm, lin, sector, basis, failed)
-    return {**_details(speeds, sector, basis, X, rpm, stability), "X": X}
+    if ok:
+        return X, "given"
+    if start is not None and not retry:
+        raise RunDiverged("Newton did not converge from the state given")
+    try:
+        return sector_solve(lin, sector, basis), "linear ring with contact springs, or a continuation in the " \
+                                                 "contact's stiffness"
+    except RunDiverged as failed:
+        if sector.faces is None:
+            raise
+        return (from_other_harmonics(params, model, rpm, lin, sector, basis, failed),
+                "the wave at another number of harmonics")
+
+
+def ring_checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,
+                    samples: int | None = None, start: np.ndarray | None = None, retry: bool = True,
+                    multipliers: bool = True) -> Checkpoint:
+    """The ring of ``params.ring.blades`` at ``rpm`` as a checkpoint (shroud.analysis.hb.Checkpoint, the same
+    arguments): tuned, the travelling wave by one sector (:func:`sector_at`); mistuned, the whole ring
+    (:func:`whole_ring_at`); with ``blades`` and every blade's v_L amplitude, the stability that of the whole
+    ring's monodromy (every nodal diameter). Where no start reaches a state: ``converged`` False (the
+    amplitudes nan, null in the JSON), ``start`` saying why."""
+    t0 = time.perf_counter()
+    whole = not params.ring.tuned
+    speeds, sector, basis = _ring_system(params, model, rpm, harmonics, samples, whole)
+    system, lin, _, _ = speeds.at(rpm)
+    N = params.ring.blades
+    t1 = time.perf_counter()
+    try:
+        X, how = _ring_state(params, model, rpm, speeds, sector, basis, start, retry)
+    except RunDiverged as failed:
+        X, how = None, f"no state reached: {failed}"
+    t2 = time.perf_counter()
+    details, blades, residual = {}, (), math.nan
+    if X is not None:
+        b = sector_balance(X, lin, sector.law, basis, sector.faces, jacobian=False)
+        residual = float(np.linalg.norm(b.R) / (np.linalg.norm(lin.Fr) + 1e-300))
+        if whole:
+            details = point_details(speeds, sector.law, basis, X, rpm, stability=multipliers)
+            blades = tuple(blade_amplitudes(lin, sector.law, basis, X))
+        else:
+            details = _details(speeds, sector, basis, X, rpm, multipliers)
+            blades = (details["amplitude_v_L"],) * N
+    largest = float(np.abs(details["multipliers"]).max()) if multipliers and details else None
+    dofs = system.dofs if whole else N * system.dofs
+    return Checkpoint(model=model, rpm=float(rpm), harmonics=harmonics, samples=basis.samples,
+                      amplitude_v_L=details.get("amplitude_v_L", math.nan),
+                      amplitude_w_L=details.get("amplitude_w_L", math.nan), converged=X is not None,
+                      residual=residual, short=not residual <= SECTOR_TOLERANCE, tolerance=SECTOR_TOLERANCE,
+                      iterations=None, spectral_tail=details.get("tail", math.nan), start=how,
+                      start_amplitude_v_L=None, stable=details.get("stable"),
+                      stability=(NOT_ASKED if not multipliers else NOT_CONVERGED if X is None
+                                 else "Floquet multipliers of the whole ring (every nodal diameter)"),
+                      largest_multiplier={} if largest is None else {dofs: largest},
+                      multiplier_error=details.get("multiplier_error") if largest is not None else None,
+                      dofs=dofs, condensed_on=lin.nx if lin.condensed else 0, linear_s=t1 - t0, start_s=0.0,
+                      newton_s=t2 - t1, stability_s=time.perf_counter() - t2, X=X, blades=N,
+                      blades_amplitude_v_L=blades)
 
 
 def resized(X: np.ndarray, nh: int) -> np.ndarray:
@@ -491,15 +483,10 @@ def whole_ring_at(params: Parameters, model: str, rpm: float, harmonics: int = D
                   samples: int | None = None, stability: bool = True) -> dict:
     """The (mistuned) ring at one speed by harmonic balance on all its interfaces: every blade's
     amplitudes, the multipliers of the ring's monodromy, X."""
-    check_ring_hb(params, model)
-    n = check_inputs(harmonics, samples, rpm * 0.5, rpm)
-    basis = hb.fourier(harmonics, n)
-    speeds = SpeedModel(RingOverSpeed(params, model), harmonics)
-    system, lin, _, _ = speeds.at(rpm)
-    whole = whole_ring(params, lin, contact_law_for(system, params.contact), basis)
-    X = sector_solve(lin, whole, basis)
+    speeds, whole, basis = _ring_system(params, model, rpm, harmonics, samples, whole=True)
+    X, _ = _ring_state(params, model, rpm, speeds, whole, basis, None)
     return {**(point_details(speeds, whole.law, basis, X, rpm) if stability else {}),
-            "blades_amplitude_v_L": blade_amplitudes(lin, whole.law, basis, X), "X": X}
+            "blades_amplitude_v_L": blade_amplitudes(speeds.linear(rpm)[0], whole.law, basis, X), "X": X}
 
 
 def blade_amplitudes(lin: hb.LinearHarmonics, law: ContactLaw, basis: hb.Fourier, X: np.ndarray) -> list[float]:

@@ -70,13 +70,14 @@ SETTLING_OPTIONS = {"settle_tolerance": Settling.tolerance, "settle_max_periods"
 
 
 def amplitude_change(tr: Trajectory, steps_per_period: int, window: int) -> float:
-    """Largest relative change of the v_L, w_L amplitudes ((max - min)/2) between the last ``window``
-    periods and the ``window`` periods before (inf when the run is shorter than two windows)."""
+    """Largest relative change of the v_L, w_L amplitudes ((max - min)/2; every blade's of a ring's trajectory)
+    between the last ``window`` periods and the ``window`` periods before (inf when the run is shorter than two
+    windows)."""
     n = window * steps_per_period
     if tr.steps < 2 * n:
         return math.inf
     change = 0.0
-    for x in tr.tip.T:
+    for x in tr.tip.reshape(len(tr.tip), -1).T:       # every tip record (a ring's: every blade's)
         last = signals.amplitude(x, steps_per_period, window)
         before = signals.amplitude(x[:len(x) - n], steps_per_period, window)
         scale = max(last, before)

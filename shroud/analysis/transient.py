@@ -69,3 +69,9 @@ def simulate(system: StructuralSystem, params: Parameters, csv_path: Path | None
     return TransientResult.from_trajectory(tr, model=system.model, rpm=params.speed.rpm, dofs=system.dofs,
                                            steps_per_period=spp, contact_treatment=params.time.contact,
                                            timeseries=str(csv_path) if csv_path else None)
+
+
+def simulate_model(params: Parameters, model: str, csv_path: Path | None = None) -> TransientResult:
+    """:func:`simulate` of the registered ``model``'s blade built at ``params.speed.rpm``."""
+    from shroud.core import registry
+    return simulate(registry.model(model).build_system(params), params, csv_path=csv_path)

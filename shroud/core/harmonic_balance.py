@@ -599,7 +599,7 @@ def damped_newton(evaluate, X0: np.ndarray, scale: float, tol: float, max_iterat
                   shortest_step: float = 1e-3) -> tuple[np.ndarray, object, int, float, bool]:
     """Newton on R(X) = 0, halving a step that does not lower |R| down to ``shortest_step``: the one loop of
     every harmonic balance at one speed (the blade's :func:`newton`, the ring's sectors,
-    shroud.analysis.ring_hb.sector_newton).
+    shroud.core.starts.sector_newton).
 
     ``evaluate(X, jacobian)`` gives an object with R (and J when asked); ``solve(J, r)`` the step's linear
     solve (a structured one where the Jacobian has a known structure). Ends when |R| <= ``tol`` ``scale``,

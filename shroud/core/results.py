@@ -8,7 +8,8 @@ study is compute -> plot -> report.
 * :class:`ModalResult`: natural frequencies at one speed, labelled by tip
   kinematics (flap, chord, torsion, axial);
 * :class:`TransientResult`: one Newmark run and its steady-state measures;
-* :class:`SweepResult`: steady-state tip amplitude over speed;
+* :class:`SweepResult`: steady-state tip amplitude over speed (:class:`RingSweepResult`: a ring's, every
+  blade's);
 * :class:`CampbellResult`: frequencies tracked over speed;
 * :class:`HBResult`: a steady-state branch over speed by harmonic balance,
   with the stability of every point.
@@ -288,6 +289,49 @@ class SweepResult:
         ax.set_xlabel("speed (r/min)")
         ax.set_ylabel("v_L amplitude (um)")
         return ax
+
+
+@dataclass(frozen=True)
+class RingSweepResult:
+    """A ring's steady-state tip amplitudes over speed in time (shroud.analysis.ring.run_ring_sweep): blade 0's
+    as the single blade's :class:`SweepResult` (its period and slip share, the ring's DOFs; settled: every
+    blade's amplitudes), and every blade's."""
+
+    sweep: SweepResult
+    blades_amplitude_v_L: np.ndarray     # (speeds, N), m; NaN where the run diverged
+    blades_amplitude_w_L: np.ndarray
+
+    @property
+    def blades(self) -> int:
+        return self.blades_amplitude_v_L.shape[1]
+
+    @property
+    def rpm(self) -> np.ndarray:
+        return self.sweep.rpm
+
+    @property
+    def amplitude_v_L(self) -> np.ndarray:
+        return self.sweep.amplitude_v_L
+
+    def to_json(self) -> dict[str, Any]:
+        return {**self.sweep.to_json(), "blades": self.blades,
+                "blades_amplitude_v_L": [_finite_or_none(row) for row in self.blades_amplitude_v_L],
+                "blades_amplitude_w_L": [_finite_or_none(row) for row in self.blades_amplitude_w_L]}
+
+    def to_csv(self, path: Path) -> Path:
+        """One row per speed: rpm, then every blade's v_L amplitude (m), settled (1/0)."""
+        rows = [(f"{r:g}", *(f"{a:.9e}" for a in row), int(k))
+                for r, row, k in zip(self.rpm, self.blades_amplitude_v_L, self.sweep.settled)]
+        return _write_rows(path, ["rpm", *(f"amplitude_v_L_{j}" for j in range(self.blades)), "settled"], rows,
+                           f"ring of {self.blades} {self.sweep.model} blades, in time; amplitudes (max - min)/2, m")
+
+    def plot(self, ax=None, **line):
+        """Every blade's v_L amplitude (um) over speed (r/min): blade 0 as the single blade's curve, the others
+        thin behind it."""
+        ax = _axes(ax)
+        colour = line.pop("color", MODEL_COLOURS.get(self.sweep.model))
+        ax.plot(self.rpm, 1e6 * self.blades_amplitude_v_L[:, 1:], color=colour, lw=0.5, alpha=0.5)
+        return self.sweep.plot(ax, color=colour, **{"label": f"{self.sweep.model}, {self.blades} blades", **line})
 
 
 # ----------------------------------------------------------------------------- Campbell
