@@ -19,7 +19,10 @@ by T g / N maps the linearized ring onto itself (:func:`ring_symmetry`,
 floquet.symmetric_monodromy). (A sector-size Bloch decomposition is not
 exact here: the relabelling alone is no symmetry, only with the time
 shift, so one Bloch wave's perturbation is a delay equation on the
-sector.)
+sector.) The relabelling by N / g blades alone is one (ke / g whole
+periods); where g is even, so is the relabelling by N / 2, and the ring's
+perturbations split exactly into its periodic and antiperiodic halves,
+each a ring of N / 2 blades (:func:`ring_blocks`).
 
 A mistuned ring (or any ring, :func:`whole_ring_at`) is solved as a whole:
 every blade condensed on its own contact coordinates
@@ -210,12 +213,14 @@ def ring_blocks(system: StructuralSystem, sector: Sector, symmetric: bool = True
     Where N and ke are both even, blade j + N / 2 and interface j + N / 2 are blade j and interface j
     half a wave further on, ke / 2 whole periods: a relabelling by N / 2 with no shift in time maps the
     linearized ring onto itself at every instant, and its perturbations split exactly into the periodic
-    ones (blade j + N / 2 moves as blade j) and the antiperiodic ones (as minus blade j). Each is the
-    ring of the first N / 2 blades and interfaces, the last interface closing on blade 0 times +1 or -1
-    (the mass, damping and stiffness of the two copies add alike, so the halved operators are those of
-    N / 2 blades); the monodromy is block diagonal in them, its multipliers theirs together
-    (floquet.block_multipliers), at an eighth of the cost of each exponential and eigenvalue problem
-    (24 blades, ke 2: 2 x 156 states against 312). Otherwise one subspace, the whole ring.
+    ones (blade j + N / 2 moves as blade j) and the antiperiodic ones (as minus blade j). On either
+    half the ring's equations are twice those of its first N / 2 blades and interfaces, the last
+    interface's neighbour being blade 0 times +1 or -1 (its W's closing term); the monodromy is block
+    diagonal in the halves, its multipliers theirs together (floquet.block_multipliers): 24 blades at
+    ke 2, 2 x 156 states against 312, the ring's monodromy 3.5x cheaper (docs/performance.md).
+    Otherwise one subspace, the whole ring. (For g =
+    gcd(N, ke) > 2 the relabelling by N / g splits the ring into g subspaces, those of phase
+    exp(2 pi i k / g) complex: not done, the monodromy's kernels are real.)
 
     ``symmetric``: each with the wave's symmetry (:func:`ring_symmetry`: the flow from g / N of the
     period); False: the whole ring integrated over the period, unsplit (the check of both)."""
