@@ -217,7 +217,7 @@ def ring_blocks(system: StructuralSystem, sector: Sector, symmetric: bool = True
     half the ring's equations are twice those of its first N / 2 blades and interfaces, the last
     interface's neighbour being blade 0 times +1 or -1 (its W's closing term); the monodromy is block
     diagonal in the halves, its multipliers theirs together (floquet.block_multipliers): 24 blades at
-    ke 2, 2 x 156 states against 312, the ring's monodromy 3.5x cheaper (docs/performance.md).
+    ke 2, 2 x 156 states against 312, the ring's multipliers 3.9x cheaper (docs/performance.md).
     Otherwise one subspace, the whole ring. (For g =
     gcd(N, ke) > 2 the relabelling by N / g splits the ring into g subspaces, those of phase
     exp(2 pi i k / g) complex: not done, the monodromy's kernels are real.)
