@@ -189,7 +189,9 @@ def sector_balance(X: np.ndarray, lin: hb.LinearHarmonics, law: ContactLaw, basi
     if not jacobian:
         return SectorBalance(R=R, J=None, contact=ch, Lam_y=Lam_y)
     D = ch.dLam_x.reshape(nh, 2, nx, nh, 2, nx)                       # d(Wz^T Lam)/dZ
-    dX = (D[:, 0, :, :, 0] + np.einsum("hk,hilj->kilj", T, D[:, 1, :, :, 0])
-          + np.einsum("kigj,gl->kilj", D[:, 0, :, :, 1], T)
-          + np.einsum("hk,higj,gl->kilj", T, D[:, 1, :, :, 1], T, optimize=True))
+    # dX_kilj = sum_ab (T_a^T)_kh D_hai,gbj (T_b)_gl with T_0 = I, T_1 = T: rows, then columns, by matrix
+    # products (numpy's einsum of the same sums took 20x longer at nh = 41, nx = 2)
+    rows = D[:, 0] + (T.T @ D[:, 1].reshape(nh, -1)).reshape(nh, nx, nh, 2, nx)
+    shifted = rows[:, :, :, 1].transpose(0, 1, 3, 2).reshape(-1, nh) @ T
+    dX = rows[:, :, :, 0] + shifted.reshape(nh, nx, nx, nh).transpose(0, 1, 3, 2)
     return SectorBalance(R=R, J=L - dX.reshape(nh * nx, nh * nx), contact=ch, Lam_y=Lam_y)

@@ -447,7 +447,9 @@ def expm(A):
 class Symmetry:
     """A linearized flow that a permutation of its DOFs and elements and a shift of time by T / q map onto
     itself: Phi(t + T / q, s + T / q) = G^-1 Phi(t, s) G, with (G x)_i = x_g(i) on the DOFs (``dofs``: g
-    on dq and on dq') and on the sliders (``elements``: element e's slider takes element elements[e]'s).
+    on dq and on dq') and on the sliders (``elements``: element e's slider takes element elements[e]'s),
+    each times its sign where signs are given (a flow on an antiperiodic subspace: the ring's
+    perturbations with blade j + N / 2 moving as minus blade j, ring_hb.ring_blocks).
 
     A tuned ring on a travelling wave (docs/ring.md) is one: interface j at time t is interface 0 at
     t + j T ke / N, so relabelling the blades by r (r ke = gcd(N, ke) mod N) and shifting time by
@@ -459,9 +461,12 @@ class Symmetry:
     dofs: np.ndarray       # (n,) int
     elements: np.ndarray   # (elements,) int
     q: int
+    dof_signs: np.ndarray | None = None       # (n,) +-1: (G x)_i = sign_i x_g(i) (None: all +1)
+    element_signs: np.ndarray | None = None   # (elements,) +-1, the same on the sliders
 
-    def state(self, hist: np.ndarray) -> np.ndarray:
-        """g on the monodromy's state [dq, dq', dz] (dz: the sliders of elements ``hist``, slot by slot)."""
+    def state(self, hist: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(g, signs) on the monodromy's state [dq, dq', dz] (dz: the sliders of elements ``hist``, slot by
+        slot): (G x)_i = signs_i x_g(i)."""
         n = self.dofs.size
         slot = np.full(self.elements.size, -1)
         slot[hist] = np.arange(hist.size)
@@ -469,7 +474,9 @@ class Symmetry:
         if np.any(moved < 0):
             raise ValueError("the symmetry maps a slider with a history onto one without: the orbit is not "
                              "symmetric")
-        return np.concatenate([self.dofs, n + self.dofs, 2 * n + moved])
+        dof = np.ones(n) if self.dof_signs is None else self.dof_signs
+        element = np.ones(hist.size) if self.element_signs is None else self.element_signs[hist]
+        return np.concatenate([self.dofs, n + self.dofs, 2 * n + moved]), np.concatenate([dof, dof, element])
 
 
 def symmetric_monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarray, omega: float,
@@ -482,12 +489,12 @@ def symmetric_monodromy(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.nd
     if nt % q:
         raise ValueError(f"{nt} samples do not split the period into {q} equal parts")
     short, grazing = _flow_grazing(M, C, K, W, law, state, F, omega, y_rate, nt // q)
-    g = symmetry.state(history(np.ascontiguousarray(state)))
-    power = np.linalg.matrix_power(short[g], q)          # (G Phi(T / q))^q
-    gq = np.arange(g.size)
+    g, sign = symmetry.state(history(np.ascontiguousarray(state)))
+    power = np.linalg.matrix_power(sign[:, None] * short[g], q)    # (G Phi(T / q))^q
+    gq, sq = np.arange(g.size), np.ones(g.size)
     for _ in range(q):
-        gq = gq[g]                                       # G^q x = x[gq]
-    return power[np.argsort(gq)], grazing * q            # G^-q x = x[gq^-1]
+        gq, sq = gq[g], sign * sq[g]                     # G^q x = sq x[gq]
+    return (sq[:, None] * power)[np.argsort(gq)], grazing * q      # G^-q y = (sq y)[gq^-1] (sq = 1 / sq)
 
 
 def multipliers(Phi: np.ndarray) -> np.ndarray:
@@ -587,8 +594,25 @@ def orbit_stability(M, C, K, W, law: ContactLaw, state: np.ndarray, F: np.ndarra
                     symmetry: Symmetry | None = None) -> Stability:
     """:func:`orbit_multipliers` of the orbit with their error: ``coarse`` (state, F, y_rate) is the same
     orbit's law sampled at half the instants (:func:`sampling_error`)."""
-    mult, grazing = _orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate, symmetry)
-    coarse_mult, _ = _orbit_multipliers(M, C, K, W, law, *coarse[:2], omega, coarse[2], symmetry)
+    return blocks_stability([(M, C, K, W, law, symmetry)], state, F, omega, y_rate, coarse)
+
+
+def block_multipliers(blocks, state: np.ndarray, F: np.ndarray, omega: float,
+                      y_rate: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+    """(multipliers, grazing touches) of a flow that splits into invariant subspaces, each the same
+    orbit's (``state``, ``F``, ``y_rate``) on its own (M, C, K, W, law, symmetry) of ``blocks``
+    (:func:`orbit_multipliers` each): the monodromy is block diagonal in them, its multipliers the union
+    of theirs, largest modulus first."""
+    parts = [_orbit_multipliers(M, C, K, W, law, state, F, omega, y_rate, symmetry)
+             for M, C, K, W, law, symmetry in blocks]
+    return _largest_first(np.concatenate([mu for mu, _ in parts])), sum(g for _, g in parts)
+
+
+def blocks_stability(blocks, state: np.ndarray, F: np.ndarray, omega: float, y_rate: np.ndarray | None,
+                     coarse: tuple[np.ndarray, np.ndarray, np.ndarray | None]) -> Stability:
+    """:func:`orbit_stability` of a flow split into ``blocks`` (:func:`block_multipliers`)."""
+    mult, grazing = block_multipliers(blocks, state, F, omega, y_rate)
+    coarse_mult, _ = block_multipliers(blocks, *coarse[:2], omega, coarse[2])
     largest = float(np.abs(mult).max(initial=0.0))
     return Stability(multipliers=mult, error=sampling_error(largest, float(np.abs(coarse_mult).max(initial=0.0))),
                      grazing=grazing)
