@@ -4,15 +4,16 @@ Kinematics
 ----------
 Rotating disk frame O-XYZ (docs/geometry.md): the disk spins about +Z
 at Omega, X runs radially through the root-section centre at X = R_d, the
-blade axis is x = X - R_d in [0, L]. The section at x is the rectangle
-b (chord, along e_w) x h (thickness, along e_v), turned about X by
+blade axis is x = X - R_d in [0, L]. The section at x (the rectangle b
+(chord, along e_w) x h (thickness, along e_v) or the NACA profile, tapered:
+reduced_model.airfoil) has its centroid on the axis and is turned about X by
 beta(x) = beta_1 + beta_t x / L, so e_v = (0, c, s), e_w = (0, -s, c) with
 c, s = cos beta, sin beta.
 
 The fields are written in the (non-twisting) disk frame:
 
-    u(x)        radial (X) displacement of the section centre, m
-    v_Y, w_Z    displacement of the section centre along Y and Z, m
+    u(x)        radial (X) displacement of the section centroid, m
+    v_Y, w_Z    displacement of the section centroid along Y and Z, m
     psi_Y,psi_Z tilt of the section normal towards Y and Z, rad
                 (a section point at (Y, Z) moves -Y psi_Y - Z psi_Z along X)
     theta       twist of the section about X, rad (``reduced.torsion = true``
@@ -24,11 +25,14 @@ Working in the disk frame keeps the kinematics exact for any twist rate: the
 pretwist enters only through the section tensor
 Q(x) = rho int p (x) p dA turned by beta(x),
 
-    I_YY = I_v c^2 + I_w s^2,  I_ZZ = I_v s^2 + I_w c^2,  I_YZ = (I_v - I_w) c s,
+    I_YY = I_v c^2 + I_w s^2 - 2 I_vw c s,  I_ZZ = I_v s^2 + I_w c^2 + 2 I_vw c s,
+    I_YZ = (I_v - I_w) c s + I_vw (c^2 - s^2),
 
-with I_v = int eta_v^2 dA (bending along e_v, flap) and I_w (along e_w,
-chord), J, Gamma, I_rr from reduced_model.section (the shear centre is the
-centroid for this doubly symmetric section); the section-frame components the paper
+with I_v = int eta_v^2 dA (bending along e_v, flap), I_w (along e_w,
+chord) and I_vw (zero for the rectangle, not for a cambered profile: its
+principal axes are turned from e_v, e_w), J, Gamma, I_rr, the shear centre
+from reduced_model.airfoil.span_sections at each Gauss point (docs/extended-beam.md,
+"Any blade"); the section-frame components the paper
 works in are recovered at the tip, v_L = c_L v_Y(L) + s_L w_Z(L),
 w_L = -s_L v_Y(L) + c_L w_Z(L).
 
@@ -37,7 +41,7 @@ Inertia, rotation and loads: one body formula
 Each section (per unit length) and the shroud are bodies that move rigidly
 with U + r x p; all their inertial terms follow from their mass m, first
 moment S = int rho p and second moment Q = int rho p (x) p about the point
-they hang on (the section centre), with B(p) = [I, -[p x]] (3 x 6) mapping
+they hang on (the section's centroid), with B(p) = [I, -[p x]] (3 x 6) mapping
 s = (U, r) to the displacement of p (:func:`body_terms`):
 
 * kinetic energy 1/2 int rho |B s_dot|^2: M = int rho B^T B;
@@ -87,8 +91,21 @@ Stiffness (rho, E, G = E / (2 (1 + nu)), section A, I, J, I_rr)
                the section's own coefficients kappa_v, kappa_w by Cowper's
                definition (reduced_model.section: the flexure problem solved
                on the section's shape; for a rectangle they are the formula's,
-               whatever its aspect ratio), turned with the section:
+               whatever its aspect ratio; also the paper's beam on any other
+               section), along the section's principal axes and turned with it:
                k G A |.|^2 -> gamma^T G A R diag(kappa_v, kappa_w) R^T gamma;
+  with torsion and the shear centre p_S off the centroid (a cambered profile:
+  Trefftz's shear centre, reduced_model.section_mesh): the shear strain is
+  taken where the shear force acts, at the shear centre, whose twist rate
+  theta' adds theta' e_X x p_S, so gamma -> gamma + theta' (-Z_s, Y_s)
+  (a rigid turn, theta' = 0, strains nothing); with the warping function
+  about the shear centre (orthogonal to 1, eta_v, eta_w) bending and
+  warping stay uncoupled, and in the Euler-Bernoulli limit the line of shear
+  centres bends, E I v_S'', while the centroid, where the mass is, moves
+  by v_S - theta e_X x p_S: the shear-centre-referenced model (Banerjee, Int.
+  J. Numer. Meth. Eng. 28, 1989), whose kinetic energy carries the offset
+  m x_alpha, by a change of variables; here the kinetic energy is the
+  centroid's (S = 0 about it) and the offset sits in the strain;
   with torsion: + 1/2 int G J theta'^2 (St-Venant) + 1/2 int E Gamma theta''^2
   (Vlasov: the clamped root holds the section's warping, so theta'(0) = 0;
   the twist functions are those of reduced_model.basis.held_root_slope; the
@@ -101,11 +118,15 @@ Stiffness (rho, E, G = E / (2 (1 + nu)), section A, I, J, I_rr)
   and its strain gains kappa r^2 theta', so
                + int E kappa I_p u' theta' + 1/2 int E kappa^2 I_rr theta'^2
   (Rosen, J. Am. Helicopter Soc. 25(3), 1980; Hodges, J. Appl. Mech. 47,
-  1980: a pretwisted strip under tension untwists); terms in int r^2 Y dA
-  (bending-twist) vanish for a doubly symmetric section;
+  1980: a pretwisted strip under tension untwists); against the bending
+  strain -Y psi_Y' - Z psi_Z' the same helix term gives
+               - int E kappa (T_Y psi_Y' + T_Z psi_Z') theta',
+  T = int r^2 (Y, Z) dA turned with the section (zero for a doubly
+  symmetric section; the product of the helix term with the warping,
+  int omega r^2 dA theta' theta'', is left out);
 * centrifugal stiffening (prestress of the axial force, Eq. 10's F_1 per
   unit length, integrated from the tip)
-               P(x) = Omega^2 [rho A (R_d (L - x) + (L^2 - x^2)/2) + m_s (R_d + L) + S_X],
+               P(x) = Omega^2 [rho int_x^L A(s) (R_d + s) ds + m_s (R_d + L) + S_X],
                1/2 int P (u'^2 + v_Y'^2 + w_Z'^2 + psi'^T I psi' / A) dx,
   the 3D geometric stiffness sigma0 : grad(u)^T grad(u) of a uniaxial
   prestress P / A integrated over the section; a twist moves the section
