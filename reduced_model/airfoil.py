@@ -128,7 +128,8 @@ def _station_values(section: SectionProperties, nu: float | None) -> dict:
     sv, sw = section.shear_centre
     kappa = section.shear_coefficients(nu) if nu is not None else (None, None)
     return dict(area=section.area, I_v=section.I_v, I_w=section.I_w, I_vw=section.I_vw, I_rr=section.I_rr,
-                I_rrv=section.I_rrv, I_rrw=section.I_rrw, J=section.J, warping=section.warping, shear_v=sv - cv, shear_w=sw - cw,
+                I_rrv=section.I_rrv, I_rrw=section.I_rrw, J=section.J, warping=section.warping,
+                shear_v=sv - cv, shear_w=sw - cw,
                 kappa_v=kappa[0], kappa_w=kappa[1])
 
 

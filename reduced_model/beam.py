@@ -407,7 +407,8 @@ def assemble(blade: Blade, material: Material, tip_body: TipBody, N: int, torsio
     # shear stiffness tensor G A kappa: the coefficients along the section's principal axes, turned with it
     near_v, near_w = _principal_axes(sec.I_v, sec.I_w, sec.I_vw)
     kappa = (sec.kappa_v, sec.kappa_w) if sec.kappa_v is not None else (shear_coefficient(material.nu),) * 2
-    in_section = [kappa[0] * near_v[i] * near_v[j] + kappa[1] * near_w[i] * near_w[j] for i, j in ((0, 0), (1, 1), (0, 1))]
+    in_section = [kappa[0] * near_v[i] * near_v[j] + kappa[1] * near_w[i] * near_w[j]
+                  for i, j in ((0, 0), (1, 1), (0, 1))]
     kGA = {key: material.G * A * value for key, value in zip(("YY", "ZZ", "YZ"), _turned(*in_section, c, s))}
     fields = 6 if torsion else 5
     n = fields * N
