@@ -93,8 +93,8 @@ def blade_section(blade: Blade, x: float) -> SectionProperties:
 SPAN_STATIONS = 4             # sections solved along a span whose profile changes shape (docs/extended-beam.md)
 # how each property scales with chord c and thickness t for a profile of fixed shape (thin-section laws)
 _SCALING = {"area": (1, 1), "I_v": (1, 3), "I_w": (3, 1), "I_vw": (3, 1), "I_rr": (5, 1), "I_rrv": (4, 1),
-            "I_rrw": (4, 1), "J": (1, 3),
-            "warping": (3, 3), "shear_v": (1, 0), "shear_w": (1, 0), "kappa_v": (0, 0), "kappa_w": (0, 0)}
+            "I_rrw": (4, 1), "J": (1, 3), "warping": (3, 3), "shear_v": (1, 0), "shear_w": (1, 0),
+            "kappa_v": (0, 0), "kappa_w": (0, 0)}
 
 
 @dataclass(frozen=True)
@@ -102,10 +102,11 @@ class SpanSections:
     """Section properties at points x along the span, each an array like x; SI.
 
     About the centroid in the section frame (e_v, e_w): area A (m^2), I_v =
-    int eta_v^2 dA, I_w, I_vw (m^4), I_rr = int r^4 dA (m^6), J (m^4), the
-    warping constant about the shear centre (m^6), the shear centre's offset
-    (shear_v, shear_w) from the centroid (m), Cowper's shear coefficients
-    along the principal axes nearest e_v and e_w (None when not asked for).
+    int eta_v^2 dA, I_w, I_vw (m^4), I_rr = int r^4 dA (m^6), I_rrv = int r^2
+    eta_v dA and I_rrw (m^5), J (m^4), the warping constant about the shear
+    centre (m^6), the shear centre's offset (shear_v, shear_w) from the
+    centroid (m), Cowper's shear coefficients along the principal axes
+    nearest e_v and e_w (None when not asked for).
     """
 
     area: np.ndarray
