@@ -18,6 +18,7 @@ shared/spec/geometry.md, "Airfoil blades and the user's own CAD":
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -87,3 +88,85 @@ def blade_section(blade: Blade, x: float) -> SectionProperties:
     if blade.section == "naca4":
         return _naca4_section(blade.naca_m, blade.naca_p, thickness / chord, chord)
     return rectangle(chord, thickness)
+
+
+SPAN_STATIONS = 4             # sections solved along a span whose profile changes shape (docs/extended-beam.md)
+# how each property scales with chord c and thickness t for a profile of fixed shape (thin-section laws)
+_SCALING = {"area": (1, 1), "I_v": (1, 3), "I_w": (3, 1), "I_vw": (3, 1), "I_rr": (5, 1), "I_rrv": (4, 1),
+            "I_rrw": (4, 1), "J": (1, 3), "warping": (3, 3), "shear_v": (1, 0), "shear_w": (1, 0),
+            "kappa_v": (0, 0), "kappa_w": (0, 0)}
+
+
+@dataclass(frozen=True)
+class SpanSections:
+    """Section properties at points x along the span, each an array like x; SI.
+
+    About the centroid in the section frame (e_v, e_w): area A (m^2), I_v =
+    int eta_v^2 dA, I_w, I_vw (m^4), I_rr = int r^4 dA (m^6), I_rrv = int r^2
+    eta_v dA and I_rrw (m^5), J (m^4), the warping constant about the shear
+    centre (m^6), the shear centre's offset (shear_v, shear_w) from the
+    centroid (m), Cowper's shear coefficients along the principal axes
+    nearest e_v and e_w (None when not asked for).
+    """
+
+    area: np.ndarray
+    I_v: np.ndarray
+    I_w: np.ndarray
+    I_vw: np.ndarray
+    I_rr: np.ndarray
+    I_rrv: np.ndarray
+    I_rrw: np.ndarray
+    J: np.ndarray
+    warping: np.ndarray
+    shear_v: np.ndarray
+    shear_w: np.ndarray
+    kappa_v: np.ndarray | None = None
+    kappa_w: np.ndarray | None = None
+
+
+def _station_values(section: SectionProperties, nu: float | None) -> dict:
+    cv, cw = section.centroid
+    sv, sw = section.shear_centre
+    kappa = section.shear_coefficients(nu) if nu is not None else (None, None)
+    return dict(area=section.area, I_v=section.I_v, I_w=section.I_w, I_vw=section.I_vw, I_rr=section.I_rr,
+                I_rrv=section.I_rrv, I_rrw=section.I_rrw, J=section.J, warping=section.warping,
+                shear_v=sv - cv, shear_w=sw - cw,
+                kappa_v=kappa[0], kappa_w=kappa[1])
+
+
+def span_stations(blade: Blade, count: int = SPAN_STATIONS) -> np.ndarray:
+    """Where sections are solved, m from the root: the root alone for a profile that keeps its shape
+    (chord and thickness tapered alike: every property then scales exactly), otherwise ``count``
+    Chebyshev-Lobatto points (root and tip included)."""
+    if blade.chord_taper == blade.thickness_taper or count == 1:
+        return np.zeros(1)
+    return 0.5 * blade.length * (1.0 - np.cos(np.pi * np.arange(count) / (count - 1)))
+
+
+def span_sections(blade: Blade, x, nu: float | None = None, count: int = SPAN_STATIONS) -> SpanSections:
+    """The sections at ``x`` (m from the root), from the sections solved at span_stations(blade, count).
+
+    Each station's property is carried to x by the scaling of a profile of
+    fixed shape, A_k (c(x) / c_k)^a (t(x) / t_k)^b (_SCALING), and the
+    stations' values are joined by the Lagrange polynomial through them:
+    exact for a profile that keeps its shape, and what is left is the slow
+    change of shape with t/c (measured in docs/extended-beam.md). ``nu``:
+    Poisson's ratio for the shear coefficients (None: not solved).
+    """
+    x = np.asarray(x, dtype=float)
+    stations = span_stations(blade, count)
+    chord, thickness = chord_and_thickness(blade, x)
+    weights = np.ones((1,) + x.shape)
+    if stations.size > 1:
+        weights = np.stack([np.prod([(x - xj) / (xk - xj) for j, xj in enumerate(stations) if j != k], axis=0)
+                            for k, xk in enumerate(stations)])
+    out = {key: np.zeros_like(x) for key in _SCALING}
+    for weight, xk in zip(weights, stations):
+        ck, tk = chord_and_thickness(blade, float(xk))
+        for key, value in _station_values(blade_section(blade, float(xk)), nu).items():
+            if value is not None:
+                a, b = _SCALING[key]
+                out[key] = out[key] + weight * value * (chord / ck) ** a * (thickness / tk) ** b
+    if nu is None:
+        out["kappa_v"] = out["kappa_w"] = None
+    return SpanSections(**out)

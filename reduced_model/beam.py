@@ -4,15 +4,16 @@ Kinematics
 ----------
 Rotating disk frame O-XYZ (docs/geometry.md): the disk spins about +Z
 at Omega, X runs radially through the root-section centre at X = R_d, the
-blade axis is x = X - R_d in [0, L]. The section at x is the rectangle
-b (chord, along e_w) x h (thickness, along e_v), turned about X by
+blade axis is x = X - R_d in [0, L]. The section at x (the rectangle b
+(chord, along e_w) x h (thickness, along e_v) or the NACA profile, tapered:
+reduced_model.airfoil) has its centroid on the axis and is turned about X by
 beta(x) = beta_1 + beta_t x / L, so e_v = (0, c, s), e_w = (0, -s, c) with
 c, s = cos beta, sin beta.
 
 The fields are written in the (non-twisting) disk frame:
 
-    u(x)        radial (X) displacement of the section centre, m
-    v_Y, w_Z    displacement of the section centre along Y and Z, m
+    u(x)        radial (X) displacement of the section centroid, m
+    v_Y, w_Z    displacement of the section centroid along Y and Z, m
     psi_Y,psi_Z tilt of the section normal towards Y and Z, rad
                 (a section point at (Y, Z) moves -Y psi_Y - Z psi_Z along X)
     theta       twist of the section about X, rad (``reduced.torsion = true``
@@ -24,11 +25,14 @@ Working in the disk frame keeps the kinematics exact for any twist rate: the
 pretwist enters only through the section tensor
 Q(x) = rho int p (x) p dA turned by beta(x),
 
-    I_YY = I_v c^2 + I_w s^2,  I_ZZ = I_v s^2 + I_w c^2,  I_YZ = (I_v - I_w) c s,
+    I_YY = I_v c^2 + I_w s^2 - 2 I_vw c s,  I_ZZ = I_v s^2 + I_w c^2 + 2 I_vw c s,
+    I_YZ = (I_v - I_w) c s + I_vw (c^2 - s^2),
 
-with I_v = int eta_v^2 dA (bending along e_v, flap) and I_w (along e_w,
-chord), J, Gamma, I_rr from reduced_model.section (the shear centre is the
-centroid for this doubly symmetric section); the section-frame components the paper
+with I_v = int eta_v^2 dA (bending along e_v, flap), I_w (along e_w,
+chord) and I_vw (zero for the rectangle, not for a cambered profile: its
+principal axes are turned from e_v, e_w), J, Gamma, I_rr, the shear centre
+from reduced_model.airfoil.span_sections at each Gauss point (docs/extended-beam.md,
+"Any blade"); the section-frame components the paper
 works in are recovered at the tip, v_L = c_L v_Y(L) + s_L w_Z(L),
 w_L = -s_L v_Y(L) + c_L w_Z(L).
 
@@ -37,7 +41,7 @@ Inertia, rotation and loads: one body formula
 Each section (per unit length) and the shroud are bodies that move rigidly
 with U + r x p; all their inertial terms follow from their mass m, first
 moment S = int rho p and second moment Q = int rho p (x) p about the point
-they hang on (the section centre), with B(p) = [I, -[p x]] (3 x 6) mapping
+they hang on (the section's centroid), with B(p) = [I, -[p x]] (3 x 6) mapping
 s = (U, r) to the displacement of p (:func:`body_terms`):
 
 * kinetic energy 1/2 int rho |B s_dot|^2: M = int rho B^T B;
@@ -87,8 +91,21 @@ Stiffness (rho, E, G = E / (2 (1 + nu)), section A, I, J, I_rr)
                the section's own coefficients kappa_v, kappa_w by Cowper's
                definition (reduced_model.section: the flexure problem solved
                on the section's shape; for a rectangle they are the formula's,
-               whatever its aspect ratio), turned with the section:
+               whatever its aspect ratio; also the paper's beam on any other
+               section), along the section's principal axes and turned with it:
                k G A |.|^2 -> gamma^T G A R diag(kappa_v, kappa_w) R^T gamma;
+  with torsion and the shear centre p_S off the centroid (a cambered profile:
+  Trefftz's shear centre, reduced_model.section_mesh): the shear strain is
+  taken where the shear force acts, at the shear centre, whose twist rate
+  theta' adds theta' e_X x p_S, so gamma -> gamma + theta' (-Z_s, Y_s)
+  (a rigid turn, theta' = 0, strains nothing); with the warping function
+  about the shear centre (orthogonal to 1, eta_v, eta_w) bending and
+  warping stay uncoupled, and in the Euler-Bernoulli limit the line of shear
+  centres bends, E I v_S'', while the centroid, where the mass is, moves
+  by v_S - theta e_X x p_S: the shear-centre-referenced model (Banerjee, Int.
+  J. Numer. Meth. Eng. 28, 1989), whose kinetic energy carries the offset
+  m x_alpha, by a change of variables; here the kinetic energy is the
+  centroid's (S = 0 about it) and the offset sits in the strain;
   with torsion: + 1/2 int G J theta'^2 (St-Venant) + 1/2 int E Gamma theta''^2
   (Vlasov: the clamped root holds the section's warping, so theta'(0) = 0;
   the twist functions are those of reduced_model.basis.held_root_slope; the
@@ -101,11 +118,15 @@ Stiffness (rho, E, G = E / (2 (1 + nu)), section A, I, J, I_rr)
   and its strain gains kappa r^2 theta', so
                + int E kappa I_p u' theta' + 1/2 int E kappa^2 I_rr theta'^2
   (Rosen, J. Am. Helicopter Soc. 25(3), 1980; Hodges, J. Appl. Mech. 47,
-  1980: a pretwisted strip under tension untwists); terms in int r^2 Y dA
-  (bending-twist) vanish for a doubly symmetric section;
+  1980: a pretwisted strip under tension untwists); against the bending
+  strain -Y psi_Y' - Z psi_Z' the same helix term gives
+               - int E kappa (T_Y psi_Y' + T_Z psi_Z') theta',
+  T = int r^2 (Y, Z) dA turned with the section (zero for a doubly
+  symmetric section; the product of the helix term with the warping,
+  int omega r^2 dA theta' theta'', is left out);
 * centrifugal stiffening (prestress of the axial force, Eq. 10's F_1 per
   unit length, integrated from the tip)
-               P(x) = Omega^2 [rho A (R_d (L - x) + (L^2 - x^2)/2) + m_s (R_d + L) + S_X],
+               P(x) = Omega^2 [rho int_x^L A(s) (R_d + s) ds + m_s (R_d + L) + S_X],
                1/2 int P (u'^2 + v_Y'^2 + w_Z'^2 + psi'^T I psi' / A) dx,
   the 3D geometric stiffness sigma0 : grad(u)^T grad(u) of a uniaxial
   prestress P / A integrated over the section; a twist moves the section
@@ -130,11 +151,12 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
+from reduced_model.airfoil import SpanSections, chord_and_thickness, span_sections
 from reduced_model.basis import Quadrature, held_root_slope, sample
-from reduced_model.section import rectangle
 from shroud.params import Blade, Material
 
 FIELDS = ("u", "v_Y", "w_Z", "psi_Y", "psi_Z", "theta")
@@ -142,6 +164,7 @@ FIELDS = ("u", "v_Y", "w_Z", "psi_Y", "psi_Z", "theta")
 _BODY_FROM_FIELD = ((0, 1.0), (1, 1.0), (2, 1.0), (5, 1.0), (4, -1.0), (3, 1.0))
 _PI = np.diag([1.0, 1.0, 0.0])
 E_X, E_Y, E_Z = np.eye(3)
+AXIAL_POINTS = 8       # Gauss points of the axial force's integral outboard of x: exact for A(x) (R_d + x) to degree 15
 
 
 def shear_coefficient(nu: float) -> float:
@@ -351,34 +374,54 @@ def _line_load(terms: np.ndarray, phis: list, weight: np.ndarray, N: int) -> np.
 @functools.lru_cache(maxsize=64)
 def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
                   torsion: bool = False) -> BeamMatrices:
-    """Assemble every speed-independent matrix once per (blade, material, shroud body, N, torsion)."""
+    """Assemble every speed-independent matrix once per (blade, material, shroud body, N, torsion).
+
+    The sections are the blade's (reduced_model.airfoil.span_sections: the
+    rectangle or the NACA profile, tapered); the paper's model keeps Cowper's
+    rectangle formula for the rectangle, every other beam the section's own
+    shear coefficients.
+    """
+    blade.check_modelled(profile=True)   # any section and taper of the blade keys; not a STEP file yet
+    own_kappa = torsion or blade.section != "rectangle"
+    return assemble(blade, material, tip_body, N, torsion,
+                    functools.partial(span_sections, blade, nu=material.nu if own_kappa else None))
+
+
+def assemble(blade: Blade, material: Material, tip_body: TipBody, N: int, torsion: bool,
+             sections: Callable[[np.ndarray], SpanSections]) -> BeamMatrices:
+    """The matrices of the beam whose section properties at x (m) are ``sections(x)``.
+
+    Geometry (length, disk radius, stagger, twist, tip chord for the labels)
+    from ``blade``. Shear coefficients from the sections where they carry them
+    (kappa_v not None), otherwise Cowper's rectangle formula on both axes.
+    """
     q: Quadrature = sample(N, blade.length)
     x, wq, phi, dphi, t = q.x, q.weight, q.value, q.slope, q.tip
     L, Rd = blade.length, blade.disk_radius
-    blade.check_modelled()               # the beam is the rectangle's, untapered
-    section = rectangle(blade.width, blade.thickness)
-    A = section.area
+    sec = sections(x)
+    A = sec.area
     rho, E = material.rho, material.E
     beta = np.radians(blade.stagger_deg) + np.radians(blade.twist_deg) * x / L
     c, s = np.cos(beta), np.sin(beta)
-    I_YY, I_ZZ, I_YZ = _turned(section.I_v, section.I_w, c, s)
-    # shear stiffness tensor G A kappa in the disk frame: the paper's model keeps Cowper's rectangle
-    # formula; the beam with the twist field the section's own coefficients (Cowper's definition)
-    kappa = section.shear_coefficients(material.nu) if torsion else (shear_coefficient(material.nu),) * 2
-    kGA = {key: material.G * A * value for key, value in zip(("YY", "ZZ", "YZ"), _turned(*kappa, c, s))}
-    one = np.ones_like(x)
+    I_YY, I_ZZ, I_YZ = _turned(sec.I_v, sec.I_w, sec.I_vw, c, s)
+    # shear stiffness tensor G A kappa: the coefficients along the section's principal axes, turned with it
+    near_v, near_w = _principal_axes(sec.I_v, sec.I_w, sec.I_vw)
+    kappa = (sec.kappa_v, sec.kappa_w) if sec.kappa_v is not None else (shear_coefficient(material.nu),) * 2
+    in_section = [kappa[0] * near_v[i] * near_v[j] + kappa[1] * near_w[i] * near_w[j]
+                  for i, j in ((0, 0), (1, 1), (0, 1))]
+    kGA = {key: material.G * A * value for key, value in zip(("YY", "ZZ", "YZ"), _turned(*in_section, c, s))}
     fields = 6 if torsion else 5
     n = fields * N
     U, V, W, PY, PZ, TH = (slice(k * N, (k + 1) * N) for k in range(6))
 
-    # inertia, rotation and loads of the sections (per unit length) and of the shroud
+    # inertia, rotation and loads of the sections (per unit length, about their centroids) and of the shroud
     Qsec = np.zeros((x.size, 3, 3))
     Qsec[:, 1, 1], Qsec[:, 2, 2], Qsec[:, 1, 2], Qsec[:, 2, 1] = I_YY, I_ZZ, I_YZ, I_YZ
-    line = body_terms(rho * A * one, np.zeros((x.size, 3)), rho * Qsec, Rd + x, second_order=torsion)
+    line = body_terms(rho * A, np.zeros((x.size, 3)), rho * Qsec, Rd + x, second_order=torsion)
     body = body_terms(tip_body.mass, tip_body.S, tip_body.Q, Rd + L)
     # the twist: N functions whose slope vanishes at the root, where the clamp holds the warping,
     # when the basis resolves that boundary layer; otherwise (slender bars) the free-warping functions
-    if warping_held(section, material, L, N):
+    if warping_held(sec.warping[0], sec.J[0], material, L, N):
         phi_t, dphi_t, ddphi_t, t_t = held_root_slope(sample(N + 1, L, points=x.size))
     else:
         phi_t, dphi_t, ddphi_t, t_t = phi, dphi, q.curvature, t
@@ -396,7 +439,7 @@ def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
     K_acc1 = 0.5 * G1
 
     K_e = np.zeros((n, n))
-    K_e[U, U] = _gram(dphi, E * A * one, dphi, wq)
+    K_e[U, U] = _gram(dphi, E * A, dphi, wq)
     strain = {"Y": (V, PY), "Z": (W, PZ)}           # gamma = d' - psi; 1/2 gamma^T kGA gamma
     for a, (disp_a, tilt_a) in strain.items():
         for b, (disp_b, tilt_b) in strain.items():
@@ -409,7 +452,7 @@ def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
                          (PY, PZ): _gram(dphi, E * I_YZ, dphi, wq)})
 
     # axial force per Omega^2: blade outboard of x plus the shroud at the tip
-    P1 = rho * A * (Rd * (L - x) + 0.5 * (L**2 - x**2)) + tip_body.mass * (Rd + L) + tip_body.first[0]
+    P1 = rho * _outboard(sections, x, L, Rd) + tip_body.mass * (Rd + L) + tip_body.first[0]
     K_c1 = np.zeros((n, n))
     for f in (U, V, W):
         K_c1[f, f] = _gram(dphi, P1, dphi, wq)
@@ -418,11 +461,23 @@ def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
                           (PY, PZ): _gram(dphi, P1 * I_YZ / A, dphi, wq)})
     if torsion:
         kappa = math.radians(blade.twist_deg) / L              # pretwist rate, rad/m
-        _add_symmetric(K_e, {(TH, TH): _gram(dphi_t, (material.G * section.J + E * kappa**2 * section.I_rr) * one,
-                                             dphi_t, wq)
-                             + _gram(ddphi_t, E * section.warping * one, ddphi_t, wq),
-                             (U, TH): _gram(dphi, E * kappa * section.I_p * one, dphi_t, wq)})
-        K_c1[TH, TH] = _gram(dphi_t, P1 * section.I_p / A, dphi_t, wq)
+        I_p = sec.I_v + sec.I_w
+        # the shear centre's arm: a twist rate theta' shears the section at the shear centre by
+        # theta' e_X x p_S (p_S its offset from the centroid, turned with the section), so the shear
+        # strain there is gamma + theta' a, a = e_X x p_S = (-Z_s, Y_s)
+        Y_s, Z_s = sec.shear_v * c - sec.shear_w * s, sec.shear_v * s + sec.shear_w * c
+        ka_Y, ka_Z = -kGA["YY"] * Z_s + kGA["YZ"] * Y_s, -kGA["YZ"] * Z_s + kGA["ZZ"] * Y_s
+        # the helix strain kappa r^2 theta' against the bending strain -Y psi_Y' - Z psi_Z' (Rosen):
+        # int r^2 (Y, Z) dA, turned with the section, nonzero for a section without two symmetry axes
+        T_Y, T_Z = sec.I_rrv * c - sec.I_rrw * s, sec.I_rrv * s + sec.I_rrw * c
+        _add_symmetric(K_e, {(TH, TH): _gram(dphi_t, material.G * sec.J + E * kappa**2 * sec.I_rr
+                                             - Z_s * ka_Y + Y_s * ka_Z, dphi_t, wq)
+                             + _gram(ddphi_t, E * sec.warping, ddphi_t, wq),
+                             (U, TH): _gram(dphi, E * kappa * I_p, dphi_t, wq),
+                             (PY, TH): -_gram(dphi, E * kappa * T_Y, dphi_t, wq) - _gram(phi, ka_Y, dphi_t, wq),
+                             (PZ, TH): -_gram(dphi, E * kappa * T_Z, dphi_t, wq) - _gram(phi, ka_Z, dphi_t, wq),
+                             (V, TH): _gram(dphi, ka_Y, dphi_t, wq), (W, TH): _gram(dphi, ka_Z, dphi_t, wq)})
+        K_c1[TH, TH] = _gram(dphi_t, P1 * I_p / A, dphi_t, wq)
 
     f_aero1 = np.zeros(n)
     f_aero1[V], f_aero1[W] = _load(phi, c, wq), _load(phi, s, wq)
@@ -440,27 +495,45 @@ def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
                   f_aero1=f_aero1, f_acc1=f_acc1, tip=tip, tip_radial=tip_radial, tip_body=T)
     for a in arrays.values():
         a.flags.writeable = False      # shared through the cache: never modified
-    return BeamMatrices(N=N, fields=fields, torsion_arm=0.5 * blade.width, **arrays)
+    return BeamMatrices(N=N, fields=fields, torsion_arm=0.5 * chord_and_thickness(blade, L)[0], **arrays)
 
 
-def _turned(along_v, along_w, c, s) -> tuple:
-    """(YY, ZZ, YZ) disk-frame components of the section-frame tensor diag(along_v, along_w)
+def _outboard(sections: Callable, x: np.ndarray, L: float, Rd: float) -> np.ndarray:
+    """int_x^L A(s) (R_d + s) ds, m^3, at each x: the blade's share of the axial force per rho Omega^2 (Eq. 10)."""
+    t, w = np.polynomial.legendre.leggauss(AXIAL_POINTS)
+    half = 0.5 * (L - x)[:, None]
+    s = x[:, None] + half * (t + 1.0)
+    return np.sum(half * w * sections(s).area * (Rd + s), axis=1)
+
+
+def _turned(along_v, along_w, across, c, s) -> tuple:
+    """(YY, ZZ, YZ) disk-frame components of the section-frame tensor [[along_v, across], [across, along_w]]
     turned by beta (c, s = cos beta, sin beta): e_v = (0, c, s), e_w = (0, -s, c)."""
-    return along_v * c**2 + along_w * s**2, along_v * s**2 + along_w * c**2, (along_v - along_w) * c * s
+    return (along_v * c**2 + along_w * s**2 - 2.0 * across * c * s,
+            along_v * s**2 + along_w * c**2 + 2.0 * across * c * s,
+            (along_v - along_w) * c * s + across * (c**2 - s**2))
 
 
-def warping_held(section, material: Material, length: float, N: int) -> bool:
+def _principal_axes(I_v, I_w, I_vw) -> tuple:
+    """The principal axes nearest e_v and e_w, (v, w) components (2, ...) each (as reduced_model.section._flexure)."""
+    theta = 0.5 * np.arctan2(2.0 * I_vw, I_w - I_v)
+    first, second = np.array([np.sin(theta), np.cos(theta)]), np.array([np.cos(theta), -np.sin(theta)])
+    first_near_w = np.abs(np.cos(theta)) >= np.abs(np.sin(theta))
+    return np.where(first_near_w, second, first), np.where(first_near_w, first, second)
+
+
+def warping_held(warping: float, J: float, material: Material, length: float, N: int) -> bool:
     """Whether the twist functions hold the root's warping (theta'(0) = 0).
 
     Holding it adds a boundary layer of length lambda = sqrt(E Gamma / G J)
-    at the root (10 mm for the blade's 40 x 7 mm section); it changes the
-    torsional stiffness by about lambda / L. Polynomials of degree N resolve
-    features down to about L / N^2: a thinner layer cannot be carried (the
-    held slope would stiffen a whole L / N^2 stretch, an error larger than
-    the effect), so then the root warps freely (St-Venant) and the error
-    left is below lambda / L < 1 / N^2.
+    at the root (Gamma, J the root section's, m^6, m^4; 10 mm for the blade's
+    40 x 7 mm section); it changes the torsional stiffness by about lambda / L.
+    Polynomials of degree N resolve features down to about L / N^2: a thinner
+    layer cannot be carried (the held slope would stiffen a whole L / N^2
+    stretch, an error larger than the effect), so then the root warps freely
+    (St-Venant) and the error left is below lambda / L < 1 / N^2.
     """
-    decay = math.sqrt(material.E * section.warping / (material.G * section.J))
+    decay = math.sqrt(material.E * warping / (material.G * J))
     return decay >= length / N**2
 
 

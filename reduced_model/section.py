@@ -12,6 +12,8 @@ The beam (reduced_model.beam) needs, per section, in the section frame
     I_p = I_v + I_w        polar second moment about the centroid, m^4
     I_rr = int r^4 dA      fourth polar moment, r^2 = eta_v^2 + eta_w^2, m^6
                            (the extension-twist coupling of a pretwisted beam)
+    I_rrv, I_rrw = int r^2 eta_v dA, int r^2 eta_w dA, m^5 (the bending-twist
+                           coupling of pretwist; zero for a doubly symmetric section)
     J                      St-Venant torsion constant, m^4
     Gamma = int omega^2 dA warping constant, omega the St-Venant warping
                            function about the shear centre, m^6
@@ -134,6 +136,8 @@ class SectionProperties:
     I_w: float             # int eta_w^2 dA, m^4 (chord bending)
     I_vw: float            # int eta_v eta_w dA, m^4
     I_rr: float            # int (eta_v^2 + eta_w^2)^2 dA, m^6
+    I_rrv: float           # int (eta_v^2 + eta_w^2) eta_v dA, m^5
+    I_rrw: float           # int (eta_v^2 + eta_w^2) eta_w dA, m^5
     J: float               # St-Venant torsion constant, m^4
     warping: float         # Gamma = int omega^2 dA, warping constant about the shear centre, m^6
     shear_centre: tuple    # (v_s, w_s), m, in the shape's own coordinates
@@ -415,10 +419,12 @@ def section_properties(inside: Callable, v_range: tuple, w_range: tuple,
         return total
 
     I_rr = shifted(4, 0) + 2.0 * shifted(2, 2) + shifted(0, 4)
+    I_rrv, I_rrw = shifted(3, 0) + shifted(1, 2), shifted(2, 1) + shifted(0, 3)
     coarse = _torsion_warping(inside, v_range, w_range, cells_v, cells_w, (cv, cw))
     fine = _torsion_warping(inside, v_range, w_range, 2 * cells_v, 2 * cells_w, (cv, cw))
     J, gamma = (f + (f - c) / 3.0 for c, f in zip(coarse[:2], fine[:2]))     # Richardson, second order
     return SectionProperties(area=A, centroid=(cv, cw), I_v=Ivv, I_w=Iww, I_vw=Ivw, I_rr=I_rr, J=J,
+                             I_rrv=I_rrv, I_rrw=I_rrw,
                              warping=gamma, shear_centre=fine[2],
                              flexure_integrals=functools.partial(_grid_flexure, inside, v_range, w_range,
                                                                  cells_v, cells_w))

@@ -232,6 +232,7 @@ def section_on_mesh(outline: np.ndarray, holes: tuple = (), size: float | None =
     v, w = X[..., 0] - cv, X[..., 1] - cw
     I_v, I_w, I_vw = (float(np.sum(q * weight)) for q in (v * v, w * w, v * w))
     I_rr = float(np.sum((v * v + w * w) ** 2 * weight))
+    I_rrv, I_rrw = (float(np.sum((v * v + w * w) * q * weight)) for q in (v, w))
     K = elements.stiffness()
     omega = _solve_held(K, elements.gradient_load(np.stack([w, -v], axis=-1)), held=np.array([0]))
     J = I_v + I_w - float(omega @ K @ omega)
@@ -245,6 +246,7 @@ def section_on_mesh(outline: np.ndarray, holes: tuple = (), size: float | None =
     hole_areas = [abs(_signed_area(np.asarray(h, dtype=float))) for h in holes]
     J_lower = _prandtl_J(elements, K, loops, hole_areas)
     return SectionProperties(area=A, centroid=(float(cv), float(cw)), I_v=I_v, I_w=I_w, I_vw=I_vw, I_rr=I_rr,
+                             I_rrv=I_rrv, I_rrw=I_rrw,
                              J=J, warping=gamma, shear_centre=(float(cv - minus_v_s), float(cw + w_s)),
                              flexure_integrals=functools.partial(_flexure, elements),
                              method=f"P2 triangles ({len(triangles)} elements, {elements.nodes} nodes)",

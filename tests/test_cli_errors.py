@@ -122,21 +122,23 @@ def test_bad_analysis_commands(tmp_path, capsys, argv, key):
 
 UNBUILT = [("blade.section=naca4", "blade.section"), ("blade.chord_taper=0.75", "blade.chord_taper"),
            ("blade.thickness_taper=0.6", "blade.thickness_taper"), ("blade.step=blade.step", "blade.step")]
+COMMANDS = [["modal"], ["static", "--tip-force", "0", "100", "0"], ["transient", "--out", "{out}"],
+            ["sweep", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "2"],
+            ["sweep", "--method", "hb", "--checkpoints", "9000"], ["run", "{scene}", "--out", "{out}"]]
 
 
 @pytest.mark.parametrize("assignment, key", UNBUILT)
-@pytest.mark.parametrize("argv", [["modal"], ["static", "--tip-force", "0", "100", "0"],
-                                  ["transient", "--out", "{out}"],
-                                  ["sweep", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "2"],
-                                  ["sweep", "--method", "hb", "--checkpoints", "9000"],
-                                  ["run", "{scene}", "--out", "{out}"]])
+@pytest.mark.parametrize("argv", COMMANDS)
 def test_blade_keys_no_model_takes_yet_are_refused_not_dropped(tmp_path, capsys, argv, assignment, key):
-    """The airfoil, its tapers and a STEP file: every command but `shroud section` refuses them, naming
-    the key, before anything is written (a rectangle run in their place would answer another question)."""
+    """The airfoil and its tapers on the solid and shell models and in studies, a STEP file anywhere:
+    refused, naming the key, before anything is written (a rectangle run in their place would answer
+    another question). Only the beams take the airfoil and the tapers (tests/test_reduced_airfoil.py)."""
     out = tmp_path / "out"
     argv = [a.format(scene=_scene(tmp_path, GOOD), out=out) for a in argv]
+    if argv[0] != "run" and key != "blade.step":        # the solid (the only one a time sweep rebuilds: reduced)
+        argv += ["--model", "fe-reduced" if "--rpm-count" in argv else "fe"]
     line = _refused(capsys, argv + ["--set", assignment], key, out)
-    assert "not built yet" in line if key == "blade.step" else "do not take it yet" in line
+    assert "not built yet" in line if key == "blade.step" else "only the beam models" in line
 
 
 @pytest.mark.parametrize("argv, key", [(["section", "--at", "0.16"], "--at"), (["section", "--at", "-0.01"], "--at"),

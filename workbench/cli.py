@@ -137,12 +137,17 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+# The models that take a NACA section and tapers: the beams, on the sections along the span
+# (reduced_model.airfoil.span_sections).
+PROFILE_MODELS = ("reduced", "full", "extended")
+
+
 def _params(args):
     from workbench.scene import load_scene
     overrides = list(args.set)
     if getattr(args, "rpm", None) is not None:
         overrides.append(f"speed.rpm={args.rpm}")
-    return load_scene(args.scene, overrides).params
+    return load_scene(args.scene, overrides, profile=getattr(args, "model", None) in PROFILE_MODELS).params
 
 
 def _emit(args, payload: dict, text: str) -> None:

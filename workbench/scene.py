@@ -116,9 +116,9 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
                study: str | None = None, profile: bool = False) -> Scene:
     """Read, merge and validate a scene (or the bare defaults when ``path`` is None).
 
-    The blade keys no model takes yet are refused here, before anything is
+    The blade keys the path at hand cannot honour are refused here, before anything is
     written (shroud.params.Blade.check_modelled; ``profile`` lets a NACA
-    section and tapers through, for ``shroud section``).
+    section and tapers through, for the beams and ``shroud section``).
 
     The ``[quick]`` table is checked whether or not ``quick`` is asked for, so
     a typo in it fails on the first run, not on the first quick run.
