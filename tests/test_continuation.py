@@ -95,3 +95,14 @@ def test_a_grazing_touch_is_passed_forward():
     free = lambda x, q: x >= -g - 1e-12 and abs(x + F / (-q - k)) < 1e-7
     touching = lambda x, q: x < -g and abs(-q - (k + kc - (kc * g - F) / abs(x))) < 1e-7
     passed_forward(branch, free, touching, -(k + F / g), -3.0, -1.5)
+
+
+def test_a_branch_whose_steps_add_up_to_its_end_does_not_repeat_its_last_point():
+    """x = 1e-9 p from 7900 to 14000 with steps of exactly dp_max = (14000 - 7900) / 29: the 29th lands
+    1.5e-11 short of 14000 by rounding; it is the last point, put at 14000, not followed by 14000 again
+    (the 6-blade ring's branch, 7900-14000 r/min, ended 13999.9999975, 14000)."""
+    residual = scalar(lambda x, p: x - 1e-9 * p, lambda x, p: 1.0, lambda x, p: -1e-9)
+    branch = continue_branch(residual, np.array([7.9e-6]), 7900.0, 14000.0, 1.0, ds=0.05, ds_max=0.5,
+                             dp_max=6100.0 / 29)
+    assert branch.complete and branch.p[-1] == 14000.0 and len(branch.p) == 30
+    assert np.allclose(np.diff(branch.p), 6100.0 / 29)

@@ -28,6 +28,8 @@ GROW_ITERATIONS, GROW = 4, 1.5   # a corrector this quick lets the next step gro
                                  # the 1 um gap's branch at mu 0.3 at a corner before its peak)
 CONVERGED = 1e-8         # a Newton step this small (scaled, relative to 1 + |u|) ends a corrector
 STALL_FROM, STALL = 4, 1e-3   # from this iteration on, a corrector still moving this much (scaled): cycling
+END = 1e-9               # a point this close to p_end (share of the range) is the last: else steps of exactly
+                         # dp_max land 1e-15 short of it and p_end repeats the point (6 blades, 7900-14000 r/min)
 
 # residual(x, p) -> (R, dR/dx, () -> dR/dp): the parameter derivative is asked for only where it is used
 Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, Callable[[], np.ndarray]]]
@@ -196,7 +198,8 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
             branch.complete = False
             branch.stopped = f"the branch turned back below the first parameter value p = {p0:g}"
             return branch
-        back = _retraced(path[:count], u_new, u_new - u) if p_new < p_end else None
+        at_end = p_new >= p_end - END * (p_end - p0)    # a step landing a hair short of p_end reaches it
+        back = _retraced(path[:count], u_new, u_new - u) if not at_end else None
         if held is not None:
             if back is not None:
                 branch.complete = False
@@ -206,7 +209,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
                 return branch
             report(*held)
             held = None
-        if p_new >= p_end:                     # last point exactly at p_end
+        if at_end:                             # last point exactly at p_end
             s = (p_end / p_scale - u[-1]) / (u_new[-1] - u[-1])
             xe, it_e, ok_e, _ = newton_fixed_p((u[:-1] + s * (u_new[:-1] - u[:-1])) * x_scale, p_end)
             if ok_e:
