@@ -429,12 +429,12 @@ def test_a_closed_loop_stops_where_it_comes_back_onto_itself():
     """R(x, p) = x^2 + (p - 10)^2 - 1: the solutions are the unit circle about p = 10, an isolated loop that
     never reaches p_end = 100 nor turns back below p0 (the check for a branch leaving its range). The
     continuation goes round once, covering the circle (p from 9 to 11, x from -1 to 1, every point on it),
-    and stops where it comes back onto its path, saying so, instead of circling up to max_points."""
+    and stops where it comes back onto its path, saying so, instead of circling up to max_points. Its two
+    smooth folds in p are located where they lie (p = 11, then 9)."""
     def residual(x, p):
         return np.array([x[0] ** 2 + (p - 10.0) ** 2 - 1.0]), np.array([[2 * x[0]]]), lambda: np.array([2 * (p - 10.0)])
     from shroud.core.continuation import continue_branch
-    branch = continue_branch(residual, np.array([math.sqrt(0.75)]), 9.5, 100.0, 1.0, ds=0.02, ds_max=0.05,
-                             stop_on_retrace=True)
+    branch = continue_branch(residual, np.array([math.sqrt(0.75)]), 9.5, 100.0, 1.0, ds=0.02, ds_max=0.05)
     x, p = np.array(branch.x)[:, 0], np.array(branch.p)
     assert not branch.complete and "came back onto its own path" in branch.stopped
     assert np.allclose(x ** 2 + (p - 10.0) ** 2, 1.0, atol=1e-8)
@@ -443,3 +443,5 @@ def test_a_closed_loop_stops_where_it_comes_back_onto_itself():
     turned = np.unwrap(np.arctan2(x, p - 10.0))
     assert 2 * math.pi - 0.2 <= abs(turned[-1] - turned[0]) < 2 * math.pi + 0.5    # once round (to a step), not twice
     assert len(branch.p) < 2000
+    assert [f["kind"] for f in branch.folds] == ["smooth", "smooth"] and not branch.kinks
+    assert np.allclose([f["p"] for f in branch.folds], [11.0, 9.0], atol=1e-4)

@@ -244,3 +244,35 @@ def test_the_whole_rings_banded_solves_give_the_dense_solves_answers(monkeypatch
     assert np.abs(X - X0).max() <= 1e-9 * np.abs(X0).max()
     assert rpm.shape == rpm0.shape and np.abs(rpm - rpm0).max() < 1e-3
     assert np.abs(amp / amp0 - 1).max() < 1e-6
+
+
+# The ring in time (24 blades, the contact below, 400 periods from rest; settled: the same amplitude to 5 digits
+# at periods 200, 300, 350 and 399, P1, energy balance 2e-4 and 1e-3): blade 0's v_L amplitude, m.
+# shroud transient --model reduced --set ring.blades=24 --set contact.kn=1e7 --set contact.kt=5e6
+#   --set contact.mu=0.3 --set contact.alpha_deg=30 --set contact.N0=20 --set speed.rpm=10000 (11000)
+#   --set time.periods=400 --json
+RING_24_IN_TIME = {10000.0: 5.6676e-6, 11000.0: 7.5200e-6}
+
+
+def test_the_24_blade_rings_branch_passes_its_folds_forward_onto_the_waves_in_time():
+    """Issue 32: the tuned 24-blade ring, preload 20 N, 7900-11100 r/min. Before, the branch rose to a fold at
+    9549 r/min, came back to 9325, turned and retraced its own points down to 7900 ("turned back below the
+    first parameter value", 91 points; checked on commit fd23feb). Now it passes both folds forward (each
+    recorded, the upper near 9549 and the lower near 9325 r/min), no point twice, and reaches 11100 r/min,
+    crossing 10000 and 11000 r/min once each within 1 % of the ring in time there (measured +0.23 % and
+    +0.69 %)."""
+    from shroud.analysis.ring_hb import run_ring_hb
+    p = Parameters().updated({"contact.kn": 1e7, "contact.kt": 5e6, "contact.mu": 0.3, "contact.alpha_deg": 30.0,
+                              "contact.N0": 20.0, "ring.blades": 24})
+    br = run_ring_hb(p, "reduced", 7900.0, 11100.0, stability=False).branch
+    assert br.complete and br.rpm[-1] == 11100.0
+    folds = [f["rpm"] for f in br.folds]
+    assert any(abs(f - 9549) < 5 for f in folds) and any(abs(f - 9325) < 5 for f in folds)
+    u = np.column_stack([br.X / np.abs(br.X).max(), br.rpm / 1e4])
+    gaps = np.linalg.norm(u[:, None] - u[None], axis=-1) + np.eye(len(u))
+    assert gaps.min() > 1e-9                                              # no point twice
+    for rpm, amplitude in RING_24_IN_TIME.items():
+        a, r = br.amplitude_v_L, br.rpm
+        crossings = [a[i] + (a[i + 1] - a[i]) * (rpm - r[i]) / (r[i + 1] - r[i]) for i in range(len(r) - 1)
+                     if min(r[i], r[i + 1]) <= rpm <= max(r[i], r[i + 1]) and r[i] != r[i + 1]]
+        assert len(crossings) == 1 and abs(crossings[0] / amplitude - 1) < 0.01, (rpm, crossings)

@@ -31,7 +31,7 @@ from shroud.analysis.checks import MEMORY_SHARE
 from shroud.analysis.systems import solver
 from shroud.core import floquet, registry
 from shroud.core import harmonic_balance as hb
-from shroud.core.continuation import Factorize, continue_branch
+from shroud.core.continuation import Branch, Factorize, continue_branch
 from shroud.core.linear_solvers import dense
 from shroud.core.newmark import NewmarkScheme, integrate
 from shroud.core.results import HBResult
@@ -282,26 +282,58 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
     law = contact_law_for(system, params.contact)
     residual = residual_in_speed(speeds, law, basis)
     X0 = hb.solve(system, law, harmonics, n).X if start is None else start   # by a load homotopy if need be
+    x_scale = branch_scale(params, X0 if start is not None else hb.linear_solution(lin))
+    branch, details = follow_branch(
+        residual, X0, rpm_from, rpm_to, x_scale, speed_step(rpm_from, rpm_to, min_points), f"HB branch {model}",
+        lambda X, rpm, previous: point_details(speeds, law, basis, X, rpm, residual.last, previous, stability),
+        factorize)
+    return branch_result(branch, details, model=model, harmonics=harmonics, samples=n, dofs=system.dofs,
+                         condensed=lin.condensed, elapsed_s=time.perf_counter() - t0)
+
+
+def branch_scale(params: Parameters, X: np.ndarray) -> float:
+    """The unknowns' scale in the arclength (m): the largest coefficient of ``X`` (the linear solution, or a
+    given state), or the gap or interference |N0| / kn where larger (1e-7 at least)."""
     gap = abs(params.contact.N0) / params.contact.kn if params.contact.enabled else 0.0
-    x_scale = max(float(np.abs(hb.linear_solution(lin) if start is None else start).max()), gap, 1e-7)
-    count = max(min_points or MIN_POINTS, 2)
+    return max(float(np.abs(X).max()), gap, 1e-7)
+
+
+def speed_step(rpm_from: float, rpm_to: float, min_points: int | None) -> float:
+    """The largest speed step (r/min) of a branch of at least ``min_points`` (MIN_POINTS by default) points."""
+    return (rpm_to - rpm_from) / (max(min_points or MIN_POINTS, 2) - 1)
+
+
+def follow_branch(residual, X0: np.ndarray, rpm_from: float, rpm_to: float, x_scale: float, dp_max: float,
+                  label: str, point_at: Callable[[np.ndarray, float, dict | None], dict],
+                  factorize: Factorize | None = None) -> tuple[Branch, list[dict]]:
+    """The one continuation in speed of every system's harmonic balance (the blade, a tuned ring's
+    sector, a whole ring; shroud.core.continuation: corners passed forward, folds located, never
+    retracing): the branch of ``residual`` (X, rpm) from X0 at ``rpm_from`` towards ``rpm_to`` (r/min;
+    a falling speed as rpm -> -rpm, :func:`run_hb_through`), and the details of each point,
+    ``point_at(X, rpm, previous point's details or None)``; ``dp_max`` the largest speed step
+    (:func:`speed_step`)."""
     details: list[dict] = []
-    progress = Progress(f"HB branch {model} {rpm_from:g}-{rpm_to:g} r/min", 1)
+    progress = Progress(f"{label} {abs(rpm_from):g}-{abs(rpm_to):g} r/min", 1)
 
     def on_point(X, rpm):
-        details.append(point_details(speeds, law, basis, X, rpm, residual.last, details[-1] if details else None,
-                                     stability))
+        details.append(point_at(X, rpm, details[-1] if details else None))
         progress.update((rpm - rpm_from) / (rpm_to - rpm_from),       # turning points step back: a share of the range
-                        f"{len(details)} points, at {rpm:.0f} r/min, amplitude {details[-1]['amplitude_v_L']:.3g} m")
+                        f"{len(details)} points, at {abs(rpm):.0f} r/min, amplitude "
+                        f"{details[-1]['amplitude_v_L']:.3g} m")
 
     branch = continue_branch(residual, X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
-                             dp_max=(rpm_to - rpm_from) / (count - 1), on_point=on_point, factorize=factorize)
+                             dp_max=dp_max, on_point=on_point, factorize=factorize)
     progress.done()
-    return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
-                                iterations=branch.iterations, complete=branch.complete,
-                                stopped=branch.stopped, dofs=system.dofs, condensed=lin.condensed,
-                                elapsed_s=time.perf_counter() - t0, X=branch.x,
-                                kinks=[{"rpm": k["p"], "turn_rad": k["turn_rad"]} for k in branch.kinks])
+    return branch, details
+
+
+def branch_result(branch: Branch, details: list[dict], elapsed_s: float, **about) -> HBResult:
+    """The HBResult of a continued branch (``about``: model, harmonics, samples, dofs, condensed), its
+    corners and folds in r/min."""
+    return HBResult.from_points(rpm=branch.p, details=details, iterations=branch.iterations,
+                                complete=branch.complete, stopped=branch.stopped, elapsed_s=elapsed_s, X=branch.x,
+                                kinks=[{"rpm": k["p"], "turn_rad": k["turn_rad"]} for k in branch.kinks],
+                                folds=[{"rpm": f["p"], "kind": f["kind"]} for f in branch.folds], **about)
 
 
 def run_hb_through(params: Parameters, model: str, X: np.ndarray, rpm: float, rpm_from: float, rpm_to: float,
@@ -321,24 +353,20 @@ def run_hb_through(params: Parameters, model: str, X: np.ndarray, rpm: float, rp
     system, lin, _, _ = speeds.at(rpm)
     law = contact_law_for(system, params.contact)
     residual = residual_in_speed(speeds, law, basis)
-    gap = abs(params.contact.N0) / params.contact.kn if params.contact.enabled else 0.0
-    x_scale = max(float(np.abs(X).max()), gap, 1e-7)
-    dp_max = (rpm_to - rpm_from) / (max(min_points or MIN_POINTS, 2) - 1)
     halves = []
     for sign, end in ((-1.0, rpm_from), (1.0, rpm_to)):
-        details: list[dict] = []
         if sign * (end - rpm) <= 0:
             continue
 
         def signed(Xc, p, sign=sign):
             R, J, d_rpm = residual(Xc, sign * p)
             return R, J, lambda: sign * d_rpm()
-        branch = continue_branch(signed, X, sign * rpm, sign * end, x_scale, ds=0.05, ds_max=0.5, dp_max=dp_max,
-                                 stop_on_retrace=True, on_point=lambda Xc, p, sign=sign, details=details: details.append(
-                                     point_details(speeds, law, basis, Xc, sign * p, residual.last,
-                                                   details[-1] if details else None)))
+        branch, details = follow_branch(
+            signed, X, sign * rpm, sign * end, branch_scale(params, X), speed_step(rpm_from, rpm_to, min_points),
+            f"HB branch {model} through {rpm:g} r/min", lambda Xc, p, previous, sign=sign: point_details(
+                speeds, law, basis, Xc, sign * p, residual.last, previous))
         halves.append((sign, branch, details))
-    rpms, xs, details, its, kinks, stops = [], [], [], [], [], []
+    rpms, xs, details, its, kinks, folds, stops = [], [], [], [], [], [], []
     for sign, branch, det in halves:
         order = slice(None, None, -1) if sign < 0 else slice(None)
         skip = 1 if sign > 0 and rpms else 0          # the seed point is the downward half's last
@@ -347,12 +375,13 @@ def run_hb_through(params: Parameters, model: str, X: np.ndarray, rpm: float, rp
         details += det[order][skip:]
         its += branch.iterations
         kinks += [{"rpm": sign * k["p"], "turn_rad": k["turn_rad"]} for k in branch.kinks]
+        folds += [{"rpm": sign * f["p"], "kind": f["kind"]} for f in branch.folds]
         if not branch.complete:
             stops.append(("down: " if sign < 0 else "up: ") + str(branch.stopped))
     return HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=rpms, details=details,
                                 iterations=its, complete=not stops, stopped="; ".join(stops) or None,
                                 dofs=system.dofs, condensed=lin.condensed, elapsed_s=time.perf_counter() - t0,
-                                X=xs, kinks=kinks)
+                                X=xs, kinks=kinks, folds=folds)
 
 
 def time_domain_state(params: Parameters, model: str, rpm: float, harmonics: int = DEFAULT_HARMONICS,

@@ -6,8 +6,9 @@ single blade's (shroud.analysis.hb.SpeedModel: condensed on its contact
 coordinates, at any speed), and its contact is interface 0 seen through
 the sector projection (shroud.core.cyclic.sector_projection): the relative
 coordinates S2 y_0(tau) - S1 y_0(tau + phi), forces back through the
-transpose. The branch is continued in speed as the single blade's
-(shroud.core.continuation).
+transpose. The branch is continued in speed by the single blade's own
+continuation (shroud.analysis.hb.follow_branch: corners passed forward,
+folds located and recorded, never retracing).
 
 Stability: against perturbations of every nodal diameter, not only the
 travelling wave's: the whole ring linearized about the wave
@@ -42,15 +43,15 @@ from typing import Any, Callable
 
 import numpy as np
 
-from shroud.analysis.hb import (DEFAULT_HARMONICS, MIN_POINTS, NOT_ASKED, NOT_CONVERGED, REFINED_ITERATIONS,
-                                Checkpoint, SpeedModel, check_inputs, model_at_speed, point_details, run_hb)
+from shroud.analysis.hb import (DEFAULT_HARMONICS, NOT_ASKED, NOT_CONVERGED, REFINED_ITERATIONS,
+                                Checkpoint, SpeedModel, branch_result, branch_scale, check_inputs, follow_branch,
+                                model_at_speed, point_details, run_hb, speed_step)
 from shroud.analysis.ring import RING_MODELS, blade_parameters, pairing
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError, RunDiverged
 from shroud.core import floquet
 from shroud.core import harmonic_balance as hb
 from shroud.core.contact import ContactLaw, contact_law
-from shroud.core.continuation import continue_branch
 from shroud.core.cyclic_banded import CyclicBanded, harmonic_major_blocks
 from shroud.core.cyclic import Faces, ring_shifts, sector_balance
 from shroud.core.linear_solvers import dense
@@ -293,14 +294,10 @@ def run_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
     system, lin, _, _ = speeds.at(rpm_from)
     sector = sector_of(system, params, harmonics)
     X0 = sector_solve(lin, sector, basis)
-    gap = abs(params.contact.N0) / params.contact.kn
-    x_scale = max(float(np.abs(hb.linear_solution(lin)).max()), gap, 1e-7)
-    count = max(min_points or MIN_POINTS, 2)
-    details: list[dict] = []
-    branch = continue_branch(_residual(speeds, sector, basis), X0, rpm_from, rpm_to, x_scale, ds=0.05, ds_max=0.5,
-                             dp_max=(rpm_to - rpm_from) / (count - 1),
-                             on_point=lambda X, rpm: details.append(_details(speeds, sector, basis, X, rpm,
-                                                                             stability and not stability_points)))
+    branch, details = follow_branch(
+        _residual(speeds, sector, basis), X0, rpm_from, rpm_to, branch_scale(params, hb.linear_solution(lin)),
+        speed_step(rpm_from, rpm_to, min_points), f"HB ring of {sector.N} {model}",
+        lambda X, rpm, previous: _details(speeds, sector, basis, X, rpm, stability and not stability_points))
     if stability and stability_points:
         ends = [j for rpm in stability_at for i, (a, b) in enumerate(zip(branch.p, branch.p[1:]))
                 if a != b and min(a, b) <= rpm <= max(a, b) for j in (i, i + 1)]
@@ -308,10 +305,8 @@ def run_ring_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float,
                                 len(branch.p), stability_points, ends)
         for i, st in found.items():
             details[i].update(multipliers=st.multipliers, multiplier_error=st.error, stable=st.stable)
-    result = HBResult.from_points(model=model, harmonics=harmonics, samples=n, rpm=branch.p, details=details,
-                                  iterations=branch.iterations, complete=branch.complete, stopped=branch.stopped,
-                                  dofs=system.dofs, condensed=lin.condensed, elapsed_s=time.perf_counter() - t0,
-                                  X=branch.x)
+    result = branch_result(branch, details, model=model, harmonics=harmonics, samples=n, dofs=system.dofs,
+                           condensed=lin.condensed, elapsed_s=time.perf_counter() - t0)
     return RingHBResult(branch=result, blades=params.ring.blades, stability=stability)
 
 

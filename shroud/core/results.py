@@ -402,8 +402,11 @@ class HBResult:
     period-doubling, Neimark-Sacker). ``spectral_tail``: the share (RMS) of
     the contact forces' spectrum above H at the point of the largest contact
     forces (grazing points, whose brief touches are all tail, would say
-    nothing). ``kinks``: where the continuation stepped over a corner of the
-    branch ({"rpm", "turn_rad"}: the tangent turned by more than it resolves);
+    nothing). ``kinks``: where the continuation passed a corner of the
+    branch ({"rpm", "turn_rad"}: the corner, where the tangent lines either side meet, and the turn between
+    them, by more than the step resolves; past pi / 2 the branch folds there); ``folds``: where the speed
+    turns back ({"rpm", "kind"}: dp/ds changing sign, "smooth" or at a "corner"; the continuation's,
+    independent of the multipliers, whose turning is in ``bifurcations``);
     ``tail_target``: the tail H was chosen for (None: H given), met or not
     (``tail_met``).
     """
@@ -430,6 +433,7 @@ class HBResult:
     multiplier_error: np.ndarray | None = None   # per point: the error of the largest |multiplier|
     amplitude_error: np.ndarray | None = None    # per point: the v_L amplitude's change at 2 H, m (nan: not taken)
     kinks: tuple[dict, ...] = ()
+    folds: tuple[dict, ...] = ()
     tail_target: float | None = None
 
     def __post_init__(self):      # one spelling of the three verdicts: True, False, None
@@ -437,7 +441,7 @@ class HBResult:
 
     @classmethod
     def from_points(cls, model, harmonics, samples, rpm, details, iterations, complete, stopped, dofs,
-                    condensed, elapsed_s, X=None, kinks=()) -> "HBResult":
+                    condensed, elapsed_s, X=None, kinks=(), folds=()) -> "HBResult":
         from shroud.core.floquet import bifurcation, crossing
         amp = np.array([d["amplitude_v_L"] for d in details])
         bif = []
@@ -457,7 +461,7 @@ class HBResult:
                    critical=tuple(crossing(d["multipliers"]) for d in details),
                    multiplier_error=np.array([d["multiplier_error"] for d in details], float),
                    amplitude_error=np.array([d.get("amplitude_error", np.nan) for d in details], float),
-                   kinks=tuple(kinks))
+                   kinks=tuple(kinks), folds=tuple(folds))
 
     @property
     def uncertain(self) -> np.ndarray:
@@ -516,8 +520,11 @@ class HBResult:
         if not self.complete:
             out.append(f"incomplete: {self.stopped}")
         if self.kinks:
-            out.append(f"{len(self.kinks)} kink(s) stepped over at " + ", ".join(f"{k['rpm']:.0f}" for k in self.kinks)
+            out.append(f"{len(self.kinks)} kink(s) passed at " + ", ".join(f"{k['rpm']:.0f}" for k in self.kinks)
                        + " r/min (the tangent turned by more than the step resolves)")
+        if self.folds:
+            out.append(f"{len(self.folds)} fold(s) in speed at " + ", ".join(
+                f"{f['rpm']:.0f}" + (" (at a corner)" if f["kind"] == "corner" else "") for f in self.folds) + " r/min")
         if self.tail_met is False:
             out.append(f"spectral tail {self.spectral_tail:.3g} above the target {self.tail_target:g} at the most "
                        f"harmonics tried (H = {self.harmonics})")
@@ -538,6 +545,7 @@ class HBResult:
                 "bifurcations": list(self.bifurcations), "resonance": self.resonance,
                 "spectral_tail": self.spectral_tail, "harmonics_tried": list(self.harmonics_tried),
                 "tail_target": self.tail_target, "tail_met": self.tail_met, "kinks": list(self.kinks),
+                "folds": list(self.folds),
                 "complete": self.complete, "stopped": self.stopped, "notes": self.notes(),
                 "dofs": self.dofs, "condensed": self.condensed, "newton_iterations": self.iterations,
                 "elapsed_s": round(self.elapsed_s, 6)}
