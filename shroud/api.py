@@ -44,7 +44,7 @@ from shroud.core.results import HBResult, ModalResult, StaticResult, SweepResult
 from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
 
-__all__ = ["ContactElements", "ModelEntry", "Parameters", "StructuralSystem", "build_system", "continuation", "harmonic_balance", "modal", "models",
+__all__ = ["ContactElements", "ModelEntry", "Parameters", "StructuralSystem", "build_system", "check_in_time", "continuation", "harmonic_balance", "modal", "models",
            "linear_limits", "parameters", "register_model", "static", "sweep", "transient"]
 
 
@@ -122,3 +122,10 @@ def continuation(params: Parameters, model: str, rpm_from: float, rpm_to: float,
         from shroud.analysis.ring_hb import run_ring_hb
         return run_ring_hb(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)
     return _hb.run_hb(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)
+
+
+def check_in_time(params: Parameters, model: str, result, points, periods: int = _hb.IN_TIME_PERIODS):
+    """Start the project's integrator on branch points ``points`` (indices) of the HBResult ``result`` and
+    run ``periods`` periods: per point a shroud.core.period_map.InTime whose verdict answers "stays" or
+    "leaves" (shroud.analysis.hb.check_in_time)."""
+    return _hb.check_in_time(params, model, result, points, periods)
