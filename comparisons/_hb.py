@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from shroud.core.verdict import Verdict
+from shroud.core.verdict import NOT_DECIDED, Verdict
 
 SAME_RESONANCE = 0.01     # two models' resonant amplitudes this close (relative): the same resonance
 SAME_REASON = ("1 %: the match within which the studies put a time-domain point on a branch; margin: each "
@@ -137,6 +137,40 @@ def rises(resonances: list[dict], what: str) -> Verdict:
     return Verdict.of(value, 0.0, margin, below=False, above=True, unit="r/min",
                       reason=f"{what}: the smallest rise of the resonant speed from one case to the next, against "
                              "0 within the two peaks' speed errors (half the branch steps around each)")
+
+
+def bifurcations_in_time(branch, params, model: str) -> list[dict]:
+    """Every bifurcation of ``branch`` checked in time: the branch points on both sides of each
+    (shroud.analysis.hb.bifurcation_points) started in the project's integrator for 100 periods
+    (shroud.analysis.hb.check_in_time). Per point: rpm, amplitude_m, the branch's ``stable`` there, the
+    run's verdict (JSON: "stays" or "leaves", shroud.core.period_map.InTime) and ``contradicts``: the
+    branch calls it unstable and the integrator stays, or stable and the integrator leaves. A model whose
+    M, C, K are not dense (a solid's sparse ones) is not started: an empty list."""
+    from shroud.analysis.hb import bifurcation_points, check_in_time, model_at_speed
+    points = bifurcation_points(branch)
+    if not points or not isinstance(model_at_speed(params, model)(float(branch.rpm[points[0]])).K, np.ndarray):
+        return []
+    out = []
+    for i, check in zip(points, check_in_time(params, model, branch, points)):
+        answer, stable = check.answer, branch.stable[i]
+        out.append({"rpm": float(branch.rpm[i]), "amplitude_m": float(branch.amplitude_v_L[i]), "stable": stable,
+                    "in_time": check.verdict.to_json(),
+                    "contradicts": (stable is False and answer == "stays") or (stable is True and answer == "leaves")})
+    return out
+
+
+def in_time_line(checked: list[tuple[str, list[dict]]]) -> str:
+    """One sentence of :func:`bifurcations_in_time` over named branches: how many points the integrator
+    confirmed and which it contradicts."""
+    points = [(name, p) for name, ps in checked for p in ps]
+    if not points:
+        return "No bifurcation to check in time."
+    bad = [f"{name} {p['rpm']:.0f} r/min ({'stable' if p['stable'] else 'unstable'}, {p['in_time']['answer']})"
+           for name, p in points if p["contradicts"]]
+    undecided = sum(p["in_time"]["answer"] == NOT_DECIDED for _, p in points)
+    return (f"Bifurcations checked in time (the integrator started on the points either side, 100 periods): "
+            f"{len(points)} points, {len(points) - len(bad) - undecided} confirmed, {undecided} not decided, "
+            f"contradicted at {len(bad)}" + (": " + "; ".join(bad) if bad else "") + ".")
 
 
 def notes_line(named: list[tuple[str, object]]) -> str:

@@ -33,7 +33,8 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import _families as fam
-from comparisons._hb import named_points, notes_line, on_stable, resonance_of, same_resonance, starts_at, states_at
+from comparisons._hb import (bifurcations_in_time, in_time_line, named_points, notes_line, on_stable, resonance_of,
+                              same_resonance, starts_at, states_at)
 from comparisons._study import study
 from shroud.analysis.hb import Checkpoint, checkpoint, run_hb
 from shroud.base.errors import InputError
@@ -116,6 +117,7 @@ class HBFig7Result:
     checks: list[dict]                         # :func:`full_solid_checkpoints`
     basis_error: list[dict]                    # reference_fe.frequency.basis_error
     per_speed_bases_s: float                   # building the time domain's per-speed bases
+    in_time: dict[str, list[list[dict]]]       # LINE / POINTS -> per case: bifurcations checked in time (comparisons._hb)
 
     def rows(self) -> list[dict]:
         """Per case: both resonances and their difference, folds, sweep points on a stable branch, costs."""
@@ -149,7 +151,9 @@ class HBFig7Result:
                 "branches": {c.label: {LINE: self.branches[LINE][k].to_json(),
                                        POINTS: self.branches[POINTS][k].to_json()} for k, c in enumerate(self.cases)},
                 "time_domain_points": self.points, "basis_error": self.basis_error, "cost_s": self.cost_s(),
-                "full_solid_checkpoints": self.checks}
+                "full_solid_checkpoints": self.checks,
+                "bifurcations_in_time": {c.label: {m: self.in_time[m][k] for m in (LINE, POINTS)}
+                                         for k, c in enumerate(self.cases)}}
 
 
 def compute(scene) -> HBFig7Result:
@@ -172,7 +176,8 @@ def compute(scene) -> HBFig7Result:
     points = [pt for c, solid, sw in zip(cases, branches[POINTS], sweeps)
               for pt in named_points(sw, partial(states_at, solid, c.params, POINTS, multipliers=False), o["match"],
                                      case=c.label)]
-    return HBFig7Result(cases=cases, branches=branches, sweeps=sweeps, points=points, checks=checks,
+    in_time = {m: [bifurcations_in_time(branches[m][k], c.params, m) for k, c in enumerate(cases)] for m in (LINE, POINTS)}
+    return HBFig7Result(cases=cases, branches=branches, sweeps=sweeps, points=points, checks=checks, in_time=in_time,
                         basis_error=errors, per_speed_bases_s=build_s)
 
 
@@ -231,6 +236,8 @@ def report(result: HBFig7Result, scene, files: list[str]) -> str:
              "", "Same resonance (beam against reduced solid): " + "; ".join(
                  f"{label}: {c['same_resonance']['answer']}" for label, c in concl.items()) + ". "
              + notes_line([(f"{m} {c.label}", result.branches[m][k]) for m in (LINE, POINTS)
+                           for k, c in enumerate(result.cases)]), "",
+             in_time_line([(f"{m} {c.label}", result.in_time[m][k]) for m in (LINE, POINTS)
                            for k, c in enumerate(result.cases)]),
              "", *[f"![{f}]({f})" for f in files], "", *checkpoint_report(result.checks, cost)]
     return "\n".join(lines) + "\n"

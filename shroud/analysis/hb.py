@@ -197,13 +197,14 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
 
 
 # The integrator's period map is taken where the monodromy along the orbit puts the largest |multiplier| at
-# or beyond 1 - PERIOD_MAP_BAND (the two measured 0.02-0.07 apart where both decide on the 1 um gap branch;
-# a point well inside needs no second way), on dense systems of at most PERIOD_MAP_MAX_DOFS (its differences
-# take 2 (2 n + sliders) periods a Jacobian). 1 um gap, reduced beam: 0.10-0.15 s a point at 512 steps.
+# or beyond 1 - PERIOD_MAP_BAND (on the 1 um gap branch, 5000-30000 r/min, where both decide: 0.015 apart
+# (median), 0.133 at most, never on opposite sides; a point well inside needs no second way), on dense
+# systems of at most PERIOD_MAP_MAX_DOFS (its differences take 2 (2 n + sliders) periods a column; the
+# branch's 244 points 4.3 s CPU with it, 0.7 s without: benchmarks/bench_hb_in_time.py).
 PERIOD_MAP_BAND = 0.2
-PERIOD_MAP_STEPS = 512
+PERIOD_MAP_STEPS = 256       # the time-domain sweep's default steps a period; the error from 512
 PERIOD_MAP_MAX_DOFS = 60
-IN_TIME_STEPS = 256       # the time-domain sweep's default steps a period
+IN_TIME_STEPS = PERIOD_MAP_STEPS
 IN_TIME_PERIODS = 100
 UNCHECKED = {"period_map_multiplier": math.nan, "period_map_error": math.nan, "in_time": None,
              "stability_reason": ""}
