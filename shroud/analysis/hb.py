@@ -219,12 +219,13 @@ def integrator_check(system: StructuralSystem, law, lin: hb.LinearHarmonics, X: 
     shroud.core.period_map; nan where not taken) and ``in_time`` (the check in time's JSON where taken).
 
     The period map is taken where the monodromy ``st`` is within PERIOD_MAP_BAND of the unit circle or
-    beyond (shroud.core.period_map.combined joins the two). A point the two call unstable is then started
+    beyond, on harmonics whose DOFs it can rebuild (a beam's, condensed on y or not; not a whole ring's,
+    whose unknowns are its interfaces' coordinates without the condensed flag) (shroud.core.period_map.combined joins the two). A point the two call unstable is then started
     in time (IN_TIME_PERIODS periods of IN_TIME_STEPS steps, shroud.core.period_map.check_in_time): where
     the integrator stays on it the point is undecided, never unstable (near a fold a stable branch runs
     closer beside it than the check resolves)."""
     if (st.largest < 1.0 - PERIOD_MAP_BAND or not isinstance(system.K, np.ndarray)
-            or system.dofs > PERIOD_MAP_MAX_DOFS):
+            or system.dofs > PERIOD_MAP_MAX_DOFS or not (lin.condensed or lin.nx == system.dofs)):
         return {"stable": st.stable, **UNCHECKED}
     samples = hb.orbit_samples(system, lin, law, X, basis)
     pm = period_map.period_map_stability(system, law, PERIOD_MAP_STEPS, samples)
