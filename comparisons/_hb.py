@@ -144,11 +144,12 @@ def bifurcations_in_time(branch, params, model: str) -> list[dict]:
     (shroud.analysis.hb.bifurcation_points) started in the project's integrator for 100 periods
     (shroud.analysis.hb.check_in_time). Per point: rpm, amplitude_m, the branch's ``stable`` there, the
     run's verdict (JSON: "stays" or "leaves", shroud.core.period_map.InTime) and ``contradicts``: the
-    branch calls it unstable and the integrator stays, or stable and the integrator leaves. A model whose
-    M, C, K are not dense (a solid's sparse ones) is not started: an empty list."""
-    from shroud.analysis.hb import bifurcation_points, check_in_time, model_at_speed
+    branch calls it unstable and the integrator stays, or stable and the integrator leaves. A model the
+    integrator cannot be started on (shroud.analysis.hb.startable) gives an empty list."""
+    from shroud.analysis.hb import SpeedModel, bifurcation_points, check_in_time, model_at_speed, startable
     points = bifurcation_points(branch)
-    if not points or not isinstance(model_at_speed(params, model)(float(branch.rpm[points[0]])).K, np.ndarray):
+    if not points or not startable(*SpeedModel(model_at_speed(params, model), branch.harmonics).at(
+            float(branch.rpm[points[0]]))[:2]):
         return []
     out = []
     for i, check in zip(points, check_in_time(params, model, branch, points)):

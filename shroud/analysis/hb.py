@@ -219,13 +219,11 @@ def integrator_check(system: StructuralSystem, law, lin: hb.LinearHarmonics, X: 
     shroud.core.period_map; nan where not taken) and ``in_time`` (the check in time's JSON where taken).
 
     The period map is taken where the monodromy ``st`` is within PERIOD_MAP_BAND of the unit circle or
-    beyond, on harmonics whose DOFs it can rebuild (a beam's, condensed on y or not; not a whole ring's,
-    whose unknowns are its interfaces' coordinates without the condensed flag) (shroud.core.period_map.combined joins the two). A point the two call unstable is then started
+    beyond (on a :func:`startable` system of at most PERIOD_MAP_MAX_DOFS) (shroud.core.period_map.combined joins the two). A point the two call unstable is then started
     in time (IN_TIME_PERIODS periods of IN_TIME_STEPS steps, shroud.core.period_map.check_in_time): where
     the integrator stays on it the point is undecided, never unstable (near a fold a stable branch runs
     closer beside it than the check resolves)."""
-    if (st.largest < 1.0 - PERIOD_MAP_BAND or not isinstance(system.K, np.ndarray)
-            or system.dofs > PERIOD_MAP_MAX_DOFS or not (lin.condensed or lin.nx == system.dofs)):
+    if st.largest < 1.0 - PERIOD_MAP_BAND or system.dofs > PERIOD_MAP_MAX_DOFS or not startable(system, lin):
         return {"stable": st.stable, **UNCHECKED}
     samples = hb.orbit_samples(system, lin, law, X, basis)
     pm = period_map.period_map_stability(system, law, PERIOD_MAP_STEPS, samples)
@@ -296,6 +294,13 @@ def orbit_stability(system: StructuralSystem, law, Y: np.ndarray, basis: hb.Four
                                    (coarse.state, coarse.F, half.rates(Y, system.omega_e)))
 
 
+def startable(system: StructuralSystem, lin: hb.LinearHarmonics) -> bool:
+    """Whether the integrator can be started on this system's harmonic-balance states: dense M, C, K (the
+    compiled kernel, the energy norm) and harmonics from which every DOF is rebuilt (a beam's, condensed on
+    y or not; not a whole ring's, whose unknowns are its interfaces' coordinates)."""
+    return isinstance(system.K, np.ndarray) and (lin.condensed or lin.nx == system.dofs)
+
+
 def check_in_time(params: Parameters, model: str, result: HBResult, points, periods: int = IN_TIME_PERIODS,
                   build: Callable[[float], StructuralSystem] | None = None) -> list[period_map.InTime]:
     """Start the integrator on the branch points ``points`` (indices into ``result``) and run ``periods``
@@ -309,6 +314,9 @@ def check_in_time(params: Parameters, model: str, result: HBResult, points, peri
     out = []
     for i in points:
         system, lin, _, _ = speeds.at(float(result.rpm[i]))
+        if not startable(system, lin):
+            raise InputError("--model", f"{model}: the integrator cannot be started on its harmonic-balance "
+                                        "states (it needs dense M, C, K and harmonics of every DOF)")
         law = contact_law_for(system, params.contact)
         samples = hb.orbit_samples(system, lin, law, np.asarray(result.X[i]), basis)
         out.append(period_map.check_in_time(system, law, params.time.steps_per_period, samples, periods))
