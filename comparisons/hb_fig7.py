@@ -176,7 +176,8 @@ def compute(scene) -> HBFig7Result:
     points = [pt for c, solid, sw in zip(cases, branches[POINTS], sweeps)
               for pt in named_points(sw, partial(states_at, solid, c.params, POINTS, multipliers=False), o["match"],
                                      case=c.label)]
-    in_time = {m: [bifurcations_in_time(branches[m][k], c.params, m) for k, c in enumerate(cases)] for m in (LINE, POINTS)}
+    in_time = {m: [bifurcations_in_time(branches[m][k], c.params, m) for k, c in enumerate(cases)]
+               for m in (LINE, POINTS)}
     return HBFig7Result(cases=cases, branches=branches, sweeps=sweeps, points=points, checks=checks, in_time=in_time,
                         basis_error=errors, per_speed_bases_s=build_s)
 

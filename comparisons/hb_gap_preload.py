@@ -250,7 +250,8 @@ def report(result: HBGapPreloadResult, scene, files: list[str]) -> str:
              "", "Resonant speed rises as the gap closes (its smallest rise from one gap to the next): "
              + verdict_text(concl["resonant_speed_rises_as_gap_closes"], unit=" r/min") + ". "
              + notes_line([(label, br) for (label, _, _, _), br in zip(result.cases, result.branches)]),
-             "", in_time_line([(f"{label} branch {j + 1}", checked) for (label, _, _, _), per in zip(result.cases, result.in_time)
+             "", in_time_line([(f"{label} branch {j + 1}", checked)
+                               for (label, _, _, _), per in zip(result.cases, result.in_time)
                                for j, checked in enumerate(per)]),
              "", *[f"![{f}]({f})" for f in files], "",
              "Each panel's curves are drawn widest first: where two coincide (a preloaded blade stuck all "

@@ -219,10 +219,11 @@ def integrator_check(system: StructuralSystem, law, lin: hb.LinearHarmonics, X: 
     shroud.core.period_map; nan where not taken) and ``in_time`` (the check in time's JSON where taken).
 
     The period map is taken where the monodromy ``st`` is within PERIOD_MAP_BAND of the unit circle or
-    beyond (on a :func:`startable` system of at most PERIOD_MAP_MAX_DOFS) (shroud.core.period_map.combined joins the two). A point the two call unstable is then started
-    in time (IN_TIME_PERIODS periods of IN_TIME_STEPS steps, shroud.core.period_map.check_in_time): where
-    the integrator stays on it the point is undecided, never unstable (near a fold a stable branch runs
-    closer beside it than the check resolves)."""
+    beyond, on a :func:`startable` system of at most PERIOD_MAP_MAX_DOFS (shroud.core.period_map.combined
+    joins the two). A point the two call unstable is then started in time (IN_TIME_PERIODS periods of
+    IN_TIME_STEPS steps, shroud.core.period_map.check_in_time): where the integrator stays on it the point
+    is undecided, never unstable (near a fold a stable branch runs closer beside it than the check
+    resolves)."""
     if st.largest < 1.0 - PERIOD_MAP_BAND or system.dofs > PERIOD_MAP_MAX_DOFS or not startable(system, lin):
         return {"stable": st.stable, **UNCHECKED}
     samples = hb.orbit_samples(system, lin, law, X, basis)
@@ -326,10 +327,10 @@ def check_in_time(params: Parameters, model: str, result: HBResult, points, peri
 def bifurcation_points(result: HBResult) -> list[int]:
     """The branch points on both sides of each of ``result``'s bifurcations (indices, in order, once each):
     where the nominal stability changes between neighbours (shroud.core.floquet.bifurcation)."""
+    inside = result.max_multiplier < 1 + floquet.UNIT_CIRCLE_TOL       # floquet.is_stable of each point
     points = set()
-    for i in range(1, len(result.rpm)):
-        if (result.max_multiplier[i - 1] < 1 + floquet.UNIT_CIRCLE_TOL) != (result.max_multiplier[i] < 1 + floquet.UNIT_CIRCLE_TOL):
-            points.update((i - 1, i))
+    for i in np.flatnonzero(inside[1:] != inside[:-1]) + 1:
+        points.update((int(i) - 1, int(i)))
     return sorted(points)
 
 

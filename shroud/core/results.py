@@ -368,7 +368,8 @@ class HBResult:
     nothing). ``kinks``: where the continuation stepped over a corner of the
     branch ({"rpm", "turn_rad"}: the tangent turned by more than it resolves);
     ``tail_target``: the tail H was chosen for (None: H given), met or not
-    (``tail_met``).
+    (``tail_met``). ``period_map_multiplier``, ``period_map_error``, ``stability_reason``, ``in_time``:
+    the verdicts checked against the project's integrator (shroud.analysis.hb.integrator_check).
     """
 
     model: str
@@ -394,7 +395,7 @@ class HBResult:
     amplitude_error: np.ndarray | None = None    # per point: the v_L amplitude's change at 2 H, m (nan: not taken)
     kinks: tuple[dict, ...] = ()
     tail_target: float | None = None
-    period_map_multiplier: np.ndarray | None = None   # per point: the integrator's period map's largest |mu| (nan: not taken)
+    period_map_multiplier: np.ndarray | None = None   # per point: the integrator's period map's largest |mu|
     period_map_error: np.ndarray | None = None        # ... its error
     stability_reason: tuple[str, ...] = ()            # per point: why the verdict is what it is ("" : the monodromy's)
     in_time: tuple[dict | None, ...] = ()             # per point: the check in time where taken (unstable points)
