@@ -198,12 +198,14 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
 
 # The integrator's period map is taken where the monodromy along the orbit puts the largest |multiplier| at
 # or beyond 1 - PERIOD_MAP_BAND (on the 1 um gap branch, 5000-30000 r/min, where both decide: 0.015 apart
-# (median), 0.133 at most, never on opposite sides; a point well inside needs no second way), on dense
-# systems of at most PERIOD_MAP_MAX_DOFS (its differences take 2 (2 n + sliders) periods a column; the
-# branch's 244 points 4.3 s CPU with it, 0.7 s without: benchmarks/bench_hb_in_time.py).
+# (median), 0.133 at most, never on opposite sides; a point well inside needs no second way), on systems
+# whose state (2 n + sliders) is at most PERIOD_MAP_MAX_STATES: its differences take 2 periods a state
+# component, some 6 Jacobians a point. The reduced beam (14): the 1 um branch's 244 points 4.3 s CPU with
+# it, 0.7 s without (benchmarks/bench_hb_in_time.py); the reduced solid of hb_fig7's quick scene (33 DOF
+# and its face nodes' sliders) took 20 s a point, its branches 271 and 770 s against 12 s: left out.
 PERIOD_MAP_BAND = 0.2
 PERIOD_MAP_STEPS = 256       # the time-domain sweep's default steps a period; the error from 512
-PERIOD_MAP_MAX_DOFS = 60
+PERIOD_MAP_MAX_STATES = 64
 IN_TIME_STEPS = PERIOD_MAP_STEPS
 IN_TIME_PERIODS = 100
 UNCHECKED = {"period_map_multiplier": math.nan, "period_map_error": math.nan, "in_time": None,
@@ -219,12 +221,13 @@ def integrator_check(system: StructuralSystem, law, lin: hb.LinearHarmonics, X: 
     shroud.core.period_map; nan where not taken) and ``in_time`` (the check in time's JSON where taken).
 
     The period map is taken where the monodromy ``st`` is within PERIOD_MAP_BAND of the unit circle or
-    beyond, on a :func:`startable` system of at most PERIOD_MAP_MAX_DOFS (shroud.core.period_map.combined
+    beyond, on a :func:`startable` system of at most PERIOD_MAP_MAX_STATES (shroud.core.period_map.combined
     joins the two). A point the two call unstable is then started in time (IN_TIME_PERIODS periods of
     IN_TIME_STEPS steps, shroud.core.period_map.check_in_time): where the integrator stays on it the point
     is undecided, never unstable (near a fold a stable branch runs closer beside it than the check
     resolves)."""
-    if st.largest < 1.0 - PERIOD_MAP_BAND or system.dofs > PERIOD_MAP_MAX_DOFS or not startable(system, lin):
+    if (st.largest < 1.0 - PERIOD_MAP_BAND or 2 * system.dofs + law.count > PERIOD_MAP_MAX_STATES
+            or not startable(system, lin)):
         return {"stable": st.stable, **UNCHECKED}
     samples = hb.orbit_samples(system, lin, law, X, basis)
     pm = period_map.period_map_stability(system, law, PERIOD_MAP_STEPS, samples)
