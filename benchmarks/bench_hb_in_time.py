@@ -86,7 +86,7 @@ def main() -> None:
                 check = br.in_time[i] if br.in_time else None
                 reason = br.stability_reason[i] if br.stability_reason else ""
                 unstable += s is False
-                stays += s is False and check is not None and check["verdict"]["answer"] == "stays"
+                stays += s is False and check is not None and check["answer"] == "stays"
                 undecided_by_time += "stays" in reason
                 disagree += "disagree" in reason
                 pm, err = br.period_map_multiplier[i], br.period_map_error[i]

@@ -143,7 +143,8 @@ def bifurcations_in_time(branch, params, model: str) -> list[dict]:
     """Every bifurcation of ``branch`` checked in time: the branch points on both sides of each
     (shroud.analysis.hb.bifurcation_points) started in the project's integrator for 100 periods
     (shroud.analysis.hb.check_in_time). Per point: rpm, amplitude_m, the branch's ``stable`` there, the
-    run's verdict (JSON: "stays" or "leaves", shroud.core.period_map.InTime) and ``contradicts``: the
+    run's answer ("stays", "leaves" or not decided) with its two verdicts (shroud.core.period_map.InTime,
+    JSON) and ``contradicts``: the
     branch calls it unstable and the integrator stays, or stable and the integrator leaves. A model the
     integrator cannot be started on (shroud.analysis.hb.startable) gives an empty list."""
     from shroud.analysis.hb import SpeedModel, bifurcation_points, check_in_time, model_at_speed, startable
@@ -155,7 +156,7 @@ def bifurcations_in_time(branch, params, model: str) -> list[dict]:
     for i, check in zip(points, check_in_time(params, model, branch, points)):
         answer, stable = check.answer, branch.stable[i]
         out.append({"rpm": float(branch.rpm[i]), "amplitude_m": float(branch.amplitude_v_L[i]), "stable": stable,
-                    "in_time": check.verdict.to_json(),
+                    "in_time": check.to_json(),
                     "contradicts": (stable is False and answer == "stays") or (stable is True and answer == "leaves")})
     return out
 

@@ -238,7 +238,7 @@ def integrator_check(system: StructuralSystem, law, lin: hb.LinearHarmonics, X: 
         in_time = check.to_json()
         if check.answer == "stays":
             stable, reason = None, ("called unstable (|multiplier| {:.3f}), but the integrator started on it stays: "
-                                    .format(max(st.largest, pm.largest)) + check.verdict.sentence())
+                                    .format(max(st.largest, pm.largest)) + check.sentence())
     return {"stable": stable, "stability_reason": reason, "period_map_multiplier": pm.largest,
             "period_map_error": pm.error, "in_time": in_time}
 

@@ -48,7 +48,7 @@ from shroud.core.contact import STICK, ContactLaw, evaluate
 from shroud.core.linear_solvers import dense
 from shroud.core.newmark import Motion, NewmarkScheme, Trajectory, integrate
 from shroud.core.system import StructuralSystem
-from shroud.core.verdict import Verdict
+from shroud.core.verdict import NOT_DECIDED, Verdict
 
 PERTURBATION = 0.02          # h_j: this share of component j's range over the period (see the module's note)
 PERTURBATION_RATIO = 4.0     # the second perturbation, h / 4: the differences' own error
@@ -252,24 +252,40 @@ def combined(orbit: floquet.Stability, integrator: PeriodMapStability | None) ->
 
 @dataclass(frozen=True)
 class InTime:
-    """Whether the integrator started on a state stays on it: ``verdict`` (answers "stays", "leaves" or
-    not decided) of the largest ``distance`` over the last periods (:func:`check_in_time`), and the
-    distance after each period."""
+    """Whether the integrator started on a state stays on it (:func:`check_in_time`): ``distance``, the
+    verdict ("stays" / "leaves") of the largest distance of the period-sampled state from the start over
+    the last periods, ``drift``, the verdict ("settled" / "drifts") of the largest change from one period
+    to the next there, and the distances after each period. ``answer``: "leaves" where either says so (a
+    run that drifts has left the periodic state, for a torus beside it if not farther), "stays" where
+    both say stays and settled, else not decided."""
 
-    verdict: Verdict
+    distance: Verdict
+    drift: Verdict
     distances: np.ndarray
 
     @property
     def answer(self):
-        return self.verdict.answer
+        if self.distance.answer == "leaves" or self.drift.answer == "drifts":
+            return "leaves"
+        if self.distance.answer == "stays" and self.drift.answer == "settled":
+            return "stays"
+        return NOT_DECIDED
+
+    def sentence(self) -> str:
+        return f"{self.answer}: distance {self.distance.sentence()}; drift {self.drift.sentence()}"
 
     def to_json(self) -> dict:
-        return {"verdict": self.verdict.to_json(), "first_period": float(self.distances[0]),
-                "last_period": float(self.distances[-1]), "periods": int(self.distances.size)}
+        return {"answer": self.answer, "distance": self.distance.to_json(), "drift": self.drift.to_json(),
+                "first_period": float(self.distances[0]), "last_period": float(self.distances[-1]),
+                "periods": int(self.distances.size)}
 
 
 STAY_THRESHOLD = 0.1    # the distance (energy norm, relative to the orbit's) between staying and leaving
 STAY_MARGIN = 3.0       # times the first period's distance: the integrator's own periodic state's offset
+# The change from one period to the next at the end of a run: on the 1 um gap branch (H 10, 256 steps,
+# 200 periods) 5e-14 to 6e-4 where it settles on a P1 state (6e-4 at |multiplier| 0.993, slowly), 0.038-0.10
+# where it circles a torus beside an unstable state (10181-10431 r/min) within 0.05-0.10 of the start.
+DRIFT_THRESHOLD, DRIFT_MARGIN = 0.01, 0.005
 
 
 def energy_scale(system: StructuralSystem, q: np.ndarray, v: np.ndarray) -> float:
@@ -286,30 +302,42 @@ def check_in_time(system: StructuralSystem, law: ContactLaw, steps: int,
     :func:`period_map_stability`'s) and run ``periods`` periods: does the state stay or leave?
 
     The distance after each period is that of the period-sampled state from the start in the energy
-    norm, sqrt(dq^T K dq + dq'^T M dq'), relative to the orbit's (:func:`energy_scale`). The verdict reads
+    norm, sqrt(dq^T K dq + dq'^T M dq'), relative to the orbit's (:func:`energy_scale`). Its verdict reads
     the largest over the last tenth of the periods against STAY_THRESHOLD, with a margin of STAY_MARGIN
-    times the first period's (the start is harmonic balance's state, the run settles on the integrator's
-    own periodic state beside it: on the 1 um gap branch, H 10, 256 or 512 steps a period, that offset
-    is 0.007-0.016 where the run stays, and runs that leave reach 0.2-0.48; docs/hb-stability.md)."""
+    times the first period's; the drift's, the largest change from one period to the next there against
+    DRIFT_THRESHOLD (:class:`InTime`: a run that circles a torus near the start has not stayed). The
+    start is harmonic balance's state and a run that stays settles on the integrator's own periodic state
+    beside it: on the 1 um gap branch (H 10, 256 or 512 steps a period) that offset is 0.007-0.016, and
+    runs that leave reach 0.2-0.48 (docs/hb-stability.md)."""
     q, v, z = samples
     pm, s = period_map(system, law, steps, q[0], v[0], z[0])
     n, scale = system.dofs, energy_scale(system, q, v)
     K, M = dense(system.K), dense(system.M)
-    start, distances = s.copy(), np.full(periods, np.inf)
+    start, distances, changes = s.copy(), np.full(periods, np.inf), np.full(periods, np.inf)
+
+    def norm(d):
+        return math.sqrt(d[:n] @ K @ d[:n] + d[n:2 * n] @ M @ d[n:2 * n]) / scale
     for k in range(periods):
         try:
-            s = pm(s)
+            s, before = pm(s), s
         except FloatingPointError:
             break
-        dq, dv = s[:n] - start[:n], s[n:2 * n] - start[n:2 * n]
-        distances[k] = math.sqrt(dq @ K @ dq + dv @ M @ dv) / scale
-    last = distances[-max(periods // 10, 1):]
+        distances[k], changes[k] = norm(s - start), norm(s - before)
+    tail = max(periods // 10, 1)
+    last = distances[-tail:]
     margin = STAY_MARGIN * distances[0] if math.isfinite(distances[0]) else math.inf
-    value = float(np.max(last)) if np.all(np.isfinite(last)) else 1e300      # a run that diverged left
-    verdict = Verdict.of(value, STAY_THRESHOLD, margin, below="stays", above="leaves",
-                         reason=(f"the integrator started on the state, {periods} periods of {steps} steps: the "
-                                 "largest distance of its period-sampled state from the start over the last "
-                                 f"{last.size} (energy norm, relative to the orbit's) against {STAY_THRESHOLD:g}, "
-                                 f"margin {STAY_MARGIN:g} x the first period's (the integrator's own periodic "
-                                 "state's offset from the start)"))
-    return InTime(verdict=verdict, distances=distances)
+    finite = bool(np.all(np.isfinite(distances)))
+    value = float(np.max(last)) if finite else 1e300              # a run that diverged left
+    run = f"the integrator started on the state, {periods} periods of {steps} steps"
+    distance = Verdict.of(value, STAY_THRESHOLD, margin, below="stays", above="leaves",
+                          reason=(f"{run}: the largest distance of its period-sampled state from the start over "
+                                  f"the last {tail} (energy norm, relative to the orbit's) against "
+                                  f"{STAY_THRESHOLD:g}, margin {STAY_MARGIN:g} x the first period's (the "
+                                  "integrator's own periodic state's offset from the start)"))
+    drift = Verdict.of(float(np.max(changes[-tail:])) if finite else 1e300, DRIFT_THRESHOLD, DRIFT_MARGIN,
+                       below="settled", above="drifts",
+                       reason=(f"{run}: the largest change of the period-sampled state from one period to the "
+                               f"next over the last {tail} (relative, as the distance) against "
+                               f"{DRIFT_THRESHOLD:g} +- {DRIFT_MARGIN:g}: settled runs 5e-14 to 6e-4, runs "
+                               "circling a torus 0.04-0.10 (1 um gap, docs/hb-stability.md)"))
+    return InTime(distance=distance, drift=drift, distances=distances)
