@@ -200,8 +200,8 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
 # or beyond 1 - PERIOD_MAP_BAND (on the 1 um gap branch, 5000-30000 r/min, where both decide: 0.015 apart
 # (median), 0.133 at most, never on opposite sides; a point well inside needs no second way), on systems
 # whose state (2 n + sliders) is at most PERIOD_MAP_MAX_STATES: its differences take 2 periods a state
-# component, some 6 Jacobians a point. The reduced beam (14): the 1 um branch's 244 points 4.3 s CPU with
-# it, 0.7 s without (benchmarks/bench_hb_in_time.py); the reduced solid of hb_fig7's quick scene (33 DOF
+# component, some 5 Jacobians a point. The reduced beam (14): the 1 um branch's 244 points 4.3-4.8 s CPU
+# with it, 0.7-0.8 s without (benchmarks/bench_hb_in_time.py); the reduced solid of hb_fig7's quick scene (33 DOF
 # and its face nodes' sliders) took 20 s a point, its branches 271 and 770 s against 12 s: left out.
 PERIOD_MAP_BAND = 0.2
 PERIOD_MAP_STEPS = 256       # the time-domain sweep's default steps a period; the error from 512
