@@ -496,11 +496,10 @@ class HBResult:
         undecided = int(self.uncertain.sum())
         if undecided:
             out.append(f"{undecided} of {len(self.rpm)} points of undecided stability (|multiplier| within its "
-                       "error of 1, the two ways disagreeing, or the integrator staying where both say unstable)")
+                       "error of 1, the two ways disagreeing, or the integrator staying where called unstable)")
         stays = sum(1 for r in self.stability_reason if "stays" in r)
         if stays:
-            out.append(f"{stays} point(s) both ways call unstable where the integrator started on them stays: "
-                       "undecided")
+            out.append(f"{stays} point(s) called unstable where the integrator started on them stays: undecided")
         return out
 
     def to_json(self) -> dict[str, Any]:
