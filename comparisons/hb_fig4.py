@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from comparisons._hb import named_points, notes_line, on_stable, resonance_of, same_resonance, states_at, verdict_text
+from comparisons._in_time import bifurcations_in_time, in_time_line
 from comparisons._study import study
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
@@ -49,6 +50,7 @@ class HBFig4Result:
     branches: dict[str, list[HBResult]]        # model -> branch per case
     sweeps: dict[str, list[SweepResult]]       # model -> time-domain sweep per case
     points: list[dict]                         # every sweep point with its branch (comparisons._hb.named_points)
+    in_time: dict[str, list[list[dict]]]       # model -> per case: bifurcations checked in time (_in_time)
 
     def rows(self) -> list[dict]:
         """Per case and model: resonance, folds, branch points and completeness, costs, sweep points on a
@@ -86,7 +88,9 @@ class HBFig4Result:
         return {"conclusions": self.conclusions(), "cases": self.rows(),
                 "branches": {label: {m: self.branches[m][i].to_json() for m in MODELS}
                              for i, label in enumerate(self.labels)},
-                "time_domain_points": self.points, "cost_s": self.cost_s()}
+                "time_domain_points": self.points, "cost_s": self.cost_s(),
+                "bifurcations_in_time": {label: {m: self.in_time[m][i] for m in MODELS}
+                                         for i, label in enumerate(self.labels)}}
 
 
 def compute(scene) -> HBFig4Result:
@@ -102,7 +106,9 @@ def compute(scene) -> HBFig4Result:
     points = [pt for i, (label, p) in enumerate(cases) for m in MODELS
               for pt in named_points(sweeps[m][i], partial(states_at, branches[m][i], p, m), opts["match"],
                                      case=label, model=m)]
-    return HBFig4Result(labels=[label for label, _ in cases], branches=branches, sweeps=sweeps, points=points)
+    in_time = {m: [bifurcations_in_time(branches[m][i], p, m) for i, (_, p) in enumerate(cases)] for m in MODELS}
+    return HBFig4Result(labels=[label for label, _ in cases], branches=branches, sweeps=sweeps, points=points,
+                        in_time=in_time)
 
 
 def plot(result: HBFig4Result, scene, out: Path) -> list[str]:
@@ -155,7 +161,9 @@ def report(result: HBFig4Result, scene, files: list[str]) -> str:
              + notes_line([(f"{m} {label}", result.branches[m][i]) for m in MODELS
                            for i, label in enumerate(result.labels)]), "",
              f"Time-domain points not on a stable P1 branch within {100 * opts['match']:g} %: {len(off)} of "
-             f"{len(result.points)} (listed in td_points_by_branch.csv with the branch each landed on).",
+             f"{len(result.points)} (listed in td_points_by_branch.csv with the branch each landed on).", "",
+             in_time_line([(f"{m} {label}", result.in_time[m][i]) for m in MODELS
+                           for i, label in enumerate(result.labels)]),
              "", *[f"![{f}]({f})" for f in files], "",
              f"{MODELS[0]} drawn wider, {MODELS[-1]} inside it: where the two coincide, a line within a line."]
     return "\n".join(lines) + "\n"

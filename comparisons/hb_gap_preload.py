@@ -35,6 +35,7 @@ import numpy as np
 
 from comparisons._hb import (landed_on, named_points, notes_line, on_stable, resonance_of, rises, states_at,
                              states_on, verdict_text)
+from comparisons._in_time import bifurcations_in_time, in_time_line
 from comparisons._study import study
 from shroud.analysis.hb import HBFamily, run_hb, run_hb_family
 from shroud.analysis.sweep import run_sweeps
@@ -107,6 +108,7 @@ class HBGapPreloadResult:
     families: list[HBFamily] | None                 # seed_from_sweep: every branch found per case, else None
     points: list[dict]                              # the sweep points named (comparisons._hb.named_points)
     rpm_range: tuple[float, float]                  # rpm_from, rpm_to
+    in_time: list[list[list[dict]]]                 # per case, per branch found: bifurcations checked in time
 
     def found(self, i: int) -> list[HBResult]:
         """Every branch of case i: the continued one first."""
@@ -149,6 +151,7 @@ class HBGapPreloadResult:
                 curves[label]["seeded_branches"] = [b.to_json() for b in self.found(i)[1:]]
         return {"conclusions": self.conclusions(), "cases": rows, "branches": curves,
                 "time_domain_points": self.points, "optimal_preload_N": best["value"] if best else None,
+                "bifurcations_in_time": {label: self.in_time[i] for i, (label, _, _, _) in enumerate(self.cases)},
                 "cost_s": {"harmonic_balance_wall": sum(r["hb_s"] for r in rows),
                            "time_domain_cpu": sum(r["td_cpu_s"] for r in rows)}}
 
@@ -184,8 +187,9 @@ def compute(scene) -> HBGapPreloadResult:
     found = [families[i].branches if families else [br] for i, br in enumerate(branches)]
     points = [pt for (label, _, _, p), sw, brs in zip(cs, sweeps, found)
               for pt in named_points(sw, partial(states_on, brs, p, opts["model"]), opts["match"], case=label)]
+    in_time = [[bifurcations_in_time(b, p, opts["model"]) for b in brs] for (_, _, _, p), brs in zip(cs, found)]
     return HBGapPreloadResult(cases=cs, branches=branches, sweeps=sweeps, families=families, points=points,
-                              rpm_range=(float(opts["rpm_from"]), float(opts["rpm_to"])))
+                              rpm_range=(float(opts["rpm_from"]), float(opts["rpm_to"])), in_time=in_time)
 
 
 def plot(result: HBGapPreloadResult, scene, out: Path) -> list[str]:
@@ -247,6 +251,9 @@ def report(result: HBGapPreloadResult, scene, files: list[str]) -> str:
              "", "Resonant speed rises as the gap closes (its smallest rise from one gap to the next): "
              + verdict_text(concl["resonant_speed_rises_as_gap_closes"], unit=" r/min") + ". "
              + notes_line([(label, br) for (label, _, _, _), br in zip(result.cases, result.branches)]),
+             "", in_time_line([(f"{label} branch {j + 1}", checked)
+                               for (label, _, _, _), per in zip(result.cases, result.in_time)
+                               for j, checked in enumerate(per)]),
              "", *[f"![{f}]({f})" for f in files], "",
              "Each panel's curves are drawn widest first: where two coincide (a preloaded blade stuck all "
              "period responds alike at every preload), the later one runs inside the earlier one."]

@@ -45,7 +45,7 @@ from shroud.core.results import ModalResult, RingSweepResult, StaticResult, Swee
 from shroud.core.system import ContactElements, StructuralSystem
 from shroud.params import Parameters
 
-__all__ = ["ContactElements", "ModelEntry", "Parameters", "StructuralSystem", "build_system", "continuation", "harmonic_balance", "modal", "models",
+__all__ = ["ContactElements", "ModelEntry", "Parameters", "StructuralSystem", "build_system", "check_in_time", "continuation", "harmonic_balance", "modal", "models",
            "linear_limits", "parameters", "register_model", "static", "sweep", "transient"]
 
 
@@ -122,3 +122,10 @@ def continuation(params: Parameters, model: str, rpm_from: float, rpm_to: float,
     """The steady-state branch from ``rpm_from`` to ``rpm_to`` by harmonic balance with continuation: an
     HBResult; with ``ring.blades = N``, the ring's (one sector when tuned, the whole ring when mistuned)."""
     return _analysis.continuation(params, model, rpm_from, rpm_to, harmonics, min_points=min_points)
+
+
+def check_in_time(params: Parameters, model: str, result, points, periods: int = _hb.IN_TIME_PERIODS):
+    """Start the project's integrator on branch points ``points`` (indices) of the HBResult ``result`` and
+    run ``periods`` periods: per point a shroud.core.period_map.InTime whose verdict answers "stays" or
+    "leaves" (shroud.analysis.hb.check_in_time; a ring is refused, shroud.analysis.systems)."""
+    return solver("check in time", params)(params, model, result, points, periods)

@@ -131,6 +131,26 @@ def test_kernel_equals_reference_to_round_off(implicit):
     assert np.abs(k.element_peak_normal - r.element_peak_normal).max() < 1e-9 * r.element_peak_normal.max()
 
 
+@pytest.mark.parametrize("method", ["kernel", "reference"])
+def test_a_run_continued_from_its_end_state_is_the_run_in_one_piece(method):
+    """The end state (q, q', q'', the sliders) is the integrator's whole state: N periods, then N more started
+    from it, are the 2 N periods of one run (the excitation restarts at t = 0: whole periods), stick and
+    slip visited; without the sliders (each at its element's w, as a run from rest starts) they are not."""
+    sys_ = _contact_2dof()
+    law = contact_law(sys_.contact, kn=1e6, kt=5e5, mu=0.3, N0=2.0)
+    scheme, n = NewmarkScheme(dt=1 / 100 / 256), 256 * 10
+    whole = integrate(sys_, law, scheme, 2 * n, method=method)
+    first = integrate(sys_, law, scheme, n, method=method)
+    end = first.end
+    second = integrate(sys_, law, scheme, n, method=method, q0=end.q, v0=end.v, acc0=end.a, z0=end.z)
+    forgetful = integrate(sys_, law, scheme, n, method=method, q0=end.q, v0=end.v, acc0=end.a)
+    assert set(np.unique(whole.state)) >= {1, 2}
+    scale = np.abs(whole.tip).max()
+    assert np.abs(second.tip - whole.tip[n:]).max() < 1e-9 * scale
+    assert np.abs(second.end.z - whole.end.z).max() < 1e-9 * scale
+    assert np.abs(forgetful.tip - whole.tip[n:]).max() > 1e-4 * scale
+
+
 def test_low_rank_contact_solve_in_a_run_matches_the_dense_one():
     """More contact coordinates than DOFs (m = 12 > 2 n, as the reduced solid's faces): the
     compiled run solves the contact in the n-space (Cc = W Phi); the same system given as

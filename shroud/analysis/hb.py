@@ -29,7 +29,7 @@ from shroud.base.log import Progress
 from shroud.base.resources import in_words, physical_memory
 from shroud.analysis.checks import MEMORY_SHARE
 from shroud.analysis.systems import solver
-from shroud.core import floquet, registry
+from shroud.core import floquet, period_map, registry
 from shroud.core import harmonic_balance as hb
 from shroud.core.continuation import Branch, Factorize, continue_branch
 from shroud.core.linear_solvers import dense
@@ -172,6 +172,8 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     v_L amplitude's change there (m). ``X``, ``refined_X``: the point's harmonics and its 2 H ones (None
     where Newton found no 2 H state: the error is then infinite, the point undecided).
     ``stability=False``: no multipliers, no 2 H solve (stable None, errors nan; a branch's amplitudes only).
+    The verdict is checked against the integrator's own dynamics (:func:`integrator_check`):
+    ``period_map_multiplier``, ``period_map_error``, ``in_time`` and ``stability_reason`` say how.
     """
     system, lin, L, F = speeds.at(rpm)
     if evaluated is not None and evaluated[1] == rpm and np.array_equal(evaluated[0], X):
@@ -184,7 +186,7 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
              "tail": hb.spectral_tail(b.contact.lam, basis.H), "force_rms": float(np.std(b.contact.lam)), "X": X}
     if not stability:
         return {**shape, "multipliers": np.array([np.nan]), "multiplier_error": math.nan, "grazing": 0,
-                "stable": None, "amplitude_error": math.nan, "refined_X": None}
+                "stable": None, "amplitude_error": math.nan, "refined_X": None, **UNCHECKED}
     st = orbit_stability(system, law, X.reshape(basis.nh, lin.nx) @ lin.Wx.T, basis, b.contact)
     near = None if previous is None or previous["refined_X"] is None else (previous["X"], previous["refined_X"])
     refined = refined_point(speeds, law, basis, X, rpm, near)
@@ -192,7 +194,55 @@ def point_details(speeds: SpeedModel, law, basis: hb.Fourier, X: np.ndarray, rpm
     amplitude_error = float("nan") if refined is None else abs(refined[0] - float(amp[0]))
     refined_X = None if refined is None else refined[2]
     return {**shape, "multipliers": st.multipliers, "multiplier_error": st.error, "grazing": st.grazing,
-            "stable": st.stable, "amplitude_error": amplitude_error, "refined_X": refined_X}
+            "amplitude_error": amplitude_error, "refined_X": refined_X,
+            **integrator_check(system, law, lin, X, basis, st)}
+
+
+# The integrator's period map is taken where the monodromy along the orbit puts the largest |multiplier| at
+# or beyond 1 - PERIOD_MAP_BAND (on the 1 um gap branch, 5000-30000 r/min, where both decide: 0.015 apart
+# (median), 0.133 at most, never on opposite sides; a point well inside needs no second way), on systems
+# whose state (2 n + sliders) is at most PERIOD_MAP_MAX_STATES: its differences take 2 periods a state
+# component, some 5 Jacobians a point. The reduced beam (14): the 1 um branch's 244 points 4.3-4.8 s CPU
+# with it, 0.7-0.8 s without (benchmarks/bench_hb_in_time.py); the reduced solid of hb_fig7's quick scene (33 DOF
+# and its face nodes' sliders) took 20 s a point, its branches 271 and 770 s against 12 s: left out.
+PERIOD_MAP_BAND = 0.2
+PERIOD_MAP_STEPS = 256       # the time-domain sweep's default steps a period; the error from 512
+PERIOD_MAP_MAX_STATES = 64
+IN_TIME_STEPS = PERIOD_MAP_STEPS
+IN_TIME_PERIODS = 100
+UNCHECKED = {"period_map_multiplier": math.nan, "period_map_error": math.nan, "in_time": None,
+             "stability_reason": ""}
+
+
+def integrator_check(system: StructuralSystem, law, lin: hb.LinearHarmonics, X: np.ndarray, basis: hb.Fourier,
+                     st: floquet.Stability) -> dict:
+    """The point's verdict from two ways and the integrator started on it (docs/hb-stability.md):
+    ``stable`` (True, False, None), ``stability_reason`` (why it is what it is where the second way or the
+    time check set it; "" otherwise), ``period_map_multiplier`` / ``period_map_error`` (the largest
+    |multiplier| of the integrator's own periodic state beside the orbit and its error,
+    shroud.core.period_map; nan where not taken) and ``in_time`` (the check in time's JSON where taken).
+
+    The period map is taken where the monodromy ``st`` is within PERIOD_MAP_BAND of the unit circle or
+    beyond, on a :func:`startable` system of at most PERIOD_MAP_MAX_STATES (shroud.core.period_map.combined
+    joins the two). A point the two call unstable is then started in time (IN_TIME_PERIODS periods of
+    IN_TIME_STEPS steps, shroud.core.period_map.check_in_time): where the integrator stays on it the point
+    is undecided, never unstable (near a fold a stable branch runs closer beside it than the check
+    resolves)."""
+    if (st.largest < 1.0 - PERIOD_MAP_BAND or 2 * system.dofs + law.count > PERIOD_MAP_MAX_STATES
+            or not startable(system, lin)):
+        return {"stable": st.stable, **UNCHECKED}
+    samples = hb.orbit_samples(system, lin, law, X, basis)
+    pm = period_map.period_map_stability(system, law, PERIOD_MAP_STEPS, samples)
+    stable, reason = period_map.combined(st, pm)
+    in_time = None
+    if stable is False:
+        check = period_map.check_in_time(system, law, IN_TIME_STEPS, samples, IN_TIME_PERIODS)
+        in_time = check.to_json()
+        if check.answer == "stays":
+            stable, reason = None, ("called unstable (|multiplier| {:.3f}), but the integrator started on it stays: "
+                                    .format(max(st.largest, pm.largest)) + check.sentence())
+    return {"stable": stable, "stability_reason": reason, "period_map_multiplier": pm.largest,
+            "period_map_error": pm.error, "in_time": in_time}
 
 
 REFINED_ITERATIONS = 15    # Newton at 2 H from the point's own harmonics: at most this many iterations
@@ -248,6 +298,45 @@ def orbit_stability(system: StructuralSystem, law, Y: np.ndarray, basis: hb.Four
     return floquet.orbit_stability(system.M, system.C, system.K, W, law, contact.state, contact.F,
                                    system.omega_e, basis.rates(Y, system.omega_e),
                                    (coarse.state, coarse.F, half.rates(Y, system.omega_e)))
+
+
+def startable(system: StructuralSystem, lin: hb.LinearHarmonics) -> bool:
+    """Whether the integrator can be started on this system's harmonic-balance states: dense M, C, K (the
+    compiled kernel, the energy norm) and harmonics from which every DOF is rebuilt (a beam's, condensed on
+    y or not; not a whole ring's, whose unknowns are its interfaces' coordinates)."""
+    return isinstance(system.K, np.ndarray) and (lin.condensed or lin.nx == system.dofs)
+
+
+def check_in_time(params: Parameters, model: str, result: HBResult, points, periods: int = IN_TIME_PERIODS,
+                  build: Callable[[float], StructuralSystem] | None = None) -> list[period_map.InTime]:
+    """Start the integrator on the branch points ``points`` (indices into ``result``) and run ``periods``
+    periods (``params.time.steps_per_period`` steps each): does each state stay or leave
+    (shroud.core.period_map.check_in_time; its ``verdict`` answers "stays", "leaves" or not decided)?
+    ``build(rpm)``: the system at a speed where not the registered model's (as :func:`run_hb`)."""
+    if result.X is None:
+        raise InputError("--method", "the branch holds no harmonics to start the integrator from")
+    basis = hb.fourier(result.harmonics, result.samples)
+    speeds = SpeedModel(build or model_at_speed(params, model), result.harmonics)
+    out = []
+    for i in points:
+        system, lin, _, _ = speeds.at(float(result.rpm[i]))
+        if not startable(system, lin):
+            raise InputError("--model", f"{model}: the integrator cannot be started on its harmonic-balance "
+                                        "states (it needs dense M, C, K and harmonics of every DOF)")
+        law = contact_law_for(system, params.contact)
+        samples = hb.orbit_samples(system, lin, law, np.asarray(result.X[i]), basis)
+        out.append(period_map.check_in_time(system, law, params.time.steps_per_period, samples, periods))
+    return out
+
+
+def bifurcation_points(result: HBResult) -> list[int]:
+    """The branch points on both sides of each of ``result``'s bifurcations (indices, in order, once each):
+    where the nominal stability changes between neighbours (shroud.core.floquet.bifurcation)."""
+    inside = result.max_multiplier < 1 + floquet.UNIT_CIRCLE_TOL       # floquet.is_stable of each point
+    points = set()
+    for i in np.flatnonzero(inside[1:] != inside[:-1]) + 1:
+        points.update((int(i) - 1, int(i)))
+    return sorted(points)
 
 
 def model_at_speed(params: Parameters, model: str) -> Callable[[float], StructuralSystem]:

@@ -16,6 +16,7 @@ path solves the blade where a ring was asked for.
 | continuation to a tail | the blade | refused | refused |
 | modal | the blade | refused: ``--interface`` | refused |
 | linear limits | the blade | per nodal diameter | refused (on ring.mistuning) |
+| check in time (HB states started in time) | the blade | refused | refused |
 | static | the blade | refused | refused |
 | system (api.build_system) | the blade | refused | refused |
 """
@@ -53,6 +54,7 @@ SOLVERS: dict[str, dict[str, str | None]] = {
     "modal": _every("shroud.analysis.api:blade_modal", None),
     "linear limits": _every("shroud.analysis.limits:interface_modal",       # it refuses a mistuned ring itself
                             "shroud.analysis.limits:interface_modal"),
+    "check in time": _every("shroud.analysis.hb:check_in_time", None),
     "static": _every("shroud.analysis.api:blade_static", None),
     "system": _every("shroud.analysis.api:build_system", None),
 }
@@ -61,6 +63,8 @@ REFUSED: dict[str, tuple[str, str]] = {      # analysis -> (why a ring is not so
                                         "--harmonics (api: continuation) with ring.blades"),
     "modal": ("these are one blade's modes without its neighbours",
               "the ring's per nodal diameter: modal --interface free or stuck (api: linear_limits)"),
+    "check in time": ("the integrator is started on one blade's HB state (shroud.analysis.hb.startable)",
+                      "ring.blades = 0; the ring in time from rest: transient"),
     "static": ("a tip force on one blade is solved without its neighbours", "ring.blades = 0"),
     "system": ("a ring's travelling-wave load has no single StructuralSystem",
                "ring.blades = 0; the ring's blades: shroud.analysis.ring.build_ring"),

@@ -705,19 +705,38 @@ def solve(system: StructuralSystem, law: ContactLaw, H: int, samples: int | None
 
 
 def state_vector(system: StructuralSystem, sol: HarmonicSolution, lin: LinearHarmonics) -> tuple:
-    """(q, q') at tau = 0 of a solution (for starting a time run on it), full DOFs.
-
-    Condensed solutions are expanded with q_k = Z_k^-1 (F_k + W^T Lam_k).
-    """
-    nh, H = sol.basis.nh, sol.basis.H
-    if lin.condensed:
-        W = dense(system.contact.W)
-        Z = dynamic_stiffness(system, H)
-        rhs = load_harmonics(system, H) + _complex_coefficients(sol.contact.Lam) @ W
-        Q = _real_coefficients(np.linalg.solve(Z, rhs[:, :, None])[:, :, 0])
-    else:
-        Q = sol.X.reshape(nh, lin.nx)
-    k = np.arange(1, H + 1)
+    """(q, q') at tau = 0 of a solution (for starting a time run on it), full DOFs, and the harmonics Q
+    (nh, n) of q (:func:`dof_harmonics`)."""
+    Q = dof_harmonics(system, lin, sol.X, sol.contact.Lam, sol.basis.H)
+    k = np.arange(1, sol.basis.H + 1)
     q0 = Q[0] + Q[1::2].sum(axis=0)
     v0 = lin.omega * (k[:, None] * Q[2::2]).sum(axis=0)
     return q0, v0, Q
+
+
+def dof_harmonics(system: StructuralSystem, lin: LinearHarmonics, X: np.ndarray, Lam: np.ndarray,
+                  H: int) -> np.ndarray:
+    """The harmonics (nh, n) of every DOF of the orbit whose unknowns have the harmonics ``X`` and contact
+    forces ``Lam`` (nh, m): X itself, or, condensed, q_k = Z_k^-1 (F_k + W^T Lam_k)."""
+    if not lin.condensed:
+        return X.reshape(2 * H + 1, lin.nx)
+    W = dense(system.contact.W)
+    Z = dynamic_stiffness(system, H)
+    rhs = load_harmonics(system, H) + _complex_coefficients(Lam) @ W
+    return _real_coefficients(np.linalg.solve(Z, rhs[:, :, None])[:, :, 0])
+
+
+def orbit_samples(system: StructuralSystem, lin: LinearHarmonics, law: ContactLaw, X: np.ndarray,
+                  basis: Fourier) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(q m, q' m/s, the sliders z m) of the orbit with harmonics ``X`` at the samples of ``basis``
+    (rows; row 0 is tau = 0): the integrator's whole state along the orbit
+    (shroud.core.period_map). The sliders are the AFT's, z = w + F / kt (the law's return mapping
+    leaves F = kt (z - w); separated, z = w)."""
+    Y = X.reshape(basis.nh, lin.nx) @ lin.Wx.T
+    contact = contact_harmonics(Y, np.eye(Y.shape[1]), law, basis, jacobian=False)
+    Q = dof_harmonics(system, lin, X, contact.Lam, basis.H)
+    q, v = basis.E @ Q, basis.rates(Q, lin.omega)
+    w = (basis.E @ Y)[:, law.rows[:, 1]]
+    kt = law.props[:, KT]
+    z = w + np.divide(contact.F.T, kt, out=np.zeros_like(w), where=kt > 0)
+    return q, v, z

@@ -133,6 +133,7 @@ class Trajectory:
     # Per contact element j over the window's steps (rows window+1 .. steps; None without a window):
     element_share: np.ndarray | None       # (k, 3): share of steps separate / stick / slip
     element_peak_normal: np.ndarray | None  # (k,): largest |N_j|, N
+    end: "Motion | None" = None            # the state after the last step (None: the run diverged)
 
     @property
     def t(self) -> np.ndarray:
@@ -367,6 +368,17 @@ def _symmetric(system: StructuralSystem) -> bool:
 
 # --- the two loops ------------------------------------------------------------------
 
+class Motion(NamedTuple):
+    """The integrator's whole state at one step: displacements q (m), velocities v (m/s), accelerations
+    a (m/s^2), n each, and the friction sliders' positions z (m, one per contact element; the law's
+    memory, shroud.core.contact)."""
+
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    z: np.ndarray
+
+
 class LoopEnd(NamedTuple):
     """How a time loop ended: steps done, status (OK, NOT_FINITE, UNBOUNDED), end state, contact solves."""
 
@@ -400,7 +412,7 @@ class _Record:
                    element_counts=np.zeros((k, 3), np.int64), element_peak=np.zeros(k))
 
 
-def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q, v, rec, progress):
+def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, start, rec, progress):
     """Newmark step by step, as written in the module docstring (Python; any backend)."""
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
     dt, gamma, w_e = scheme.dt, scheme.gamma, system.omega_e
@@ -412,8 +424,7 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
     tip = system.tip
     k, m = law.count, law.m
     ws = step.contact_workspace(law)
-    a = np.zeros_like(q)                               # zero initial acceleration (paper)
-    z = np.asarray(W @ q)[law.rows[:, 1]].copy() if k else np.zeros(0)
+    q, v, a, z = (x.copy() for x in start)
     N, F, state, lam = np.zeros(k), np.zeros(k), np.zeros(k, np.int64), np.zeros(m)
     y = np.asarray(W @ q) if k else np.zeros(0)
     evaluate(y, z, law.rows, law.props, lam, N, F, z, state)
@@ -458,6 +469,7 @@ def _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q
             return LoopEnd(i + 1, UNBOUNDED, q, v, iterations, unconverged)
         progress.update(i + 1)
     rec.energy[5] = contact_energy(N, F, law.props)
+    start.a[:], start.z[:] = a, z
     return LoopEnd(steps, OK, q, v, iterations, unconverged)
 
 
@@ -483,7 +495,7 @@ def _affine(A, x, b, c, s, out):
 @njit(cache=True)
 def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2, a3, steps,
                   W, Phi, Cc, tip, rows, props, side, weight, implicit, bound, window,
-                  q0, v0, r_tip, r_N, r_F, r_w, r_state, energy, snap_q, snap_v, r_counts, r_peak, ws):
+                  q0, v0, acc0, z0, r_tip, r_N, r_F, r_w, r_state, energy, snap_q, snap_v, r_counts, r_peak, ws):
     """The step of _reference_loop, compiled for dense systems.
 
     The state is stacked, x = [q, v, a], and S = K_eff^-1 folded into
@@ -499,6 +511,7 @@ def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2
     qn, vn, an = x_new[:n], x_new[n:2 * n], x_new[2 * n:]
     copy_into(q, q0)
     copy_into(v, v0)
+    copy_into(a, acc0)
     zero_n, zero_m, zero_2 = np.zeros(n), np.zeros(m), np.zeros(2)
     v_mid, Cv, tip_now = np.zeros(n), np.zeros(n), np.zeros(2)
     y, y_pred, y_old = np.zeros(m), np.zeros(m), np.zeros(m)
@@ -507,9 +520,7 @@ def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2
     z, z_old = np.zeros(k), np.zeros(k)
     state = np.zeros(k, np.int64)
     _affine(W, q, zero_m, zero_m, 0.0, y)
-    for j in range(k):
-        z[j] = y[rows[j, 1]]
-    copy_into(z_old, z)
+    copy_into(z_old, z0)
     evaluate(y, z_old, rows, props, lam, N, F, z, state)
     copy_into(lam_eq, lam)
     _affine(tip, q, zero_2, zero_2, 0.0, tip_now)
@@ -577,6 +588,8 @@ def _dense_kernel(A, WA, Sfc, Sfa, WSfc, WSfa, fc, fa, C, w_e, dt, gamma, a0, a2
                 return i + 1, UNBOUNDED, iterations, unconverged
     copy_into(q0, q)
     copy_into(v0, v)
+    copy_into(acc0, a)
+    copy_into(z0, z)
     energy[5] = contact_energy(N, F, props)
     return steps, OK, iterations, unconverged
 
@@ -590,7 +603,7 @@ def _kernel_array(x) -> np.ndarray:
     return np.require(x, dtype=np.float64, requirements=["C", "W"])
 
 
-def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v, rec):
+def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, start, rec):
     n = system.dofs
     a0, a1, a2, a3, a4, a5 = scheme.coefficients()
     M, C = dense(system.M), dense(system.C)
@@ -603,16 +616,17 @@ def _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v,
         _kernel_array(system.f_aero), _kernel_array(C), float(system.omega_e), scheme.dt, scheme.gamma,
         a0, a2, a3, steps, _kernel_array(W), _kernel_array(step.Phi),
         _kernel_array(step.Cc), _kernel_array(dense(system.tip)), law.rows, law.props,
-        law.side, law.weight, implicit, bound, window, q, v, rec.tip, rec.normal, rec.friction,
+        law.side, law.weight, implicit, bound, window, *start, rec.tip, rec.normal, rec.friction,
         rec.tangential, rec.state, rec.energy, rec.snap_q, rec.snap_v, rec.element_counts,
         rec.element_peak, step.contact_workspace(law))
-    return LoopEnd(done, status, q, v, iterations, unconverged)
+    return LoopEnd(done, status, start.q, start.v, iterations, unconverged)
 
 
 def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, steps: int,
               implicit: bool = True, method: str = "auto", energy_window: int | None = None,
               bound: float = math.inf, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
-              factorize: Callable | None = None, label: str = "transient") -> Trajectory:
+              factorize: Callable | None = None, label: str = "transient", acc0: np.ndarray | None = None,
+              z0: np.ndarray | None = None) -> Trajectory:
     """Integrate ``steps`` Newmark steps of ``system`` with contact ``law`` (paper Eq. 9).
 
     ``method``: "kernel" (compiled; dense systems), "reference" (Python loop;
@@ -621,8 +635,12 @@ def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, 
     accumulated (default: none). ``bound``: largest admissible |v_L|, |w_L|
     (m); beyond it, or on a non-finite value, the run stops and the
     trajectory so far is returned with ``diverged`` naming the cause.
-    ``q0, v0``: initial state (default zero, as the paper; the acceleration
-    starts at zero either way).
+    ``q0, v0``: initial state (default zero, as the paper); ``acc0``: initial
+    acceleration (default zero, as the paper); ``z0``: the sliders' initial
+    positions (default each element's tangential displacement: no friction
+    force). The trajectory's ``end`` is the state after the last step, sliders
+    included, from which a run continues where this one stopped
+    (shroud.core.period_map).
     """
     method = ("kernel" if _is_dense(system) else "reference") if method == "auto" else method
     if method == "kernel" and not _is_dense(system):
@@ -648,14 +666,17 @@ def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, 
     n = system.dofs
     q = np.zeros(n) if q0 is None else np.array(q0, dtype=float)
     v = np.zeros(n) if v0 is None else np.array(v0, dtype=float)
+    a = np.zeros(n) if acc0 is None else np.array(acc0, dtype=float)
+    z = (np.asarray(step.W @ q)[law.rows[:, 1]] if law.count else np.zeros(0)) if z0 is None else z0
+    start = Motion(q, v, a, np.array(z, dtype=float))
     window = steps - energy_window if energy_window else steps + 1
     rec = _Record.empty(steps, n, law.count)
     try:
         if method == "kernel":
-            end = _run_kernel(system, law, scheme, steps, implicit, bound, window, step, q, v, rec)
+            end = _run_kernel(system, law, scheme, steps, implicit, bound, window, step, start, rec)
         else:
             progress = Progress(label, steps)
-            end = _reference_loop(system, law, scheme, steps, implicit, bound, window, step, q, v, rec,
+            end = _reference_loop(system, law, scheme, steps, implicit, bound, window, step, start, rec,
                                   progress)
             progress.done()
     finally:
@@ -676,7 +697,8 @@ def integrate(system: StructuralSystem, law: ContactLaw, scheme: NewmarkScheme, 
                       energy=energy, contact_iterations=int(iterations),
                       contact_unconverged=int(unconverged), diverged=cause,
                       elapsed_s=time.perf_counter() - t_start, method=method,
-                      element_share=share, element_peak_normal=rec.element_peak if counted > 0 else None)
+                      element_share=share, element_peak_normal=rec.element_peak if counted > 0 else None,
+                      end=Motion(q, v, start.a, start.z) if status == OK else None)
 
 
 def _energy_balance(system, rec, q, v, window, steps) -> EnergyBalance:

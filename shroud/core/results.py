@@ -388,6 +388,13 @@ class CampbellResult:
 
 # ----------------------------------------------------------------------------- harmonic balance
 
+def _floats(values: np.ndarray | None, count: int) -> list:
+    """JSON numbers of a per-point array (None where nan or inf, or where the array was not taken)."""
+    if values is None:
+        return [None] * count
+    return [float(v) if np.isfinite(v) else None for v in values]
+
+
 @dataclass(frozen=True)
 class HBResult:
     """A steady-state branch over speed by harmonic balance, points in continuation order.
@@ -408,7 +415,8 @@ class HBResult:
     turns back ({"rpm", "kind"}: dp/ds changing sign, "smooth" or at a "corner"; the continuation's,
     independent of the multipliers, whose turning is in ``bifurcations``);
     ``tail_target``: the tail H was chosen for (None: H given), met or not
-    (``tail_met``).
+    (``tail_met``). ``period_map_multiplier``, ``period_map_error``, ``stability_reason``, ``in_time``:
+    the verdicts checked against the project's integrator (shroud.analysis.hb.integrator_check).
     """
 
     model: str
@@ -435,6 +443,10 @@ class HBResult:
     kinks: tuple[dict, ...] = ()
     folds: tuple[dict, ...] = ()
     tail_target: float | None = None
+    period_map_multiplier: np.ndarray | None = None   # per point: the integrator's period map's largest |mu|
+    period_map_error: np.ndarray | None = None        # ... its error
+    stability_reason: tuple[str, ...] = ()            # per point: why the verdict is what it is ("" : the monodromy's)
+    in_time: tuple[dict | None, ...] = ()             # per point: the check in time where taken (unstable points)
 
     def __post_init__(self):      # one spelling of the three verdicts: True, False, None
         object.__setattr__(self, "stable", np.array([None if s is None else bool(s) for s in self.stable], object))
@@ -461,7 +473,11 @@ class HBResult:
                    critical=tuple(crossing(d["multipliers"]) for d in details),
                    multiplier_error=np.array([d["multiplier_error"] for d in details], float),
                    amplitude_error=np.array([d.get("amplitude_error", np.nan) for d in details], float),
-                   kinks=tuple(kinks), folds=tuple(folds))
+                   kinks=tuple(kinks), folds=tuple(folds),
+                   period_map_multiplier=np.array([d.get("period_map_multiplier", np.nan) for d in details], float),
+                   period_map_error=np.array([d.get("period_map_error", np.nan) for d in details], float),
+                   stability_reason=tuple(d.get("stability_reason", "") for d in details),
+                   in_time=tuple(d.get("in_time") for d in details))
 
     @property
     def uncertain(self) -> np.ndarray:
@@ -531,7 +547,10 @@ class HBResult:
         undecided = int(self.uncertain.sum())
         if undecided:
             out.append(f"{undecided} of {len(self.rpm)} points of undecided stability (|multiplier| within its "
-                       "error of 1)")
+                       "error of 1, the two ways disagreeing, or the integrator staying where called unstable)")
+        stays = sum(1 for r in self.stability_reason if "stays" in r)
+        if stays:
+            out.append(f"{stays} point(s) called unstable where the integrator started on them stays: undecided")
         return out
 
     def to_json(self) -> dict[str, Any]:
@@ -542,6 +561,10 @@ class HBResult:
                 "stable": [None if s is None else bool(s) for s in self.stable],
                 "max_multiplier": [float(m) for m in self.max_multiplier],
                 "multiplier_error": [float(e) for e in err],
+                "period_map_multiplier": _floats(self.period_map_multiplier, len(self.rpm)),
+                "period_map_error": _floats(self.period_map_error, len(self.rpm)),
+                "stability_reason": list(self.stability_reason) or [""] * len(self.rpm),
+                "in_time": list(self.in_time) or [None] * len(self.rpm),
                 "bifurcations": list(self.bifurcations), "resonance": self.resonance,
                 "spectral_tail": self.spectral_tail, "harmonics_tried": list(self.harmonics_tried),
                 "tail_target": self.tail_target, "tail_met": self.tail_met, "kinks": list(self.kinks),
