@@ -80,7 +80,9 @@ def test_an_unstable_wave_is_left_at_the_rate_of_its_floquet_multiplier():
     x = tr.tip[:, :, 0]
     e = np.array([np.abs(x[k * spp:(k + 1) * spp] - x[(k - 1) * spp:k * spp]).max() for k in range(1, 55)])
     growth = (e[50] / e[30]) ** (1 / 20)
-    assert e[30] > 1e3 * e[15] and growth == pytest.approx(mu, rel=0.02)
+    # the start's own mismatch decays for ~15 periods (9e-8 to 3e-17), then the instability grows from
+    # round-off: by six orders of magnitude by period 50, wherever between 14 and 17 its least falls
+    assert e[50] > 1e6 * e[:30].min() and growth == pytest.approx(mu, rel=0.02)
     # the point's own error (the single blade's estimate: floor, half the samples, twice the harmonics)
     # holds the growth the time domain measures
     assert math.isfinite(d["multiplier_error"]) and abs(growth - mu) <= d["multiplier_error"]
