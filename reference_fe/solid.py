@@ -12,7 +12,7 @@ virtual work gives (paper Eq. 1, term by term)
     K_sigma  int sigma0 : (grad(u)^T grad(v))                stress stiffening (centrifugal)
     K_spin   -int rho (Om x u) . (Om x v)                    spin softening    (= -rho Om^2 on X, Y)
     G        int 2 rho (Om x u) . v                          Coriolis          (skew-symmetric)
-    f_aero   int_blade e_v(x) / (b h) . v                    F_e = 1 N/m along e_v(x) over the blade
+    f_aero   int_blade e_v(x) / A(x) . v                     F_e = 1 N/m along e_v(x) over the blade
 
 sigma0 is the prestress of the linear static solve K_e u0 = f_c. Index
 check of K_sigma: (grad(u)^T grad(v))_ij = sum_k du_k/dX_i dv_k/dX_j, so the
@@ -29,7 +29,7 @@ Contract (used by engineer D's transient and CMS; names are stable)
     (meshes.blade.BLADE / SHROUD), ``facet_tags`` (ROOT, CONTACT_SIDE1,
     CONTACT_SIDE2), ``contact_tags``, ``bcs`` (root clamp),
     ``clamped_dofs`` (local unrolled indices), ``tip_dofs`` (unrolled
-    indices of the embedded tip nodes: centre, centre -/+ b/4 e_w(L); -1 on
+    indices of the embedded tip nodes: centre, centre -/+ c(L)/4 e_w(L); -1 on
     ranks that do not own them). Built once per process for a mesh/material.
 ``rotating_operators(params, rpm) -> RotatingOperators``
     ``M``, ``K`` (= K_e + K_sigma + K_spin), ``G`` (Coriolis) as PETSc Mats
@@ -345,7 +345,7 @@ def _unit_forms(model: SolidModel):
         k_spin=-rho * ufl.inner(ufl.cross(Om, du), ufl.cross(Om, v)) * dx,
         g=2.0 * rho * ufl.inner(ufl.cross(Om, du), v) * dx,
         f_c=rho * ufl.inner(ufl.as_vector((X[0], X[1], 0.0)), v) * dx,
-        f_aero=ufl.inner(e_v / (spec.width * spec.thickness), v) * dx(BLADE),
+        f_aero=ufl.inner(e_v / spec.section_area(X[0] - spec.disk_radius), v) * dx(BLADE),
     )
 
 

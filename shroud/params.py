@@ -46,15 +46,16 @@ class Blade:
     def area(self) -> float:
         return self.width * self.thickness
 
-    def check_modelled(self, profile: bool = False) -> None:
-        """Refuse (InputError) the blade keys no model takes yet (issue 34): blade.step always; with
-        ``profile`` False also a NACA section or a taper, which only ``shroud section`` computes."""
-        if self.step:
-            raise InputError("blade.step", f"{self.step!r}: blades from STEP files are not built yet; "
-                                           'allowed: "" (the blade of the blade.* keys)')
+    def check_modelled(self, profile: bool = False, step: bool = False) -> None:
+        """Refuse (InputError) the blade keys the path at hand cannot honour: blade.step unless ``step``
+        (the solid's modes read it), a NACA section or a taper unless ``profile`` (the solid models and
+        ``shroud section`` take them)."""
+        if self.step and not step:
+            raise InputError("blade.step", f"{self.step!r}: only the solid's modes (shroud modal --model fe) "
+                                           'read a STEP file yet; allowed: "" (the blade of the blade.* keys)')
         if profile:
             return
-        not_yet = "the models (beam, solid, shell) do not take it yet"
+        not_yet = "only the solid models (fe, fe-reduced) take it yet"
         if self.section != "rectangle":
             raise InputError("blade.section", f"{self.section!r}: {not_yet}; allowed: \"rectangle\" "
                                               "(shroud section computes the profile)")

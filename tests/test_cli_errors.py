@@ -131,12 +131,30 @@ UNBUILT = [("blade.section=naca4", "blade.section"), ("blade.chord_taper=0.75", 
                                   ["sweep", "--method", "hb", "--checkpoints", "9000"],
                                   ["run", "{scene}", "--out", "{out}"]])
 def test_blade_keys_no_model_takes_yet_are_refused_not_dropped(tmp_path, capsys, argv, assignment, key):
-    """The airfoil, its tapers and a STEP file: every command but `shroud section` refuses them, naming
-    the key, before anything is written (a rectangle run in their place would answer another question)."""
+    """The airfoil, its tapers and a STEP file: the beams and the studies refuse them, naming the key,
+    before anything is written (a rectangle run in their place would answer another question)."""
     out = tmp_path / "out"
     argv = [a.format(scene=_scene(tmp_path, GOOD), out=out) for a in argv]
     line = _refused(capsys, argv + ["--set", assignment], key, out)
-    assert "not built yet" in line if key == "blade.step" else "do not take it yet" in line
+    assert "only the solid's modes" in line if key == "blade.step" else "only the solid models" in line
+
+
+@pytest.mark.parametrize("argv, key", [
+    (["modal", "--model", "shell", "--set", "blade.section=naca4"], "blade.section"),   # the shell: the rectangle
+    (["sweep", "--model", "fe-reduced", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "2",
+      "--set", "blade.step=b.step"], "blade.step"),
+    (["static", "--model", "fe", "--tip-force", "0", "100", "0", "--set", "blade.step=b.step"], "blade.step"),
+    (["transient", "--model", "fe", "--out", "{out}", "--set", "blade.step=b.step"], "blade.step"),
+    (["modal", "--model", "fe", "--set", "blade.section=naca4"], "fe.cell"),      # hex sweeps the rectangle only
+    (["modal", "--model", "fe", "--set", "blade.chord_taper=0.75", "--set", "fe.cell=hex"], "fe.cell"),
+    (["modal", "--model", "fe", "--set", "blade.section=naca4", "--set", "fe.cell=tet"], "fe.mesh_size"),
+])
+def test_solid_paths_refuse_the_blade_they_cannot_build(tmp_path, capsys, argv, key):
+    """The solid takes the airfoil (on tetrahedra, fine enough for its thin tip) and the STEP file only
+    for its modes (F_e per unit span and the shroud's tip load need sections the file does not name);
+    the shell keeps the rectangle."""
+    out = tmp_path / "out"
+    _refused(capsys, [a.format(out=out) for a in argv], key, out)
 
 
 @pytest.mark.parametrize("argv, key", [(["section", "--at", "0.16"], "--at"), (["section", "--at", "-0.01"], "--at"),

@@ -136,12 +136,21 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+# The models that take a NACA section and tapers (the solid, meshes.blade's loft), and the one whose
+# modes take a STEP file (its load per unit span and its shroud volume would need the sections the
+# file does not name).
+PROFILE_MODELS = ("fe", "fe-reduced")
+STEP_MODEL = "fe"
+
+
 def _params(args):
     from workbench.scene import load_scene
     overrides = list(args.set)
     if getattr(args, "rpm", None) is not None:
         overrides.append(f"speed.rpm={args.rpm}")
-    return load_scene(args.scene, overrides).params
+    model = getattr(args, "model", None)
+    return load_scene(args.scene, overrides, profile=model in PROFILE_MODELS,
+                      step=model == STEP_MODEL and args.command == "modal").params
 
 
 def _emit(args, payload: dict, text: str) -> None:
