@@ -59,7 +59,7 @@ def test_the_loft_has_the_profiles_volume_and_stands_on_its_centroids(tmp_path):
     dv = det * np.tile(weights, det.size // weights.size)
     centre = dv @ coords.reshape(-1, 3) / dv.sum()
     assert dv.sum() == pytest.approx(blade, rel=5e-4)
-    assert np.abs(centre[1:]).max() < 1e-4 * b.width          # every section's centroid on the X axis
+    assert np.abs(centre[1:]).max() < 1e-3 * b.width     # every section's centroid on the X axis (to the spline's 13 um)
 
 
 def _frequencies(capsys, *sets):
