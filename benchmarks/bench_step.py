@@ -2,7 +2,7 @@
 
 The NACA blade of shared/spec/geometry.md ("Airfoil blades": m 0.04, p 0.4,
 chord 40 -> 30 mm, thickness 7 -> 4.2 mm, the paper's stagger, twist and
-shroud, alpha 15 deg) is written to a STEP file (meshes.step.write_step, not
+shroud, alpha 15 deg) is written to a STEP file (meshes.blade.write_step, not
 timed); then ``shroud modal --model fe --modes 5 --set blade.step=FILE``
 runs ``--repeats`` times in fresh processes, each with an empty cache
 (reading the file, finding its faces, meshing it with P2 tetrahedra of
@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 
 from meshes.spec import MeshSpec
-from meshes.step import write_step
+from meshes.blade import write_step
 from shroud.params import Parameters
 
 NACA = ["blade.section=naca4", "blade.chord_taper=0.75", "blade.thickness_taper=0.6", "contact.alpha_deg=15",
@@ -56,8 +56,10 @@ def main() -> None:
             print(f"run {i + 1}: {walls[-1]:.1f} s wall, {cpus[-1]:.1f} s CPU, load {os.getloadavg()[0]:.1f}",
                   flush=True)
         print(done.stdout.strip())
-        print(f"STEP -> modes, whole process, fe.mesh_size {args.size:g} m: median {statistics.median(walls):.1f} s "
-              f"over {len(walls)} runs ({', '.join(f'{w:.1f}' for w in walls)}), CPU median {statistics.median(cpus):.1f} s")
+        print(f"STEP -> modes, whole process, fe.mesh_size {args.size:g} m: "
+              f"median {statistics.median(walls):.1f} s "
+              f"over {len(walls)} runs ({', '.join(f'{w:.1f}' for w in walls)}), "
+              f"CPU median {statistics.median(cpus):.1f} s")
 
 
 if __name__ == "__main__":

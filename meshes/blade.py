@@ -28,7 +28,8 @@ import numpy as np
 
 from meshes.hexa import check_hex_geometry, write_hex_mesh
 from meshes.spec import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec,  # noqa: F401
-                         section_frame, shroud_frame, tip_points)
+                         embed_tip_points, section_frame, shroud_frame, tip_points)
+from meshes.step import build_from_step
 from shroud.base.cache import cached
 from shroud.base.errors import InputError
 from shroud.base.resources import in_words, physical_memory
@@ -217,25 +218,7 @@ def _build_model(gmsh, spec: MeshSpec) -> None:
         model.addPhysicalGroup(2, side2, CONTACT_SIDE2, name="contact_side2")
         model.addPhysicalGroup(3, shroud_vols, SHROUD, name="shroud")
     model.addPhysicalGroup(3, blade_vols, BLADE, name="blade")
-    _embed_tip_points(model, spec)
-
-
-def _embed_tip_points(model, spec: MeshSpec) -> None:
-    """Make the tip points (meshes.spec.tip_points) mesh nodes: in the tip face that holds each (the
-    blade/shroud interface) or, in a solid read whole from a STEP file, in its volume."""
-    tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
-    faces = [(2, tag) for _, tag in model.getEntities(2)
-             if abs(model.getBoundingBox(2, tag)[0] - spec.tip_x) < tol
-             and abs(model.getBoundingBox(2, tag)[3] - spec.tip_x) < tol]
-    for point in tip_points(spec):
-        host = [(dim, tag) for dim, tag in faces + model.getEntities(3) if model.isInside(dim, tag, list(point))]
-        if not host:
-            raise InputError("blade.length", f"the tip point {point.round(6).tolist()} m (the centroid of the tip "
-                             "section and a quarter chord either side) lies outside the solid; allowed: "
-                             "blade.length, blade.width, blade.chord_taper and the angles that place it inside")
-        tag = model.occ.addPoint(*point)
-        model.occ.synchronize()
-        model.mesh.embed(0, [tag], *host[0])
+    embed_tip_points(model, spec)
 
 
 def write_mesh(spec: MeshSpec, path: Path) -> None:
@@ -247,8 +230,7 @@ def write_mesh(spec: MeshSpec, path: Path) -> None:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("shrouded_blade")
         if spec.step:
-            from meshes.step import build_from_step    # it builds on this module's tip points and sizes
-            build_from_step(gmsh, spec)
+            check_mesh_size(spec, volume=build_from_step(gmsh, spec))
         else:
             _build_model(gmsh, spec)
         gmsh.option.setNumber("Mesh.MeshSizeMax", spec.size)
@@ -261,6 +243,22 @@ def write_mesh(spec: MeshSpec, path: Path) -> None:
         gmsh.model.mesh.generate(3)
         gmsh.model.mesh.setOrder(spec.order)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+
+
+def write_step(spec: MeshSpec, path) -> None:
+    """Write the blade.* keys' blade and shroud (:func:`build_solid`) to the STEP file ``path``, lengths
+    in millimetres as the file declares them (what a CAD system writes; meshes.step reads it back)."""
+    import gmsh
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setString("Geometry.OCCTargetUnit", "M")    # the model's metres, written as millimetres
+        gmsh.model.add("blade_to_step")
+        build_solid(gmsh.model.occ, spec)
+        gmsh.model.occ.synchronize()
         gmsh.write(str(path))
     finally:
         gmsh.finalize()

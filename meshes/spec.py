@@ -81,7 +81,7 @@ class SweptBlade:
 
     @property
     def is_rectangle(self) -> bool:
-        """The paper's untapered rectangle, read from no file (what the swept hexahedra and the shell build)."""
+        """The paper's untapered rectangle, read from no file (what the swept hexahedra build)."""
         return self.section == "rectangle" and self.chord_taper == self.thickness_taper == 1.0 and not self.step
 
     @property
@@ -105,8 +105,8 @@ class SweptBlade:
     def area_coefficients(self) -> tuple[float, float]:
         """(k_1, k_2) of the section area A = k_1 c t + k_2 t^2, exact for the profile's polygon.
 
-        The NACA outline's coordinates are c (s, y_c) + t (stuff of s), linear in c and t, so its
-        area is a quadratic form in them, with no c^2 term (a zero thickness has no area).
+        The NACA outline's coordinates are c (functions of s) + t (functions of s), linear in c and
+        t, so its area is a quadratic form in them, with no c^2 term (a zero thickness has no area).
         """
         if self.section != "naca4":
             return 1.0, 0.0
@@ -150,8 +150,8 @@ class MeshSpec(SweptBlade):
     @classmethod
     def from_params(cls, params: Parameters) -> "MeshSpec":
         fe = params.fe
-        return cls(**SweptBlade.geometry(params, profile=True, step=True), size=fe.mesh_size, order=fe.order, cell=fe.cell,
-                   span_ratio=fe.hex_span_ratio if fe.cell == "hex" else 1.0)
+        return cls(**SweptBlade.geometry(params, profile=True, step=True), size=fe.mesh_size, order=fe.order,
+                   cell=fe.cell, span_ratio=fe.hex_span_ratio if fe.cell == "hex" else 1.0)
 
     @property
     def elements_through_thickness(self) -> float:
@@ -201,3 +201,21 @@ def tip_points(spec: SweptBlade) -> np.ndarray:
     centre = np.array([spec.tip_x, 0.0, 0.0])
     d = 0.25 * spec.tip_chord
     return np.array([centre, centre - d * e_w, centre + d * e_w])
+
+
+def embed_tip_points(model, spec: SweptBlade) -> None:
+    """Make the tip points (meshes.spec.tip_points) mesh nodes: in the tip face that holds each (the
+    blade/shroud interface) or, in a solid read whole from a STEP file, in its volume."""
+    tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
+    faces = [(2, tag) for _, tag in model.getEntities(2)
+             if abs(model.getBoundingBox(2, tag)[0] - spec.tip_x) < tol
+             and abs(model.getBoundingBox(2, tag)[3] - spec.tip_x) < tol]
+    for point in tip_points(spec):
+        host = [(dim, tag) for dim, tag in faces + model.getEntities(3) if model.isInside(dim, tag, list(point))]
+        if not host:
+            raise InputError("blade.length", f"the tip point {point.round(6).tolist()} m (the centroid of the tip "
+                             "section and a quarter chord either side) lies outside the solid; allowed: "
+                             "blade.length, blade.width, blade.chord_taper and the angles that place it inside")
+        tag = model.occ.addPoint(*point)
+        model.occ.synchronize()
+        model.mesh.embed(0, [tag], *host[0])

@@ -24,8 +24,7 @@ import math
 
 import numpy as np
 
-from meshes.blade import _embed_tip_points, build_solid, check_mesh_size
-from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, shroud_frame
+from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, embed_tip_points, shroud_frame
 from shroud.base.errors import InputError
 
 # A contact face's outward normal may turn this far from -/+ e_vs: the contact law acts along e_vs,
@@ -136,11 +135,11 @@ def _found_faces(gmsh, spec: MeshSpec, volumes: list[int]) -> tuple[list[int], l
     return root, sides[0], sides[1]
 
 
-def build_from_step(gmsh, spec: MeshSpec) -> None:
-    """The STEP file's solid in the current gmsh model, with meshes.blade's physical groups."""
+def build_from_step(gmsh, spec: MeshSpec) -> float:
+    """The STEP file's solid in the current gmsh model, with meshes.blade's physical groups; its
+    volume, m^3 (for meshes.blade.check_mesh_size)."""
     volumes = _import(gmsh, spec)
     _check_units(gmsh, spec)
-    check_mesh_size(spec, volume=sum(gmsh.model.occ.getMass(3, v) for v in volumes))
     root, side1, side2 = _found_faces(gmsh, spec, volumes)
     model = gmsh.model
     model.addPhysicalGroup(2, root, ROOT, name="root")
@@ -148,20 +147,6 @@ def build_from_step(gmsh, spec: MeshSpec) -> None:
         model.addPhysicalGroup(2, side1, CONTACT_SIDE1, name="contact_side1")
         model.addPhysicalGroup(2, side2, CONTACT_SIDE2, name="contact_side2")
     model.addPhysicalGroup(3, volumes, BLADE, name="blade")
-    _embed_tip_points(model, spec)
+    embed_tip_points(model, spec)
+    return sum(model.occ.getMass(3, v) for v in volumes)
 
-
-def write_step(spec: MeshSpec, path) -> None:
-    """Write the blade.* keys' blade and shroud (meshes.blade.build_solid) to the STEP file ``path``,
-    lengths in millimetres as the file declares them (what a CAD system writes)."""
-    import gmsh
-    gmsh.initialize(interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.option.setString("Geometry.OCCTargetUnit", "M")    # the model's metres, written as millimetres
-        gmsh.model.add("blade_to_step")
-        build_solid(gmsh.model.occ, spec)
-        gmsh.model.occ.synchronize()
-        gmsh.write(str(path))
-    finally:
-        gmsh.finalize()

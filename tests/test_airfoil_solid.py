@@ -60,7 +60,7 @@ def test_the_loft_has_the_profiles_volume_and_stands_on_its_centroids(tmp_path):
     dv = det * np.tile(weights, det.size // weights.size)
     centre = dv @ coords.reshape(-1, 3) / dv.sum()
     assert dv.sum() == pytest.approx(blade, rel=5e-4)
-    assert np.abs(centre[1:]).max() < 1e-3 * b.width     # every section's centroid on the X axis (to the spline's 13 um)
+    assert np.abs(centre[1:]).max() < 1e-3 * b.width     # the centroids on the X axis (to the splines' 13 um)
 
 
 def _frequencies(capsys, *sets):
@@ -71,7 +71,7 @@ def _frequencies(capsys, *sets):
 
 @pytest.mark.slow
 def test_the_blade_read_back_from_its_step_file_has_the_lofts_modes(tmp_path, capsys):
-    from meshes.step import write_step
+    from meshes.blade import write_step
     path = tmp_path / "naca.step"
     write_step(_spec(*NACA, *COARSE), path)
     loft = _frequencies(capsys, *NACA, *COARSE)
@@ -123,7 +123,7 @@ def _written(tmp_path, name, build):
 
 
 def _rectangle_step(tmp_path, name, *sets):
-    from meshes.step import write_step
+    from meshes.blade import write_step
     path = tmp_path / f"{name}.step"
     write_step(_spec("fe.cell=tet", *sets), path)
     return path
@@ -134,7 +134,8 @@ HOSTILE = {
     "not STEP": (lambda d: d / "notes.step", "not a STEP file"),
     "no solid": (lambda d: _written(d, "surface", _surface_only), "no solid"),
     "units off by 1000": (lambda d: _written(d, "big", _thousand_times_too_big), "units are off by 1000"),
-    "root off the disk": (lambda d: _rectangle_step(d, "outward", "blade.disk_radius=0.16"), "no face in the root plane"),
+    "root off the disk": (lambda d: _rectangle_step(d, "outward", "blade.disk_radius=0.16"),
+                          "no face in the root plane"),
     "no shroud": (lambda d: _rectangle_step(d, "bare", "shroud.thickness=0"), "no planar face"),
 }
 
