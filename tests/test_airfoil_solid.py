@@ -156,3 +156,24 @@ def test_a_step_file_the_solid_cannot_use_is_one_line_exit_2_and_nothing_written
     assert err[-1].startswith("error: blade.step:") and words in err[-1], err[-1]
     assert "Traceback" not in "\n".join(err)
     assert not list(cache.glob("mesh/*.msh")), "a mesh was written for a broken STEP file"
+
+
+def test_faces_the_file_names_root_contact1_contact2_are_taken_as_named():
+    """A CAD file may name its faces (entity labels, physical groups): those win over position and normal,
+    even where no face lies in the root plane or faces e_vs."""
+    import gmsh
+    from meshes.step import _found_faces
+    spec = _spec("fe.cell=tet")
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        box = gmsh.model.occ.addBox(0.2, 0, 0, 0.1, 0.01, 0.04)          # off the root plane, sides along Y, Z
+        gmsh.model.occ.synchronize()
+        faces = [tag for _, tag in gmsh.model.getBoundary([(3, box)], oriented=False)]
+        gmsh.model.setEntityName(2, faces[0], "Shapes/root")
+        gmsh.model.addPhysicalGroup(2, [faces[2]], name="contact1")
+        gmsh.model.addPhysicalGroup(2, [faces[3]], name="contact2")
+        assert _found_faces(gmsh, spec, [box]) == ([faces[0]], [faces[2]], [faces[3]])
+    finally:
+        gmsh.finalize()
+
