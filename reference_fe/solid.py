@@ -64,6 +64,7 @@ from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, c
                           mesh_file, tip_points)
 from meshes.spec import SweptBlade
 from reference_fe.distributed import global_offset
+from shroud.base.errors import InputError
 from shroud.base.log import info
 from shroud.base.parallel import in_task, task_comm
 from shroud.params import Material, Parameters
@@ -268,8 +269,16 @@ def _solid_model(spec: MeshSpec, material: Material, alone: bool) -> SolidModel:
     # COMM_WORLD, or COMM_SELF for a rank working alone (an item of a spread campaign, or
     # serial work on rank 0): ``alone`` keys the cache so the two never share a model.
     comm = task_comm()
-    path = mesh_file(spec) if comm.rank == 0 else None
-    path = comm.bcast(path, root=0)
+    # Rank 0 meshes; an input error it finds there (a STEP file the solid cannot use) stops every rank.
+    path = error = None
+    if comm.rank == 0:
+        try:
+            path = mesh_file(spec)
+        except InputError as exc:
+            error = exc
+    path, error = comm.bcast((path, error), root=0)
+    if error is not None:
+        raise error
     data = read_mesh(path, comm)
     msh = data.mesh
     V = fem.functionspace(msh, ("Lagrange", spec.order, (3,)))
