@@ -28,7 +28,8 @@ import numpy as np
 
 from meshes.hexa import check_hex_geometry, write_hex_mesh
 from meshes.spec import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec,  # noqa: F401
-                         section_frame, shroud_frame, tip_points)
+                         embed_tip_points, section_frame, shroud_frame, tip_points)
+from meshes.step import build_from_step
 from shroud.base.cache import cached
 from shroud.base.errors import InputError
 from shroud.base.resources import in_words, physical_memory
@@ -41,7 +42,16 @@ MIN_ELEMENTS_THROUGH_THICKNESS = 2.0
 
 
 def check_geometry(spec: MeshSpec) -> None:
-    """Raise InputError for a solid that cannot be meshed as intended, or held (before gmsh runs)."""
+    """Raise InputError for a solid that cannot be meshed as intended, or held (before gmsh runs).
+
+    A STEP file's solid is checked when it is read (meshes.step).
+    """
+    if spec.cell == "hex" and not spec.is_rectangle:
+        key = "blade.step" if spec.step else "blade.section" if spec.section != "rectangle" else "blade.chord_taper"
+        raise InputError("fe.cell", f'"hex" sweeps the untapered rectangle only, not this blade ({key}); '
+                         'allowed: "tet" (P2 tetrahedra on the airfoil loft or the STEP solid)')
+    if spec.step:
+        return
     if spec.has_shroud and spec.shroud_width < spec.thickness:
         raise InputError("shroud.width", f"{spec.shroud_width!r} is narrower than blade.thickness "
                          f"{spec.thickness!r}; allowed: a shroud at least as wide as the blade is thick")
@@ -54,9 +64,10 @@ def check_geometry(spec: MeshSpec) -> None:
         check_hex_geometry(spec)
         return
     if spec.elements_through_thickness < MIN_ELEMENTS_THROUGH_THICKNESS:
+        thinnest = min(spec.thickness, spec.tip_thickness)
         raise InputError("fe.mesh_size", f"{spec.size!r} leaves {spec.elements_through_thickness:.2f} "
-                         f"elements through blade.thickness {spec.thickness!r}; allowed: a size <= "
-                         f"{spec.thickness / MIN_ELEMENTS_THROUGH_THICKNESS:g} m")
+                         f"elements through the blade's thickness {thinnest!r}; allowed: a size <= "
+                         f"{thinnest / MIN_ELEMENTS_THROUGH_THICKNESS:g} m")
     if spec.has_shroud and spec.shroud_thickness / spec.size < MIN_ELEMENTS_THROUGH_THICKNESS:
         raise InputError("fe.mesh_size", f"{spec.size!r} leaves fewer than two elements through "
                          f"shroud.thickness {spec.shroud_thickness!r}; allowed: a size <= "
@@ -106,15 +117,20 @@ def estimate_mesh(volume: float, size: float, order: int, cell: str = "tet") -> 
 
 
 def solid_volume(spec: MeshSpec) -> float:
-    """Volume of blade and shroud, m^3."""
-    return (spec.length * spec.width * spec.thickness
-            + spec.shroud_length * spec.shroud_width * spec.shroud_thickness * spec.has_shroud)
+    """Volume of blade and shroud, m^3 (A(x) is quadratic in x: Simpson's rule is exact)."""
+    blade = spec.length * (spec.section_area(0.0) + 4.0 * spec.section_area(0.5 * spec.length)
+                           + spec.section_area(spec.length)) / 6.0
+    return blade + spec.shroud_length * spec.shroud_width * spec.shroud_thickness * spec.has_shroud
 
 
-def check_mesh_size(spec: MeshSpec, memory: float | None = None) -> MeshEstimate:
-    """Refuse (InputError on fe.mesh_size) a mesh whose solve this machine cannot hold; else its estimate."""
+def check_mesh_size(spec: MeshSpec, memory: float | None = None, volume: float | None = None) -> MeshEstimate:
+    """Refuse (InputError on fe.mesh_size) a mesh whose solve this machine cannot hold; else its estimate.
+
+    ``volume``: the solid's, m^3, where not the blade.* keys' (a STEP file's).
+    """
     memory = physical_memory() if memory is None else memory
-    estimate = estimate_mesh(solid_volume(spec), spec.size, spec.order, spec.cell)
+    volume = solid_volume(spec) if volume is None else volume
+    estimate = estimate_mesh(volume, spec.size, spec.order, spec.cell)
     if estimate.bytes > memory:
         raise InputError("fe.mesh_size", f"{spec.size!r} m would make about {estimate.cells:.2g} cells and "
                          f"{estimate.dofs:.2g} DOF, needing about {in_words(estimate.bytes)} to solve; this "
@@ -122,33 +138,53 @@ def check_mesh_size(spec: MeshSpec, memory: float | None = None) -> MeshEstimate
     return estimate
 
 
-def _section_wire(occ, spec: MeshSpec, x: float) -> int:
-    """Closed wire of the blade section at blade coordinate x (corners A, B, C, D of Eq. 13)."""
+# Points per surface of the NACA profile through which the B-spline section runs (cosine-spaced):
+# the section's area within 5e-5 of the profile's (41 points: 3e-6, for twice gmsh's time to mesh it).
+SPLINE_POINTS = 21
+
+
+def _section_wire(occ, spec: MeshSpec, x: float) -> tuple[int, list[int]]:
+    """Closed wire of the blade section at blade coordinate x: the rectangle's corners A, B, C, D of
+    Eq. 13 joined by lines, or the NACA profile's suction and pressure sides as two B-splines through
+    its points (trailing edge to leading edge and back), centroid on the X axis. The wire's tag and
+    its curves' tags."""
     e_v, e_w = section_frame(spec.stagger + spec.twist * x / spec.length)
     centre = np.array([spec.disk_radius + x, 0.0, 0.0])
-    corners = [centre + sv * 0.5 * spec.thickness * e_v + sw * 0.5 * spec.width * e_w
-               for sv, sw in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
-    points = [occ.addPoint(*p) for p in corners]
-    lines = [occ.addLine(points[i], points[(i + 1) % 4]) for i in range(4)]
-    return occ.addWire(lines)
+    outline = spec.profile(x, SPLINE_POINTS)
+    points = [occ.addPoint(*(centre + eta_v * e_v + eta_w * e_w)) for eta_v, eta_w in outline]
+    if spec.section != "naca4":
+        curves = [occ.addLine(points[i], points[(i + 1) % 4]) for i in range(4)]
+    else:
+        leading = SPLINE_POINTS - 1        # the outline runs trailing edge -> upper -> leading edge -> lower
+        curves = [occ.addSpline(points[:leading + 1]), occ.addSpline(points[leading:] + points[:1])]
+    return occ.addWire(curves), curves
 
 
-def _build_model(gmsh, spec: MeshSpec) -> None:
-    """The OCC solid and its physical groups in the current gmsh model."""
-    occ = gmsh.model.occ
+def build_solid(occ, spec: MeshSpec) -> list[tuple[int, int]]:
+    """The blade's loft and the shroud box on its tip in gmsh's OCC kernel ``occ``: their (3, tag)
+    volumes, sharing their interface (not yet synchronized)."""
     # A twisted face is a helicoid; sections every <= 2 deg make the B-spline
-    # skin match it to well below the mesh size.
+    # skin match it to well below the mesh size. The profile's coordinates are linear in c(x) and
+    # t(x), so a taper alone is ruled.
     n_sections = 2 + int(math.ceil(abs(math.degrees(spec.twist)) / 2.0))
-    wires = [_section_wire(occ, spec, spec.length * i / (n_sections - 1)) for i in range(n_sections)]
-    blade = occ.addThruSections(wires, makeSolid=True, makeRuled=abs(spec.twist) == 0.0)
+    sections = [_section_wire(occ, spec, spec.length * i / (n_sections - 1)) for i in range(n_sections)]
+    blade = occ.addThruSections([wire for wire, _ in sections], makeSolid=True, makeRuled=abs(spec.twist) == 0.0)
+    # The sections' curves stay behind as free entities: remove them, so that neither the mesh nor a
+    # STEP file of the solid holds them.
+    occ.remove([(1, curve) for _, curves in sections for curve in curves], recursive=True)
     volumes = blade
     if spec.has_shroud:
         box = occ.addBox(spec.tip_x, -0.5 * spec.shroud_width, -0.5 * spec.shroud_length,
                          spec.shroud_thickness, spec.shroud_width, spec.shroud_length)
         occ.rotate([(3, box)], 0, 0, 0, 1, 0, 0, spec.beta_tip + spec.alpha)
         volumes, _ = occ.fragment(blade, [(3, box)])
-    occ.synchronize()
+    return volumes
 
+
+def _build_model(gmsh, spec: MeshSpec) -> None:
+    """The OCC solid and its physical groups in the current gmsh model."""
+    volumes = build_solid(gmsh.model.occ, spec)
+    gmsh.model.occ.synchronize()
     model = gmsh.model
     tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
     blade_vols, shroud_vols = [], []
@@ -182,21 +218,7 @@ def _build_model(gmsh, spec: MeshSpec) -> None:
         model.addPhysicalGroup(2, side2, CONTACT_SIDE2, name="contact_side2")
         model.addPhysicalGroup(3, shroud_vols, SHROUD, name="shroud")
     model.addPhysicalGroup(3, blade_vols, BLADE, name="blade")
-    _embed_tip_points(model, spec)
-
-
-def _embed_tip_points(model, spec: MeshSpec) -> None:
-    tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
-    faces = [tag for _, tag in model.getEntities(2)
-             if abs(model.getBoundingBox(2, tag)[0] - spec.tip_x) < tol
-             and abs(model.getBoundingBox(2, tag)[3] - spec.tip_x) < tol]
-    for point in tip_points(spec):
-        host = [tag for tag in faces if model.isInside(2, tag, list(point))]
-        if not host:
-            raise RuntimeError(f"no tip face holds the tip point {point}")
-        tag = model.occ.addPoint(*point)
-        model.occ.synchronize()
-        model.mesh.embed(0, [tag], 2, host[0])
+    embed_tip_points(model, spec)
 
 
 def write_mesh(spec: MeshSpec, path: Path) -> None:
@@ -207,7 +229,10 @@ def write_mesh(spec: MeshSpec, path: Path) -> None:
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("shrouded_blade")
-        _build_model(gmsh, spec)
+        if spec.step:
+            check_mesh_size(spec, volume=build_from_step(gmsh, spec))
+        else:
+            _build_model(gmsh, spec)
         gmsh.option.setNumber("Mesh.MeshSizeMax", spec.size)
         gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
@@ -223,6 +248,22 @@ def write_mesh(spec: MeshSpec, path: Path) -> None:
         gmsh.finalize()
 
 
+def write_step(spec: MeshSpec, path) -> None:
+    """Write the blade.* keys' blade and shroud (:func:`build_solid`) to the STEP file ``path``, lengths
+    in millimetres as the file declares them (what a CAD system writes; meshes.step reads it back)."""
+    import gmsh
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setString("Geometry.OCCTargetUnit", "M")    # the model's metres, written as millimetres
+        gmsh.model.add("blade_to_step")
+        build_solid(gmsh.model.occ, spec)
+        gmsh.model.occ.synchronize()
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+
+
 def mesh_file(spec: MeshSpec) -> Path:
     """Path of the cached .msh for ``spec``; built (on this process) if missing.
 
@@ -231,7 +272,7 @@ def mesh_file(spec: MeshSpec) -> Path:
     check_geometry(spec)
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
     write, sources = (write_hex_mesh, (__name__, "meshes.hexa", "meshes.spec")) if spec.cell == "hex" else \
-        (write_mesh, (__name__, "meshes.spec"))
+        (write_mesh, (__name__, "meshes.spec", "meshes.step", "reduced_model.airfoil"))
     return cached("mesh", inputs, ".msh", lambda tmp: write(spec, tmp), what="blade mesh",
                   sources=sources, check=check_msh_complete)
 

@@ -15,11 +15,15 @@ Example
 
 from __future__ import annotations
 
+import hashlib
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
+from reduced_model.airfoil import chord_and_thickness, naca4_outline
+from shroud.base.errors import InputError
 from shroud.params import Parameters
 
 # Physical group tags (facets dim 2, cells dim 3).
@@ -32,8 +36,14 @@ SHROUD = 2
 
 @dataclass(frozen=True)
 class SweptBlade:
-    """The blade swept by its chord section from the disk (X = R_d) to the tip while it turns by
-    beta(x) = beta_1 + beta_t x / L, and the shroud box on its tip (docs/geometry.md), SI units (m, rad)."""
+    """The blade swept by its section from the disk (X = R_d) to the tip while it turns by
+    beta(x) = beta_1 + beta_t x / L, and the shroud box on its tip (docs/geometry.md), SI units (m, rad).
+
+    The section is the rectangle b x h or the NACA four-digit profile of chord c(x) and thickness
+    t(x), linear from (b, h) at the root to (b chord_taper, h thickness_taper) at the tip
+    (geometry.md, "Airfoil blades"); or the blade and shroud are the solid of the STEP file ``step``
+    (its bytes' digest ``step_digest`` keys the meshes made from it).
+    """
 
     disk_radius: float
     length: float
@@ -45,16 +55,70 @@ class SweptBlade:
     shroud_width: float       # b_s (along e_vs)
     shroud_thickness: float   # t_s (along X); 0 = no shroud
     alpha: float              # shroud inclination, rad
+    section: str = field(default="rectangle", kw_only=True)    # "rectangle" or "naca4"
+    naca_m: float = field(default=0.04, kw_only=True)          # camber, share of the chord
+    naca_p: float = field(default=0.4, kw_only=True)           # position of the maximum camber, share of the chord
+    chord_taper: float = field(default=1.0, kw_only=True)      # c(L) / b
+    thickness_taper: float = field(default=1.0, kw_only=True)  # t(L) / h
+    step: str = field(default="", kw_only=True)                # STEP file of blade and shroud ("" = none)
+    step_digest: str = field(default="", kw_only=True)         # sha256 of its bytes
 
     @staticmethod
-    def geometry(params: Parameters) -> dict:
-        """The fields of this class from ``params`` (blade, shroud, contact.alpha_deg)."""
+    def geometry(params: Parameters, profile: bool = False, step: bool = False) -> dict:
+        """The fields of this class from ``params`` (blade, shroud, contact.alpha_deg).
+
+        ``profile``: the caller builds the NACA section and the tapers; ``step``: it reads a STEP
+        file (shroud.params.Blade.check_modelled refuses what it does not).
+        """
         b, s = params.blade, params.shroud
-        b.check_modelled()               # the meshes sweep the rectangle, untapered
+        b.check_modelled(profile, step)
         return dict(disk_radius=b.disk_radius, length=b.length, width=b.width, thickness=b.thickness,
                     stagger=math.radians(b.stagger_deg), twist=math.radians(b.twist_deg),
                     shroud_length=s.length, shroud_width=s.width, shroud_thickness=s.thickness,
-                    alpha=math.radians(params.contact.alpha_deg))
+                    alpha=math.radians(params.contact.alpha_deg), section=b.section, naca_m=b.naca_m,
+                    naca_p=b.naca_p, chord_taper=b.chord_taper, thickness_taper=b.thickness_taper,
+                    step=b.step, step_digest=step_digest(b.step) if b.step else "")
+
+    @property
+    def is_rectangle(self) -> bool:
+        """The paper's untapered rectangle, read from no file (what the swept hexahedra build)."""
+        return self.section == "rectangle" and self.chord_taper == self.thickness_taper == 1.0 and not self.step
+
+    @property
+    def tip_chord(self) -> float:
+        """c(L), m."""
+        return self.width * self.chord_taper
+
+    @property
+    def tip_thickness(self) -> float:
+        """t(L), m."""
+        return self.thickness * self.thickness_taper
+
+    def profile(self, x: float, points: int) -> np.ndarray:
+        """Outline (n, 2) of the section at x m from the root, (eta_v, eta_w) m about its centroid:
+        the rectangle's corners or the NACA profile with ``points`` per surface."""
+        chord, thickness = chord_and_thickness(self, x)
+        if self.section == "naca4":
+            return naca4_outline(self.naca_m, self.naca_p, thickness / chord, chord, points)
+        return 0.5 * np.array([(thickness, chord), (-thickness, chord), (-thickness, -chord), (thickness, -chord)])
+
+    def area_coefficients(self) -> tuple[float, float]:
+        """(k_1, k_2) of the section area A = k_1 c t + k_2 t^2, exact for the profile's polygon.
+
+        The NACA outline's coordinates are c (functions of s) + t (functions of s), linear in c and
+        t, so its area is a quadratic form in them, with no c^2 term (a zero thickness has no area).
+        """
+        if self.section != "naca4":
+            return 1.0, 0.0
+        area = [polygon_area(naca4_outline(self.naca_m, self.naca_p, tau, 1.0)) for tau in (0.1, 0.2)]
+        k_2 = (area[1] - 2.0 * area[0]) / 0.02
+        return (area[0] - 0.01 * k_2) / 0.1, k_2
+
+    def section_area(self, x):
+        """A(x), m^2, at x m from the root (numpy or UFL arguments)."""
+        k_1, k_2 = self.area_coefficients()
+        chord, thickness = chord_and_thickness(self, x)
+        return k_1 * chord * thickness + k_2 * thickness**2
 
     @property
     def has_shroud(self) -> bool:
@@ -86,12 +150,13 @@ class MeshSpec(SweptBlade):
     @classmethod
     def from_params(cls, params: Parameters) -> "MeshSpec":
         fe = params.fe
-        return cls(**SweptBlade.geometry(params), size=fe.mesh_size, order=fe.order, cell=fe.cell,
-                   span_ratio=fe.hex_span_ratio if fe.cell == "hex" else 1.0)
+        return cls(**SweptBlade.geometry(params, profile=True, step=True), size=fe.mesh_size, order=fe.order,
+                   cell=fe.cell, span_ratio=fe.hex_span_ratio if fe.cell == "hex" else 1.0)
 
     @property
     def elements_through_thickness(self) -> float:
-        return self.thickness / self.size
+        """Cells through the thinnest section's thickness."""
+        return min(self.thickness, self.tip_thickness) / self.size
 
     @property
     def helix_deg(self) -> float:
@@ -110,8 +175,23 @@ def shroud_frame(spec: MeshSpec) -> tuple[np.ndarray, np.ndarray]:
     return section_frame(spec.beta_tip + spec.alpha)
 
 
+def polygon_area(loop: np.ndarray) -> float:
+    """Area of a counter-clockwise or clockwise simple polygon (n, 2), m^2 (shoelace)."""
+    a, b = loop, np.roll(loop, -1, axis=0)
+    return 0.5 * abs(float(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1])))
+
+
+def step_digest(path: str) -> str:
+    """sha256 of the STEP file's bytes; InputError on blade.step when it cannot be read."""
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError as exc:
+        raise InputError("blade.step", f"{path!r} cannot be read ({exc.strerror or exc}); "
+                                       "allowed: a readable STEP file") from None
+
+
 def tip_points(spec: SweptBlade) -> np.ndarray:
-    """(3, 3) points of the tip section x = L: its centre, then centre -/+ (b/4) e_w(L).
+    """(3, 3) points of the tip section x = L: its centroid, then centroid -/+ (c(L)/4) e_w(L).
 
     They are mesh nodes (embedded in the tip face), so the tip kinematics
     v_L, w_L (centre) and the twist (from the two chord points) are nodal
@@ -119,4 +199,23 @@ def tip_points(spec: SweptBlade) -> np.ndarray:
     """
     _, e_w = section_frame(spec.beta_tip)
     centre = np.array([spec.tip_x, 0.0, 0.0])
-    return np.array([centre, centre - 0.25 * spec.width * e_w, centre + 0.25 * spec.width * e_w])
+    d = 0.25 * spec.tip_chord
+    return np.array([centre, centre - d * e_w, centre + d * e_w])
+
+
+def embed_tip_points(model, spec: SweptBlade) -> None:
+    """Make the tip points (meshes.spec.tip_points) mesh nodes: in the tip face that holds each (the
+    blade/shroud interface) or, in a solid read whole from a STEP file, in its volume."""
+    tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
+    faces = [(2, tag) for _, tag in model.getEntities(2)
+             if abs(model.getBoundingBox(2, tag)[0] - spec.tip_x) < tol
+             and abs(model.getBoundingBox(2, tag)[3] - spec.tip_x) < tol]
+    for point in tip_points(spec):
+        host = [(dim, tag) for dim, tag in faces + model.getEntities(3) if model.isInside(dim, tag, list(point))]
+        if not host:
+            raise InputError("blade.length", f"the tip point {point.round(6).tolist()} m (the centroid of the tip "
+                             "section and a quarter chord either side) lies outside the solid; allowed: "
+                             "blade.length, blade.width, blade.chord_taper and the angles that place it inside")
+        tag = model.occ.addPoint(*point)
+        model.occ.synchronize()
+        model.mesh.embed(0, [tag], *host[0])

@@ -184,11 +184,11 @@ def read_tip_shapes(dat: str, n_modes: int) -> np.ndarray:
 
 
 def tip_kinematics(spec: MeshSpec, shapes: np.ndarray) -> np.ndarray:
-    """(k, 4) [flap, chord, torsion * b/2, axial] of tip-node shapes (as reference_fe.modal)."""
+    """(k, 4) [flap, chord, torsion * c(L)/2, axial] of tip-node shapes (as reference_fe.modal)."""
     e_v, e_w = section_frame(spec.beta_tip)
     centre, minus, plus = shapes[:, 0], shapes[:, 1], shapes[:, 2]
-    theta = -((plus - minus) @ e_v) / (0.5 * spec.width)
-    return np.column_stack([centre @ e_v, centre @ e_w, theta * 0.5 * spec.width, centre[:, 0]])
+    theta = -((plus - minus) @ e_v) / (0.5 * spec.tip_chord)
+    return np.column_stack([centre @ e_v, centre @ e_w, theta * 0.5 * spec.tip_chord, centre[:, 0]])
 
 
 def read_stresses(dat: str) -> np.ndarray:

@@ -85,18 +85,19 @@ class SolidModes:
 
 
 def tip_components(model: FEModel, xr, xi=None) -> np.ndarray:
-    """[flap, chord, torsion * b/2, axial] of one (possibly complex) shape, m.
+    """[flap, chord, torsion * c(L)/2, axial] of one (possibly complex) shape, m.
 
     Nodal values at the tip nodes (FEModel.tip_dofs): centre c and
-    c -/+ (b/4) e_w(L). A twist theta about X moves c +/- d e_w by
+    c -/+ (c(L)/4) e_w(L) (c(L) the tip chord, b for the rectangle).
+    A twist theta about X moves c +/- d e_w by
     -/+ theta d e_v (X x e_w = -e_v), so theta = -(u_+ - u_-).e_v / (2 d).
     """
     spec = model.spec
     e_v, e_w = section_frame(spec.beta_tip)
     centre, minus, plus = model.gather_tip(xr, xi)
-    d = 0.25 * spec.width
+    d = 0.25 * spec.tip_chord
     theta = -((plus - minus) @ e_v) / (2.0 * d)
-    return np.array([centre @ e_v, centre @ e_w, theta * 0.5 * spec.width, centre[0]])
+    return np.array([centre @ e_v, centre @ e_w, theta * 2.0 * d, centre[0]])
 
 
 def _undamped(ops: RotatingOperators, n_modes: int, ksp):

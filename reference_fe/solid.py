@@ -12,7 +12,7 @@ virtual work gives (paper Eq. 1, term by term)
     K_sigma  int sigma0 : (grad(u)^T grad(v))                stress stiffening (centrifugal)
     K_spin   -int rho (Om x u) . (Om x v)                    spin softening    (= -rho Om^2 on X, Y)
     G        int 2 rho (Om x u) . v                          Coriolis          (skew-symmetric)
-    f_aero   int_blade e_v(x) / (b h) . v                    F_e = 1 N/m along e_v(x) over the blade
+    f_aero   int_blade e_v(x) / A(x) . v                     F_e = 1 N/m along e_v(x) over the blade
 
 sigma0 is the prestress of the linear static solve K_e u0 = f_c. Index
 check of K_sigma: (grad(u)^T grad(v))_ij = sum_k du_k/dX_i dv_k/dX_j, so the
@@ -29,7 +29,7 @@ Contract (used by engineer D's transient and CMS; names are stable)
     (meshes.blade.BLADE / SHROUD), ``facet_tags`` (ROOT, CONTACT_SIDE1,
     CONTACT_SIDE2), ``contact_tags``, ``bcs`` (root clamp),
     ``clamped_dofs`` (local unrolled indices), ``tip_dofs`` (unrolled
-    indices of the embedded tip nodes: centre, centre -/+ b/4 e_w(L); -1 on
+    indices of the embedded tip nodes: centre, centre -/+ c(L)/4 e_w(L); -1 on
     ranks that do not own them). Built once per process for a mesh/material.
 ``rotating_operators(params, rpm) -> RotatingOperators``
     ``M``, ``K`` (= K_e + K_sigma + K_spin), ``G`` (Coriolis) as PETSc Mats
@@ -64,6 +64,7 @@ from meshes.blade import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, c
                           mesh_file, tip_points)
 from meshes.spec import SweptBlade
 from reference_fe.distributed import global_offset
+from shroud.base.errors import InputError
 from shroud.base.log import info
 from shroud.base.parallel import in_task, task_comm
 from shroud.params import Material, Parameters
@@ -268,8 +269,16 @@ def _solid_model(spec: MeshSpec, material: Material, alone: bool) -> SolidModel:
     # COMM_WORLD, or COMM_SELF for a rank working alone (an item of a spread campaign, or
     # serial work on rank 0): ``alone`` keys the cache so the two never share a model.
     comm = task_comm()
-    path = mesh_file(spec) if comm.rank == 0 else None
-    path = comm.bcast(path, root=0)
+    # Rank 0 meshes; an input error it finds there (a STEP file the solid cannot use) stops every rank.
+    path = error = None
+    if comm.rank == 0:
+        try:
+            path = mesh_file(spec)
+        except InputError as exc:
+            error = exc
+    path, error = comm.bcast((path, error), root=0)
+    if error is not None:
+        raise error
     data = read_mesh(path, comm)
     msh = data.mesh
     V = fem.functionspace(msh, ("Lagrange", spec.order, (3,)))
@@ -345,7 +354,7 @@ def _unit_forms(model: SolidModel):
         k_spin=-rho * ufl.inner(ufl.cross(Om, du), ufl.cross(Om, v)) * dx,
         g=2.0 * rho * ufl.inner(ufl.cross(Om, du), v) * dx,
         f_c=rho * ufl.inner(ufl.as_vector((X[0], X[1], 0.0)), v) * dx,
-        f_aero=ufl.inner(e_v / (spec.width * spec.thickness), v) * dx(BLADE),
+        f_aero=ufl.inner(e_v / spec.section_area(X[0] - spec.disk_radius), v) * dx(BLADE),
     )
 
 

@@ -47,6 +47,7 @@ def solid_tip_load(model: SolidModel, force: np.ndarray):
 def static_response(params: Parameters, rpm: float, force, kind: str = "fe") -> StaticResult:
     """Tip-centre displacement under ``force`` (N, global X, Y, Z) at ``rpm``: the solid (``kind="fe"``) or the shell."""
     t0 = time.perf_counter()
+    params.blade.check_modelled(profile=True)     # the tip load spreads over the shroud: a STEP file names none
     if kind == "shell":
         from reference_fe.shell import shell_model, tip_load
         model = shell_model(params)

@@ -77,6 +77,8 @@ def _solid(params: Parameters, rpm: float, kind: str = "fe") -> _Solid:
     from reference_fe.contact_faces import contact_elements, tip_frame, tip_rows
     from reference_fe.solid import tip_centre_dofs
 
+    # F_e per unit span needs the section area along the span, which a STEP file does not name.
+    params.blade.check_modelled(profile=True)
     if kind == "shell":
         from reference_fe.shell import contact_faces, rotating_operators, shell_model
         model = shell_model(params)

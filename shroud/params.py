@@ -46,15 +46,16 @@ class Blade:
     def area(self) -> float:
         return self.width * self.thickness
 
-    def check_modelled(self, profile: bool = False) -> None:
-        """Refuse (InputError) the blade keys the path at hand cannot honour (issue 34): blade.step always;
-        a NACA section or a taper unless ``profile`` (the beam models and ``shroud section`` take them)."""
-        if self.step:
-            raise InputError("blade.step", f"{self.step!r}: blades from STEP files are not built yet; "
-                                           'allowed: "" (the blade of the blade.* keys)')
+    def check_modelled(self, profile: bool = False, step: bool = False) -> None:
+        """Refuse (InputError) the blade keys the path at hand cannot honour: blade.step unless ``step``
+        (the solid's modes read it), a NACA section or a taper unless ``profile`` (the beam models, the
+        solid models and ``shroud section`` take them)."""
+        if self.step and not step:
+            raise InputError("blade.step", f"{self.step!r}: only the solid's modes (shroud modal --model fe) "
+                                           'read a STEP file yet; allowed: "" (the blade of the blade.* keys)')
         if profile:
             return
-        not_yet = "only the beam models (reduced, full, extended) take it yet"
+        not_yet = "only the beam models (reduced, full, extended) and the solid models (fe, fe-reduced) take it yet"
         if self.section != "rectangle":
             raise InputError("blade.section", f"{self.section!r}: {not_yet}; allowed: \"rectangle\" "
                                               "(shroud section computes the profile)")

@@ -130,15 +130,34 @@ COMMANDS = [["modal"], ["static", "--tip-force", "0", "100", "0"], ["transient",
 @pytest.mark.parametrize("assignment, key", UNBUILT)
 @pytest.mark.parametrize("argv", COMMANDS)
 def test_blade_keys_no_model_takes_yet_are_refused_not_dropped(tmp_path, capsys, argv, assignment, key):
-    """The airfoil and its tapers on the solid and shell models and in studies, a STEP file anywhere:
-    refused, naming the key, before anything is written (a rectangle run in their place would answer
-    another question). Only the beams take the airfoil and the tapers (tests/test_reduced_airfoil.py)."""
+    """The airfoil and its tapers on the shell models and in studies, a STEP file on every path but the
+    solid's modes: refused, naming the key, before anything is written (a rectangle run in their place
+    would answer another question). The beams (tests/test_reduced_airfoil.py) and the solid
+    (tests/test_airfoil_solid.py) take the airfoil and the tapers."""
     out = tmp_path / "out"
     argv = [a.format(scene=_scene(tmp_path, GOOD), out=out) for a in argv]
-    if argv[0] != "run" and key != "blade.step":        # the solid (the only one a time sweep rebuilds: reduced)
-        argv += ["--model", "fe-reduced" if "--rpm-count" in argv else "fe"]
+    if argv[0] != "run" and key != "blade.step":        # the shell (the beams and the solid take the airfoil)
+        argv += ["--model", "shell-reduced" if "--rpm-count" in argv else "shell"]
     line = _refused(capsys, argv + ["--set", assignment], key, out)
-    assert "not built yet" in line if key == "blade.step" else "only the beam models" in line
+    assert "only the solid's modes" in line if key == "blade.step" else "only the beam models" in line
+
+
+@pytest.mark.parametrize("argv, key", [
+    (["modal", "--model", "shell", "--set", "blade.section=naca4"], "blade.section"),   # the shell: the rectangle
+    (["sweep", "--model", "fe-reduced", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "2",
+      "--set", "blade.step=b.step"], "blade.step"),
+    (["static", "--model", "fe", "--tip-force", "0", "100", "0", "--set", "blade.step=b.step"], "blade.step"),
+    (["transient", "--model", "fe", "--out", "{out}", "--set", "blade.step=b.step"], "blade.step"),
+    (["modal", "--model", "fe", "--set", "blade.section=naca4"], "fe.cell"),      # hex sweeps the rectangle only
+    (["modal", "--model", "fe", "--set", "blade.chord_taper=0.75", "--set", "fe.cell=hex"], "fe.cell"),
+    (["modal", "--model", "fe", "--set", "blade.section=naca4", "--set", "fe.cell=tet"], "fe.mesh_size"),
+])
+def test_solid_paths_refuse_the_blade_they_cannot_build(tmp_path, capsys, argv, key):
+    """The solid takes the airfoil (on tetrahedra, fine enough for its thin tip) and the STEP file only
+    for its modes (F_e per unit span and the shroud's tip load need sections the file does not name);
+    the shell keeps the rectangle."""
+    out = tmp_path / "out"
+    _refused(capsys, [a.format(out=out) for a in argv], key, out)
 
 
 @pytest.mark.parametrize("argv, key", [(["section", "--at", "0.16"], "--at"), (["section", "--at", "-0.01"], "--at"),

@@ -24,7 +24,7 @@ PENDING_OPTIONS: dict[str, set[str]] = {}
 # Printed only with ring.blades = N or --interface, which the runs below do not use; compare's count of
 # skipped memory only when a study declares memory (convergence).
 CONDITIONAL_JSON = {"nodal_diameters", "nd", "blades", "N", "Ff", "blades_amplitude_v_L", "blades_amplitude_w_L",
-                    "interface", "memory"}
+                    "interface", "memory", "turn_rad", "kind"}      # turn_rad, kind: a branch's corners and folds
 
 
 def _section(command: str) -> str:

@@ -212,3 +212,15 @@ def test_a_mistuning_study_on_two_ranks_streams_every_sample_to_rank_zeros_folde
     results = [json.loads((d / "results.json").read_text())["results"] for d in (serial, spread)]
     assert results[0]["scatter"] == results[1]["scatter"] and results[0]["amplification"] == results[1]["amplification"]
     assert len((spread / "samples.jsonl").read_text().splitlines()) == 9
+
+
+def test_a_step_file_the_solid_cannot_use_stops_every_rank(tmp_path):
+    """Rank 0 reads the file while meshing: its one-line refusal (exit 2) reaches the other rank, which
+    would otherwise wait for the mesh for ever."""
+    (tmp_path / "empty.step").write_text("")
+    command = [MPIRUN, "-n", "2", sys.executable, "-m", "workbench.cli", "modal", "--model", "fe",
+               "--set", f"blade.step={tmp_path / 'empty.step'}", "--set", "fe.cell=tet", "--set", "fe.mesh_size=0.0035"]
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "SHROUD_CACHE": str(tmp_path / "cache")}
+    proc = subprocess.run(command, capture_output=True, text=True, env=env, timeout=120)
+    assert proc.returncode == 2, proc.stderr[-2000:]
+    assert proc.stderr.strip().splitlines()[-1].startswith("error: blade.step:")

@@ -138,8 +138,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # The models that take a NACA section and tapers: the beams, on the sections along the span
-# (reduced_model.airfoil.span_sections).
-PROFILE_MODELS = ("reduced", "full", "extended")
+# (reduced_model.airfoil.span_sections), and the solid (meshes.blade's loft); the one whose modes take a
+# STEP file (its load per unit span and its shroud volume would need the sections the file does not name).
+PROFILE_MODELS = ("reduced", "full", "extended", "fe", "fe-reduced")
+STEP_MODEL = "fe"
 
 
 def _params(args):
@@ -147,7 +149,9 @@ def _params(args):
     overrides = list(args.set)
     if getattr(args, "rpm", None) is not None:
         overrides.append(f"speed.rpm={args.rpm}")
-    return load_scene(args.scene, overrides, profile=getattr(args, "model", None) in PROFILE_MODELS).params
+    model = getattr(args, "model", None)
+    return load_scene(args.scene, overrides, profile=model in PROFILE_MODELS,
+                      step=model == STEP_MODEL and args.command == "modal").params
 
 
 def _emit(args, payload: dict, text: str) -> None:
