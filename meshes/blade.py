@@ -133,35 +133,29 @@ def _section_wire(occ, spec: MeshSpec, x: float) -> int:
     return occ.addWire(lines)
 
 
-def _build_model(gmsh, spec: MeshSpec) -> None:
-    """The OCC solid and its physical groups in the current gmsh model."""
-    occ = gmsh.model.occ
+def blade_volumes(occ, spec: MeshSpec) -> list[tuple[int, int]]:
+    """The OCC blade (root X = R_d) and shroud volumes, fragmented into one conformal body (not synchronized)."""
     # A twisted face is a helicoid; sections every <= 2 deg make the B-spline
     # skin match it to well below the mesh size.
     n_sections = 2 + int(math.ceil(abs(math.degrees(spec.twist)) / 2.0))
     wires = [_section_wire(occ, spec, spec.length * i / (n_sections - 1)) for i in range(n_sections)]
     blade = occ.addThruSections(wires, makeSolid=True, makeRuled=abs(spec.twist) == 0.0)
-    volumes = blade
-    if spec.has_shroud:
-        box = occ.addBox(spec.tip_x, -0.5 * spec.shroud_width, -0.5 * spec.shroud_length,
-                         spec.shroud_thickness, spec.shroud_width, spec.shroud_length)
-        occ.rotate([(3, box)], 0, 0, 0, 1, 0, 0, spec.beta_tip + spec.alpha)
-        volumes, _ = occ.fragment(blade, [(3, box)])
-    occ.synchronize()
+    if not spec.has_shroud:
+        return blade
+    box = occ.addBox(spec.tip_x, -0.5 * spec.shroud_width, -0.5 * spec.shroud_length,
+                     spec.shroud_thickness, spec.shroud_width, spec.shroud_length)
+    occ.rotate([(3, box)], 0, 0, 0, 1, 0, 0, spec.beta_tip + spec.alpha)
+    volumes, _ = occ.fragment(blade, [(3, box)])
+    return volumes
 
-    model = gmsh.model
+
+def contact_faces(model, spec: MeshSpec, faces) -> tuple[list[int], list[int]]:
+    """The shroud's contact faces among ``faces`` (surface tags): side 1 (v_s = -b_s/2), side 2 (+b_s/2)."""
     tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
-    blade_vols, shroud_vols = [], []
-    for dim, tag in volumes:
-        x = model.occ.getCenterOfMass(dim, tag)[0]
-        (shroud_vols if x > spec.tip_x else blade_vols).append(tag)
-    root, side1, side2 = [], [], []
+    side1, side2 = [], []
     e_vs, _ = shroud_frame(spec)
-    for _, tag in model.getEntities(2):
+    for tag in faces:
         lo = model.getBoundingBox(2, tag)
-        if lo[3] < spec.disk_radius + tol:
-            root.append(tag)
-            continue
         if not spec.has_shroud or lo[0] < spec.tip_x - tol:
             continue
         centre = np.array(model.occ.getCenterOfMass(2, tag))
@@ -174,6 +168,22 @@ def _build_model(gmsh, spec: MeshSpec) -> None:
             side1.append(tag)
         elif abs(v_s - 0.5 * spec.shroud_width) < tol:
             side2.append(tag)
+    return side1, side2
+
+
+def _build_model(gmsh, spec: MeshSpec) -> None:
+    """The OCC solid and its physical groups in the current gmsh model."""
+    volumes = blade_volumes(gmsh.model.occ, spec)
+    gmsh.model.occ.synchronize()
+    model = gmsh.model
+    tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
+    blade_vols, shroud_vols = [], []
+    for dim, tag in volumes:
+        x = model.occ.getCenterOfMass(dim, tag)[0]
+        (shroud_vols if x > spec.tip_x else blade_vols).append(tag)
+    faces = [tag for _, tag in model.getEntities(2)]
+    root = [tag for tag in faces if model.getBoundingBox(2, tag)[3] < spec.disk_radius + tol]
+    side1, side2 = contact_faces(model, spec, faces)
     if not root or (spec.has_shroud and not (side1 and side2)):
         raise RuntimeError(f"gmsh model lacks a root or contact face (root {root}, sides {side1}, {side2})")
     model.addPhysicalGroup(2, root, ROOT, name="root")
@@ -182,10 +192,10 @@ def _build_model(gmsh, spec: MeshSpec) -> None:
         model.addPhysicalGroup(2, side2, CONTACT_SIDE2, name="contact_side2")
         model.addPhysicalGroup(3, shroud_vols, SHROUD, name="shroud")
     model.addPhysicalGroup(3, blade_vols, BLADE, name="blade")
-    _embed_tip_points(model, spec)
+    embed_tip_points(model, spec)
 
 
-def _embed_tip_points(model, spec: MeshSpec) -> None:
+def embed_tip_points(model, spec: MeshSpec) -> None:
     tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
     faces = [tag for _, tag in model.getEntities(2)
              if abs(model.getBoundingBox(2, tag)[0] - spec.tip_x) < tol

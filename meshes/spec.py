@@ -47,10 +47,13 @@ class SweptBlade:
     alpha: float              # shroud inclination, rad
 
     @staticmethod
-    def geometry(params: Parameters) -> dict:
-        """The fields of this class from ``params`` (blade, shroud, contact.alpha_deg)."""
+    def geometry(params: Parameters, disk: bool = False) -> dict:
+        """The fields of this class from ``params`` (blade, shroud, contact.alpha_deg); ``disk``: for the
+        disk sector (meshes.disk), else the blade alone on its rigid disk (a flexible one is refused)."""
         b, s = params.blade, params.shroud
         b.check_modelled()               # the meshes sweep the rectangle, untapered
+        if not disk:
+            params.disk.check_rigid()
         return dict(disk_radius=b.disk_radius, length=b.length, width=b.width, thickness=b.thickness,
                     stagger=math.radians(b.stagger_deg), twist=math.radians(b.twist_deg),
                     shroud_length=s.length, shroud_width=s.width, shroud_thickness=s.thickness,

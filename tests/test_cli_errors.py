@@ -139,6 +139,29 @@ def test_blade_keys_no_model_takes_yet_are_refused_not_dropped(tmp_path, capsys,
     assert "not built yet" in line if key == "blade.step" else "do not take it yet" in line
 
 
+DISK = ["--set", "ring.blades=24", "--set", "disk.thickness=0.04", "--set", "fe.cell=tet"]
+
+
+@pytest.mark.parametrize("argv, key", [
+    (["modal", "--interface", "free", "--model", "fe", "--set", "disk.thickness=0.04"], "disk.thickness"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.bore_radius=0.15"], "disk.bore_radius"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.thickness=0.02"], "disk.thickness"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "ring.blades=40"], "ring.blades"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK[:-2], "--set", "fe.cell=hex"], "fe.cell"),
+    (["modal", "--interface", "stuck", "--model", "fe", *DISK], "--interface"),
+    (["modal", "--interface", "free", "--model", "reduced", *DISK], "disk.thickness"),
+    (["modal", "--model", "fe", *DISK], "disk.thickness"),
+    (["modal", *DISK], "disk.thickness"),
+    (["transient", "--out", "{out}", *DISK], "disk.thickness"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.E_factor=0"], "disk.E_factor"),
+])
+def test_disk_sector_bad_input(tmp_path, capsys, argv, key):
+    """A disk the sector cannot be built of (no ring, a bore outside the rim, a rim thinner or a sector
+    narrower than the blade's root, hexahedra) and the paths without a flexible disk: one line, exit 2."""
+    out = tmp_path / "out"
+    _refused(capsys, [a.format(out=out) for a in argv], key, out)
+
+
 @pytest.mark.parametrize("argv, key", [(["section", "--at", "0.16"], "--at"), (["section", "--at", "-0.01"], "--at"),
                                        (["section", "--set", "blade.step=blade.step"], "blade.step"),
                                        (["section", "--set", "blade.section=naca6"], "blade.section")])

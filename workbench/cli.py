@@ -136,12 +136,12 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _params(args):
+def _params(args, disk: bool = False):
     from workbench.scene import load_scene
     overrides = list(args.set)
     if getattr(args, "rpm", None) is not None:
         overrides.append(f"speed.rpm={args.rpm}")
-    return load_scene(args.scene, overrides).params
+    return load_scene(args.scene, overrides, disk=disk).params
 
 
 def _emit(args, payload: dict, text: str) -> None:
@@ -158,7 +158,7 @@ def cmd_modal(args) -> None:
     from shroud.analysis.api import modal
     if args.modes < 1:
         raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
-    params = _params(args)
+    params = _params(args, disk=args.interface is not None)     # the disk sector comes per nodal diameter
     if args.interface is not None:
         from shroud.analysis.limits import interface_modal
         limit = interface_modal(params, args.model, params.speed.rpm, args.modes, args.coriolis, args.interface)

@@ -113,12 +113,13 @@ def _same_kind(value: Any, want: Any) -> bool:
 
 
 def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool = False,
-               study: str | None = None, profile: bool = False) -> Scene:
+               study: str | None = None, profile: bool = False, disk: bool = False) -> Scene:
     """Read, merge and validate a scene (or the bare defaults when ``path`` is None).
 
     The blade keys no model takes yet are refused here, before anything is
     written (shroud.params.Blade.check_modelled; ``profile`` lets a NACA
-    section and tapers through, for ``shroud section``).
+    section and tapers through, for ``shroud section``), and so is a flexible
+    disk unless ``disk`` says the command builds one (shroud.params.Disk.check_rigid).
 
     The ``[quick]`` table is checked whether or not ``quick`` is asked for, so
     a typo in it fails on the first run, not on the first quick run.
@@ -158,6 +159,8 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
             param_sets.append(text)
     params = params.with_overrides(param_sets)
     params.blade.check_modelled(profile)
+    if not disk:
+        params.disk.check_rigid()
     options: dict[str, Any] = {}
     if name:
         defaults = getattr(study_module(name), "OPTIONS", {})
