@@ -80,3 +80,21 @@ def test_four_sectors_glued_have_the_sectors_frequencies():
     ring = np.sqrt(w2) / (2 * math.pi)
     np.testing.assert_allclose(ring[:expected.size], expected, rtol=1e-8, atol=0)
     assert ring[expected.size] > expected[-1] * (1 + 1e-6)       # no ring mode the sector missed
+
+
+@pytest.mark.slow
+def test_rigid_disk_limit_is_the_clamped_blade():
+    """With the disk's E x 1000 every nodal diameter's modes are the blade's clamped at its root, to
+    0.5 %: what is left is the blade between the curved rim and the plane root X = R_d (0.56 mm at the
+    chord edges, the 24-blade sector; docs/disk.md), and the two meshes' difference."""
+    from reference_fe.cyclic import diameter_modes, sector
+    from reference_fe.modal import solve_modes
+    from shroud.params import Parameters
+    tets = {"fe.cell": "tet", "fe.mesh_size": 0.0035, "fe.order": 2}
+    rpm = 10000.0
+    clamped = solve_modes(Parameters().updated(tets), rpm, 6, coriolis=False)
+    sec = sector(Parameters().updated({**tets, "ring.blades": 24, "disk.thickness": 0.04, "disk.E_factor": 1000.0}))
+    for k in (0, 1, 12):
+        found = diameter_modes(sec, rpm, k, 6, coriolis=False)
+        assert found.labels == clamped.labels
+        np.testing.assert_allclose(found.f_hz, clamped.f_undamped, rtol=5e-3)
