@@ -9,6 +9,8 @@ conformal body. The side faces theta = -pi/N ("low") and +pi/N ("high") are
 meshed periodically (gmsh setPeriodic with the rotation by 2 pi / N about
 Z): each node of the high side is a node of the low side turned by 2 pi / N,
 so the cyclic constraint u_high = exp(i k 2 pi / N) R u_low is node to node.
+The shroud's contact face of side 2 is meshed as the image of side 1's
+(translated by b_s e_vs), so the stuck springs join node to node too.
 
 Tags: facets ROOT (the clamped bore r = R_i), CONTACT_SIDE1/2 (the shroud's
 contact faces), CYCLIC_LOW / CYCLIC_HIGH (the side faces); cells BLADE
@@ -27,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from meshes.blade import blade_volumes, check_geometry, contact_faces, embed_tip_points, section_frame
-from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec, SweptBlade
+from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec, SweptBlade, shroud_frame
 from shroud.base.cache import cached
 from shroud.base.errors import InputError
 from shroud.params import DISK_ROOT_DEPTH, Parameters
@@ -115,6 +117,12 @@ def _build_sector(gmsh, spec: DiskSpec) -> None:
     turn = np.eye(4)
     turn[:3, :3] = rotation_z(spec.pitch)
     model.mesh.setPeriodic(2, high, low, list(turn.ravel()))
+    if spec.has_shroud:       # the contact faces too, side 2 the image of side 1 (the stuck springs pair them)
+        if len(side1) != 1 or len(side2) != 1:
+            raise RuntimeError(f"a contact face is cut in pieces (sides {side1}, {side2})")
+        shift = np.eye(4)
+        shift[:3, 3] = spec.shroud_width * shroud_frame(spec)[0]
+        model.mesh.setPeriodic(2, side2, side1, list(shift.ravel()))
     model.addPhysicalGroup(2, bore_faces, ROOT, name="bore")
     model.addPhysicalGroup(2, low, CYCLIC_LOW, name="cyclic_low")
     model.addPhysicalGroup(2, high, CYCLIC_HIGH, name="cyclic_high")

@@ -50,7 +50,8 @@ from petsc4py import PETSc
 from scipy.spatial import cKDTree
 
 from meshes.disk import CYCLIC_HIGH, CYCLIC_LOW, DISK, DiskSpec, rotation_z, sector_mesh_file
-from meshes.spec import ROOT, tip_points
+from meshes.spec import CONTACT_SIDE1, CONTACT_SIDE2, ROOT, shroud_frame, tip_points
+from reference_fe.contact_faces import face_nodes
 from reference_fe.modal import GYROSCOPIC_EXTRA, tip_components, undamped_modes
 from reference_fe.solid import (SolidModel, _dx, _tip_dofs, _unit_forms, assemble_matrix, assemble_vector,
                                 epsilon, lu_solver, read_mesh, sigma)
@@ -75,6 +76,7 @@ class Sector:
     K_rot1: sp.csr_matrix  # K_sigma + K_spin at 1 rad/s (k = 0 prestress)
     G1: sp.csr_matrix      # Coriolis at 1 rad/s
     f_c1: np.ndarray       # centrifugal load at 1 rad/s, N (zero on the bore)
+    contact: "ShroudPairs | None" = None   # the contact faces' nodes, side 2 paired with side 1
     stiffness: object = None   # DG0 Function: E / material.E per cell (disk.E_factor on the disk)
 
     @property
@@ -83,22 +85,63 @@ class Sector:
 
     def transformation(self, nd: int) -> sp.csr_matrix:
         """T_k (n_all, n_reduced), complex: u = T_k q under the constraint of nodal diameter ``nd``."""
-        n = self.M.shape[0]
-        eliminated = np.zeros(n, dtype=bool)
-        eliminated[self.clamped] = True
-        high_dofs = (3 * self.high[:, None] + np.arange(3)).ravel()
-        eliminated[high_dofs] = True
-        kept = np.flatnonzero(~eliminated)
-        column = np.full(n, -1, dtype=np.int64)
-        column[kept] = np.arange(kept.size)
-        block = np.exp(1j * nd * self.pitch) * rotation_z(self.pitch)      # u_h = e^{ik phi} R u_l
-        rows = (3 * self.high[:, None, None] + np.arange(3)[None, :, None]).repeat(3, axis=2)
-        cols = column[3 * self.low[:, None, None] + np.arange(3)[None, None, :]].repeat(3, axis=1)
-        values = np.broadcast_to(block, rows.shape)
-        T = sp.coo_matrix((np.concatenate([np.ones(kept.size), values.ravel()]),
-                           (np.concatenate([kept, rows.ravel()]), np.concatenate([np.arange(kept.size), cols.ravel()]))),
-                          shape=(n, kept.size))
-        return T.tocsr()
+        return transformation(self.M.shape[0], self.clamped, self.low, self.high, self.pitch, nd)
+
+
+def transformation(n: int, clamped: np.ndarray, low: np.ndarray, high: np.ndarray, pitch: float,
+                   nd: int) -> sp.csr_matrix:
+    """T_k (n, n_reduced) of nodal diameter ``nd``: identity on the kept DOFs (neither ``clamped`` nor on the
+    ``high`` nodes), u_h = exp(i k pitch) R(pitch) u_l on each high node h paired with the low node l."""
+    eliminated = np.zeros(n, dtype=bool)
+    eliminated[clamped] = True
+    eliminated[(3 * high[:, None] + np.arange(3)).ravel()] = True
+    kept = np.flatnonzero(~eliminated)
+    column = np.full(n, -1, dtype=np.int64)
+    column[kept] = np.arange(kept.size)
+    block = np.exp(1j * nd * pitch) * rotation_z(pitch)
+    rows = (3 * high[:, None, None] + np.arange(3)[None, :, None]).repeat(3, axis=2)
+    cols = column[3 * low[:, None, None] + np.arange(3)[None, None, :]].repeat(3, axis=1)
+    values = np.broadcast_to(block, rows.shape)
+    T = sp.coo_matrix((np.concatenate([np.ones(kept.size), values.ravel()]),
+                       (np.concatenate([kept, rows.ravel()]), np.concatenate([np.arange(kept.size), cols.ravel()]))),
+                      shape=(n, kept.size))
+    return T.tocsr()
+
+
+@dataclass(frozen=True)
+class ShroudPairs:
+    """The nodes of the shroud's contact faces, side 2's node e facing side 1's node e (by position in
+    the face plane), with the consistent area share ``weight`` of each (summing to 1 per face)."""
+
+    side1: np.ndarray      # (P, 3) unrolled DOFs
+    side2: np.ndarray      # (P, 3)
+    weight: np.ndarray     # (P,)
+    directions: np.ndarray  # (2, 3): e_vs (normal), e_ws (friction direction)
+
+    def springs(self, n: int, nd: int, pitch: float, kn: float, kt: float) -> sp.csr_matrix:
+        """B^H D B (n, n), Hermitian: the stuck springs kn, kt (N/m per face, by area shares) joining side 2
+        to side 1 of the next sector, whose own-frame displacements are exp(i k pitch) this one's
+        (geometry.md, "Moving neighbours": each blade in its own sector frame)."""
+        P = self.weight.size
+
+        def along(dofs):          # (2P, n): each node's displacement along e_vs, e_ws
+            return sp.csr_matrix((np.tile(self.directions, (P, 1)).ravel(),
+                                  (np.repeat(np.arange(2 * P), 3), np.repeat(dofs, 2, axis=0).ravel())), shape=(2 * P, n))
+        B = along(self.side2) - np.exp(1j * nd * pitch) * along(self.side1)
+        D = sp.diags(np.ravel(np.column_stack([kn * self.weight, kt * self.weight])))
+        return (B.conj().T @ D @ B).tocsr()
+
+
+def _shroud_pairs(V, facet_tags, spec: DiskSpec) -> ShroudPairs | None:
+    """The contact faces' nodes (reference_fe.contact_faces.face_nodes) paired across the shroud's width."""
+    if not spec.has_shroud:
+        return None
+    e_vs, e_ws = shroud_frame(spec)
+    (dofs1, area1, x1), (dofs2, area2, x2) = (face_nodes(V, facet_tags, t) for t in (CONTACT_SIDE1, CONTACT_SIDE2))
+    dist, match = cKDTree(x1).query(x2 - spec.shroud_width * e_vs)
+    if dofs1.shape != dofs2.shape or dist.max() > 1e-8 * spec.size or np.unique(match).size != match.size:
+        raise RuntimeError("the shroud's contact faces do not match node for node")
+    return ShroudPairs(side1=dofs1[match], side2=dofs2, weight=area2 / area2.sum(), directions=np.vstack([e_vs, e_ws]))
 
 
 def _csr(A) -> sp.csr_matrix:
@@ -158,16 +201,15 @@ def _sector(spec: DiskSpec, material: Material, disk_E_factor: float) -> Sector:
     M = _csr(assemble_matrix(forms["m"], model.bcs, 0.0))
     K_e = _csr(assemble_matrix(forms["k_e"], model.bcs, 1.0))
     f_c1 = assemble_vector(forms["f_c"], model.bcs).getArray().copy()
-    partial = Sector(model=model, low=low, high=high, clamped=clamped, M=M, K_e=K_e, K_rot1=None, G1=None,
-                     f_c1=f_c1)
-    T0 = partial.transformation(0).real.tocsr()        # the prestress: the k = 0 state of the whole sector
+    T0 = transformation(M.shape[0], clamped, low, high, spec.pitch, 0).real    # the prestress: the k = 0 state
     u0 = fem.Function(V, name="prestatic_displacement_1rad_s")
     prestress = _Factor(_reduced(T0, K_e), copies=1)
     u0.x.array[:] = (T0 @ prestress.solve(T0.T @ f_c1)).real.ravel()
     prestress.destroy()
     G1 = _csr(assemble_matrix(forms["g"], model.bcs, 0.0))
     return Sector(model=model, low=low, high=high, clamped=clamped, M=M, K_e=K_e,
-                  K_rot1=rotation_stiffness(model, stiffness, u0), G1=G1, f_c1=f_c1, stiffness=stiffness)
+                  K_rot1=rotation_stiffness(model, stiffness, u0), G1=G1, f_c1=f_c1,
+                  contact=_shroud_pairs(V, data.facet_tags, spec), stiffness=stiffness)
 
 
 def rotation_stiffness(model: SolidModel, stiffness, u0) -> sp.csr_matrix:
@@ -241,8 +283,10 @@ class _Factor:
         self.K.destroy()
 
 
-def diameter_modes(sec: Sector, rpm: float, nd: int, n_modes: int, coriolis: bool) -> DiameterModes:
-    """The ``n_modes`` lowest modes of nodal diameter ``nd`` at ``rpm`` (with Coriolis if asked and spinning).
+def diameter_modes(sec: Sector, rpm: float, nd: int, n_modes: int, coriolis: bool,
+                   stuck: tuple[float, float] | None = None) -> DiameterModes:
+    """The ``n_modes`` lowest modes of nodal diameter ``nd`` at ``rpm`` (with Coriolis if asked and spinning);
+    ``stuck`` (kn, kt), N/m: the shroud interfaces joined by those springs (ShroudPairs.springs), else free.
 
     SLEPc (Krylov-Schur, shift-invert about 0, MUMPS) on the real form of
     (K_k, M_k): for 0 < k < N/2 each frequency comes twice, its two
@@ -252,7 +296,10 @@ def diameter_modes(sec: Sector, rpm: float, nd: int, n_modes: int, coriolis: boo
     omega = 2.0 * math.pi * rpm / 60.0
     T = sec.transformation(nd)
     copies = 1 if nd == 0 or 2 * nd == sec.model.spec.blades else 2
-    K = _reduced(T, sec.K_e + omega**2 * sec.K_rot1)
+    K_all = sec.K_e + omega**2 * sec.K_rot1
+    if stuck is not None:
+        K_all = K_all + sec.contact.springs(K_all.shape[0], nd, sec.pitch, *stuck)
+    K = _reduced(T, K_all)
     M = _reduced(T, sec.M)
     factor = _Factor(K, copies)
     gyroscopic = coriolis and omega > 0
@@ -287,15 +334,19 @@ def _tip(sec: Sector, u: np.ndarray) -> np.ndarray:
     return tip_components(sec.model, *parts)
 
 
-def sector_modal(params: Parameters, rpm: float, n_modes: int, coriolis: bool) -> list[tuple[int, ModalResult]]:
-    """Registry entry (``disk_sector``): (nd, modes of nodal diameter nd) for nd = 0 .. N // 2 at ``rpm``."""
+def sector_modal(params: Parameters, rpm: float, n_modes: int, coriolis: bool,
+                 interface: str = "free") -> list[tuple[int, ModalResult]]:
+    """Registry entry (``disk_sector``): (nd, modes of nodal diameter nd) for nd = 0 .. N // 2 at ``rpm``,
+    the shroud interfaces ``free`` or ``stuck`` (springs contact.kn, contact.kt)."""
     t0 = time.perf_counter()
     sec = sector(params)
+    c = params.contact
+    stuck = (c.kn, c.kt) if interface == "stuck" and sec.contact is not None and c.enabled else None
     diameters = nodal_diameters(params.ring.blades)
     progress = Progress(f"disk sector modes at {rpm:g} r/min", len(diameters))
     out = []
     for nd in diameters:
-        found = diameter_modes(sec, rpm, nd, n_modes, coriolis)
+        found = diameter_modes(sec, rpm, nd, n_modes, coriolis, stuck)
         out.append((nd, found.result(rpm, sec.model.global_dofs, time.perf_counter() - t0)))
         progress.update(nd + 1)
         info(f"nd {nd} done at {time.perf_counter() - t0:.2f} s: " + ", ".join(f"{l} {f:.2f} Hz" for l, f in zip(found.labels, found.f_hz)))

@@ -148,7 +148,6 @@ DISK = ["--set", "ring.blades=24", "--set", "disk.thickness=0.04", "--set", "fe.
     (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.thickness=0.02"], "disk.thickness"),
     (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "ring.blades=40"], "ring.blades"),
     (["modal", "--interface", "free", "--model", "fe", *DISK[:-2], "--set", "fe.cell=hex"], "fe.cell"),
-    (["modal", "--interface", "stuck", "--model", "fe", *DISK], "--interface"),
     (["modal", "--interface", "free", "--model", "reduced", *DISK], "disk.thickness"),
     (["modal", "--model", "fe", *DISK], "disk.thickness"),
     (["modal", *DISK], "disk.thickness"),

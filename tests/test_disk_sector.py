@@ -5,7 +5,8 @@ The whole ring is N copies of the sector's assembled matrices, copy j turned by 
 and glued node to node (its side +pi/N onto copy j+1's side -pi/N), bore clamped, with its own
 centrifugal state solved on the whole ring and each copy's geometric stiffness assembled from it: no
 cyclic constraint anywhere. Its frequencies are the sector's of every nodal diameter together (k and
-N - k twice), which the sector must give to the eigen-solvers' tolerance.
+N - k twice), which the sector must give to the eigen-solvers' tolerance, with the shroud interfaces
+free and stuck (springs joining each copy's side 2 to the next copy's side 1).
 """
 
 from __future__ import annotations
@@ -20,8 +21,10 @@ pytestmark = pytest.mark.fe
 COARSE = {"ring.blades": 4, "disk.thickness": 0.04, "fe.cell": "tet", "fe.mesh_size": 0.0035, "fe.order": 1}
 
 
-def _whole_ring(sec, rpm: float):
-    """(K, M) of the N-sector ring on its unclamped DOFs, scipy CSR, in the global frame."""
+def _whole_ring(sec, rpm: float, stuck: tuple[float, float] | None):
+    """(K, M) of the N-sector ring on its unclamped DOFs, scipy CSR, in the global frame; ``stuck`` (kn, kt):
+    springs between copy j's side-2 contact nodes and copy j+1's side-1 nodes, on their own-frame
+    displacements along e_vs and e_ws, kn and kt per face by the nodes' area shares."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
     from dolfinx import fem
@@ -62,20 +65,31 @@ def _whole_ring(sec, rpm: float):
         u0 = fem.Function(sec.model.V)
         u0.x.array[:] = Pj @ u_ring
         K_rot.append(rotation_stiffness(sec.model, sec.stiffness, u0))
-    return (K_e + omega2 * assemble(K_rot)).tocsc(), assemble([sec.M] * N).tocsc()
+    K = K_e + omega2 * assemble(K_rot)
+    if stuck is not None:
+        pairs = sec.contact
+        D = sp.diags(np.ravel(np.column_stack([stuck[0] * pairs.weight, stuck[1] * pairs.weight])))
+        for j in range(N):
+            E = sp.kron(sp.eye(pairs.weight.size), sp.csr_matrix(pairs.directions))     # (2P, 3P)
+            y = E @ (P[j][pairs.side2.ravel()] - P[(j + 1) % N][pairs.side1.ravel()])   # (2P, ring DOFs)
+            K = K + y.T @ D @ y
+    return K.tocsc(), assemble([sec.M] * N).tocsc()
 
 
-def test_four_sectors_glued_have_the_sectors_frequencies():
+@pytest.mark.parametrize("interface", ["free", "stuck"])
+def test_four_sectors_glued_have_the_sectors_frequencies(interface):
     import scipy.sparse.linalg as spla
     from reference_fe.cyclic import diameter_modes, sector
     from shroud.params import Parameters
     rpm = 10000.0
-    sec = sector(Parameters().updated(COARSE))
-    per_k = [diameter_modes(sec, rpm, k, 6, coriolis=False).f_hz for k in (0, 1, 2)]
+    params = Parameters().updated(COARSE)
+    sec = sector(params)
+    stuck = (params.contact.kn, params.contact.kt) if interface == "stuck" else None
+    per_k = [diameter_modes(sec, rpm, k, 6, coriolis=False, stuck=stuck).f_hz for k in (0, 1, 2)]
     cutoff = min(f[-1] for f in per_k)
     union = np.sort(np.concatenate([per_k[0], per_k[1], per_k[1], per_k[2]]))   # k = 3 mirrors k = 1
     expected = union[union < cutoff * (1 - 1e-6)]
-    K, M = _whole_ring(sec, rpm)
+    K, M = _whole_ring(sec, rpm, stuck)
     w2 = np.sort(spla.eigsh(K, k=expected.size + 1, M=M, sigma=0.0, which="LM", tol=1e-12)[0])
     ring = np.sqrt(w2) / (2 * math.pi)
     np.testing.assert_allclose(ring[:expected.size], expected, rtol=1e-8, atol=0)

@@ -114,12 +114,9 @@ def _disk_modal(params: Parameters, model: str, rpm: float, n_modes: int, coriol
         with_disk = [name for name in registry.names("modal") if registry.model(name).disk_sector is not None]
         raise InputError("disk.thickness", f"{params.disk.thickness!r}: the {model} model has a rigid disk only; "
                                            f"allowed: 0, or --model {' or '.join(with_disk)}")
-    if interface != "free":
-        raise InputError("--interface", f"{interface}: the disk sector's shroud interfaces are free only "
-                                        "(the stuck springs across sectors are not built); allowed: free")
     if n_modes < 1:
         raise InputError("--modes", f"{n_modes} is out of range; allowed: an integer >= 1")
-    found = sector(params, rpm, n_modes, coriolis)
+    found = sector(params, rpm, n_modes, coriolis, interface)
     diameters = [{"nd": nd, "modes": [{"f_hz": m.f_hz, "label": m.label} for m in result.modes]}
                  for nd, result in found]
     blade = replace(found[0][1], elapsed_s=time.perf_counter() - t0)
