@@ -153,6 +153,7 @@ DISK = ["--set", "ring.blades=24", "--set", "disk.thickness=0.04", "--set", "fe.
     (["modal", *DISK], "disk.thickness"),
     (["transient", "--out", "{out}", *DISK], "disk.thickness"),
     (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.E_factor=0"], "disk.E_factor"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "ring.mistuning_std=0.01"], "ring.mistuning"),
 ])
 def test_disk_sector_bad_input(tmp_path, capsys, argv, key):
     """A disk the sector cannot be built of (no ring, a bore outside the rim, a rim thinner or a sector

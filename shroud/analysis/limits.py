@@ -72,12 +72,12 @@ def interface_modal(params: Parameters, model: str, rpm: float, n_modes: int, co
     if interface not in INTERFACES:
         raise InputError("--interface", f"{interface!r} is unknown; allowed: {', '.join(INTERFACES)}")
     params = params.updated({"speed.rpm": rpm})
-    if params.disk.thickness > 0:
-        return _disk_modal(params, model, rpm, n_modes, coriolis, interface, t0)
     ring = params.ring.blades
     if ring and not params.ring.tuned:
         raise InputError("ring.mistuning", "nodal diameters belong to a tuned ring; allowed: all d_j = 0 with "
                                            "modal --interface")
+    if params.disk.thickness > 0:
+        return _disk_modal(params, model, rpm, n_modes, coriolis, interface, t0)
     system = registry.model(model).build_system(params)
     if not 1 <= n_modes <= system.dofs:
         raise InputError("--modes", f"{n_modes} is out of range; allowed: 1..{system.dofs} (the model's DOFs)")
