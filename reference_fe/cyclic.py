@@ -15,7 +15,8 @@ nodal diameter k are T_k^H A T_k (Hermitian for K, M; skew-Hermitian for
 the Coriolis G), complex; real PETSc/SLEPc solves their real 2-copy form
 (diameter_modes): option (b) of issue 35. (scipy's complex SuperLU and
 ARPACK on the complex form, half the size, took 170-210 s and 11 GB per
-nodal diameter on the 87 447-DOF N = 4 sector, order 2, size 3.5 mm.)
+nodal diameter on the 87 447-DOF N = 4 sector, order 2, size 3.5 mm, on
+the loaded machine.)
 
 Prestress: the static centrifugal state of the whole sector, disk included,
 is the k = 0 one, K_e,0 q0 = T_0^T f_c (T_0 real); sigma0 of u0 = T_0 q0
@@ -29,8 +30,8 @@ nodal diameter N - k has the others, shroud.core.cyclic.modes).
 Modes are labelled by the tip section's motion (|flap|, |chord|,
 |torsion b/2|, |axial| of the complex shape). ``disk.E_factor`` scales the
 disk's E (and its prestress) only: 1000 is the rigid-disk limit. One
-process: the reduction is scipy's (under mpirun every rank solves it alone).
-SI units.
+process: the sector is assembled and solved on MPI.COMM_SELF, T_k^H A T_k
+by scipy (under mpirun every rank solves it alone). SI units.
 """
 
 from __future__ import annotations
