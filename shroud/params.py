@@ -217,7 +217,7 @@ class Disk:
     def check_rigid(self) -> None:
         """Refuse (InputError) a flexible disk on a path that only has the rigid one."""
         if self.thickness > 0:
-            raise InputError("disk.thickness", f"{self.thickness!r}: only `modal --model fe --interface` "
+            raise InputError("disk.thickness", f"{self.thickness!r}: only `modal --model fe` "
                                                "builds the flexible disk sector; allowed: 0 (the rigid disk) here")
 
 

@@ -149,7 +149,7 @@ DISK = ["--set", "ring.blades=24", "--set", "disk.thickness=0.04", "--set", "fe.
     (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "ring.blades=40"], "ring.blades"),
     (["modal", "--interface", "free", "--model", "fe", *DISK[:-2], "--set", "fe.cell=hex"], "fe.cell"),
     (["modal", "--interface", "free", "--model", "reduced", *DISK], "disk.thickness"),
-    (["modal", "--model", "fe", *DISK], "disk.thickness"),
+    (["static", "--tip-force", "0", "100", "0", "--model", "fe", *DISK], "disk.thickness"),
     (["modal", *DISK], "disk.thickness"),
     (["transient", "--out", "{out}", *DISK], "disk.thickness"),
     (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.E_factor=0"], "disk.E_factor"),

@@ -52,7 +52,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "system (default), or without it")
     p.add_argument("--interface", choices=("free", "stuck"),
                    help="the contact's linear limit: no springs, or every contact as springs kn, kt "
-                        "(with ring.blades = N: per nodal diameter)")
+                        "(with ring.blades = N: per nodal diameter; with disk.thickness > 0 the FE sector of "
+                        "blade and disk, free unless stuck is asked)")
 
     p = sub.add_parser("static", help="tip displacement under a force at the blade tip")
     _common(p)
@@ -158,15 +159,16 @@ def cmd_modal(args) -> None:
     from shroud.analysis.api import modal
     if args.modes < 1:
         raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
-    params = _params(args, disk=args.interface is not None)     # the disk sector comes per nodal diameter
-    if args.interface is not None:
+    params = _params(args, disk=True)
+    if args.interface is not None or params.disk.thickness > 0:    # the disk sector comes per nodal diameter
         from shroud.analysis.limits import interface_modal
-        limit = interface_modal(params, args.model, params.speed.rpm, args.modes, args.coriolis, args.interface)
+        interface = args.interface or "free"
+        limit = interface_modal(params, args.model, params.speed.rpm, args.modes, args.coriolis, interface)
         diameters = "".join(f"\n  nd {d['nd']:3d}: " + " ".join(f"{m['f_hz']:.2f}" for m in d["modes"])
                             for d in limit.nodal_diameters or [])
         rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in limit.blade.modes)
         return _emit(args, limit.to_json(), f"{args.model} model, {params.speed.rpm:g} r/min, interface "
-                                            f"{args.interface}\n{rows}{diameters}")
+                                            f"{interface}\n{rows}{diameters}")
     result = modal(params, args.model, rpm=params.speed.rpm, n_modes=args.modes, coriolis=args.coriolis)
     rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in result.modes)
     _emit(args, result.to_json(),
