@@ -181,23 +181,13 @@ def build_solid(occ, spec: MeshSpec) -> list[tuple[int, int]]:
     return volumes
 
 
-def _build_model(gmsh, spec: MeshSpec) -> None:
-    """The OCC solid and its physical groups in the current gmsh model."""
-    volumes = build_solid(gmsh.model.occ, spec)
-    gmsh.model.occ.synchronize()
-    model = gmsh.model
+def contact_faces(model, spec: MeshSpec, faces) -> tuple[list[int], list[int]]:
+    """The shroud's contact faces among ``faces`` (surface tags): side 1 (v_s = -b_s/2), side 2 (+b_s/2)."""
     tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
-    blade_vols, shroud_vols = [], []
-    for dim, tag in volumes:
-        x = model.occ.getCenterOfMass(dim, tag)[0]
-        (shroud_vols if x > spec.tip_x else blade_vols).append(tag)
-    root, side1, side2 = [], [], []
+    side1, side2 = [], []
     e_vs, _ = shroud_frame(spec)
-    for _, tag in model.getEntities(2):
+    for tag in faces:
         lo = model.getBoundingBox(2, tag)
-        if lo[3] < spec.disk_radius + tol:
-            root.append(tag)
-            continue
         if not spec.has_shroud or lo[0] < spec.tip_x - tol:
             continue
         centre = np.array(model.occ.getCenterOfMass(2, tag))
@@ -210,6 +200,22 @@ def _build_model(gmsh, spec: MeshSpec) -> None:
             side1.append(tag)
         elif abs(v_s - 0.5 * spec.shroud_width) < tol:
             side2.append(tag)
+    return side1, side2
+
+
+def _build_model(gmsh, spec: MeshSpec) -> None:
+    """The OCC solid and its physical groups in the current gmsh model."""
+    volumes = build_solid(gmsh.model.occ, spec)
+    gmsh.model.occ.synchronize()
+    model = gmsh.model
+    tol = 1e-3 * spec.thickness     # far above OCC bounding-box padding, far below any feature
+    blade_vols, shroud_vols = [], []
+    for dim, tag in volumes:
+        x = model.occ.getCenterOfMass(dim, tag)[0]
+        (shroud_vols if x > spec.tip_x else blade_vols).append(tag)
+    faces = [tag for _, tag in model.getEntities(2)]
+    root = [tag for tag in faces if model.getBoundingBox(2, tag)[3] < spec.disk_radius + tol]
+    side1, side2 = contact_faces(model, spec, faces)
     if not root or (spec.has_shroud and not (side1 and side2)):
         raise RuntimeError(f"gmsh model lacks a root or contact face (root {root}, sides {side1}, {side2})")
     model.addPhysicalGroup(2, root, ROOT, name="root")

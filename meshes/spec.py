@@ -64,14 +64,17 @@ class SweptBlade:
     step_digest: str = field(default="", kw_only=True)         # sha256 of its bytes
 
     @staticmethod
-    def geometry(params: Parameters, profile: bool = False, step: bool = False) -> dict:
+    def geometry(params: Parameters, profile: bool = False, step: bool = False, disk: bool = False) -> dict:
         """The fields of this class from ``params`` (blade, shroud, contact.alpha_deg).
 
         ``profile``: the caller builds the NACA section and the tapers; ``step``: it reads a STEP
-        file (shroud.params.Blade.check_modelled refuses what it does not).
+        file (shroud.params.Blade.check_modelled refuses what it does not); ``disk``: for the disk
+        sector (meshes.disk), else the blade alone on its rigid disk (a flexible one is refused).
         """
         b, s = params.blade, params.shroud
         b.check_modelled(profile, step)
+        if not disk:
+            params.disk.check_rigid()
         return dict(disk_radius=b.disk_radius, length=b.length, width=b.width, thickness=b.thickness,
                     stagger=math.radians(b.stagger_deg), twist=math.radians(b.twist_deg),
                     shroud_length=s.length, shroud_width=s.width, shroud_thickness=s.thickness,

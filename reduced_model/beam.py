@@ -555,6 +555,7 @@ def tip_body(params) -> TipBody:
 
 
 def for_parameters(params) -> BeamMatrices:
-    """The cached matrices of ``params`` (blade, material, shroud, N, torsion)."""
+    """The cached matrices of ``params`` (blade, material, shroud, N, torsion); the beam's disk is rigid."""
+    params.disk.check_rigid()
     return beam_matrices(params.blade, params.material, tip_body(params), params.reduced.N,
                          params.reduced.torsion)

@@ -102,10 +102,15 @@ def tip_components(model: FEModel, xr, xi=None) -> np.ndarray:
 
 def _undamped(ops: RotatingOperators, n_modes: int, ksp):
     """(f Hz, mass-normalized shapes) of the ``n_modes`` lowest undamped modes; ``ksp`` factors K."""
-    comm = ops.model.comm
+    return undamped_modes(ops.K, ops.M, ops.model.comm, n_modes, ksp)
+
+
+def undamped_modes(K, M, comm, n_modes: int, ksp):
+    """(f Hz, mass-normalized shapes) of the ``n_modes`` lowest modes of the symmetric pencil (K, M)
+    (PETSc Mats); ``ksp`` factors K."""
     eps = SLEPc.EPS().create(comm)
     eps.setOptionsPrefix("shroud_modal_")
-    eps.setOperators(ops.K, ops.M)
+    eps.setOperators(K, M)
     eps.setProblemType(SLEPc.EPS.ProblemType.GHEP)
     eps.setType(SLEPc.EPS.Type.KRYLOVSCHUR)
     eps.setDimensions(nev=n_modes)
@@ -121,15 +126,15 @@ def _undamped(ops: RotatingOperators, n_modes: int, ksp):
     nconv = eps.getConverged()
     pairs = []
     for i in range(nconv):
-        x = ops.M.createVecRight()
+        x = M.createVecRight()
         pairs.append((eps.getEigenpair(i, x).real, x))
     eps.destroy()
     keep = lowest_vibration_modes([lam for lam, _ in pairs], n_modes, "SLEPc EPS")
     pairs = [pairs[i] for i in keep]
     vectors = []
     for _, x in pairs:       # mass-normalize: x^T M x = 1
-        Mx = ops.M.createVecLeft()
-        ops.M.mult(x, Mx)
+        Mx = M.createVecLeft()
+        M.mult(x, Mx)
         x.scale(1.0 / np.sqrt(x.dot(Mx)))
         vectors.append(x)
     return np.sqrt([p[0] for p in pairs]) / (2 * np.pi), vectors

@@ -33,6 +33,7 @@ MODELS = (
                modal=lazy("reference_fe.modal", "modal_analysis"), sweepable=False,
                linear_harmonics=lazy("reference_fe.harmonic", "condensed_at"), reduced_by="fe-reduced",
                static=lazy("reference_fe.static", "static_response", kind="fe"),
+               disk_sector=lazy("reference_fe.cyclic", "sector_modal"),
                description="full solid, quadratic cells"),
     ModelEntry("fe-reduced", build_system=lazy("reference_fe.system", "build_system", reduced=True),
                at_speed=lazy("reference_fe.frequency", "at_speed"), refined=twice_the_modes,

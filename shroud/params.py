@@ -200,10 +200,32 @@ class Ring:
         return not any(self.deviations)
 
 
+@dataclass(frozen=True)
+class Disk:
+    """The flexible disk sector under each blade (geometry.md, "The disk"; docs/disk.md).
+
+    thickness = 0 is the rigid disk (the blade's root face clamped). With
+    thickness > 0 the solid FE sector of blade and disk, bore clamped, one
+    nodal diameter at a time (reference_fe.cyclic). ``E_factor`` scales the
+    disk's Young's modulus only (1: the blade's steel; 1000: the rigid-disk
+    limit the sector is checked against).
+    """
+
+    thickness: float = 0.0       # axial extent of the disk, m (0 = rigid disk; 0.04 is the usual flexible one)
+    bore_radius: float = 0.05    # R_i, m: the clamped bore
+    E_factor: float = 1.0        # the disk's E / material.E
+
+    def check_rigid(self) -> None:
+        """Refuse (InputError) a flexible disk on a path that only has the rigid one."""
+        if self.thickness > 0:
+            raise InputError("disk.thickness", f"{self.thickness!r}: only `modal --model fe` "
+                                               "builds the flexible disk sector; allowed: 0 (the rigid disk) here")
+
+
 SECTIONS: dict[str, type] = {
     "blade": Blade, "material": Material, "shroud": Shroud, "contact": Contact,
     "damping": Damping, "load": Load, "speed": Speed, "time": Time,
-    "reduced": Reduced, "fe": FE, "shell": Shell, "ring": Ring,
+    "reduced": Reduced, "fe": FE, "shell": Shell, "ring": Ring, "disk": Disk,
 }
 
 
@@ -269,7 +291,12 @@ _RULES: dict[str, tuple[Any, str]] = {
     "ring.blades": (lambda v: v == 0 or v >= 2, "0 (the paper's fixed neighbours) or an integer >= 2 blades"),
     "ring.mistuning": (lambda v: all(d > -1.0 for d in v), "relative changes d_j > -1 of E (E (1 + d_j) > 0)"),
     "ring.mistuning_std": (_nonneg, "a standard deviation >= 0"),
+    "disk.thickness": (_nonneg, "a length >= 0 m (0 = the rigid disk)"),
+    "disk.bore_radius": (_positive, "a radius > 0 m"),
+    "disk.E_factor": (_positive, "a factor > 0 on the disk's E"),
 }
+# The blade's root is extended this far inside the rim (geometry.md, "The disk"), m
+DISK_ROOT_DEPTH = 0.002
 
 
 def all_keys() -> list[str]:
@@ -369,6 +396,7 @@ class Parameters:
     fe: FE = field(default_factory=FE)
     shell: Shell = field(default_factory=Shell)
     ring: Ring = field(default_factory=Ring)
+    disk: Disk = field(default_factory=Disk)
 
     # --- construction -----------------------------------------------------
     @classmethod
@@ -426,6 +454,7 @@ class Parameters:
         new._check_geometry()
         new._check_speed()
         new._check_ring()
+        new._check_disk()
         return new
 
     def _check_geometry(self) -> None:
@@ -480,6 +509,32 @@ class Parameters:
         if worst <= -1.0:
             raise InputError("ring.mistuning_std", f"{r.mistuning_std!r} with seed {r.seed} draws d = {worst:.3g}, "
                                                    "a blade with E <= 0; allowed: a scatter whose draws keep d_j > -1")
+
+    def _check_disk(self) -> None:
+        """A flexible disk needs a ring to be a sector of, a bore inside the rim and a rim that holds the
+        blade's root section (extended DISK_ROOT_DEPTH inside the rim) axially and within the sector."""
+        d, b = self.disk, self.blade
+        if d.thickness == 0:
+            return
+        if self.ring.blades < 2:
+            raise InputError("disk.thickness", f"{d.thickness!r} makes a disk sector, which needs the ring it is a "
+                                               "sector of; allowed: with ring.blades >= 2")
+        if d.bore_radius >= b.disk_radius - DISK_ROOT_DEPTH:
+            raise InputError("disk.bore_radius", f"{d.bore_radius!r} is not inside the rim (blade.disk_radius "
+                                                 f"{b.disk_radius!r} less the root's {DISK_ROOT_DEPTH} m); allowed: "
+                                                 f"a bore radius < {b.disk_radius - DISK_ROOT_DEPTH:g} m")
+        beta = math.radians(b.stagger_deg)
+        half_y = 0.5 * (b.width * abs(math.sin(beta)) + b.thickness * abs(math.cos(beta)))
+        half_z = 0.5 * (b.width * abs(math.cos(beta)) + b.thickness * abs(math.sin(beta)))
+        root_x = b.disk_radius - DISK_ROOT_DEPTH
+        if half_z > 0.5 * d.thickness:
+            raise InputError("disk.thickness", f"{d.thickness!r} is thinner than the blade's root section, "
+                                               f"{2 * half_z:.4g} m along Z; allowed: >= {2 * half_z:.4g} m")
+        most = math.ceil(math.pi / math.atan2(half_y, root_x)) - 1
+        if self.ring.blades > most:
+            raise InputError("ring.blades", f"{self.ring.blades} sectors are narrower than the blade's root "
+                                            f"section ({2 * half_y:.4g} m along Y at {root_x:g} m); allowed: "
+                                            f"ring.blades <= {most} with disk.thickness > 0")
 
     # --- views -------------------------------------------------------------
     def flat(self) -> dict[str, Any]:

@@ -160,6 +160,29 @@ def test_solid_paths_refuse_the_blade_they_cannot_build(tmp_path, capsys, argv, 
     _refused(capsys, [a.format(out=out) for a in argv], key, out)
 
 
+DISK = ["--set", "ring.blades=24", "--set", "disk.thickness=0.04", "--set", "fe.cell=tet"]
+
+
+@pytest.mark.parametrize("argv, key", [
+    (["modal", "--interface", "free", "--model", "fe", "--set", "disk.thickness=0.04"], "disk.thickness"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.bore_radius=0.15"], "disk.bore_radius"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.thickness=0.02"], "disk.thickness"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "ring.blades=40"], "ring.blades"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK[:-2], "--set", "fe.cell=hex"], "fe.cell"),
+    (["modal", "--interface", "free", "--model", "reduced", *DISK], "disk.thickness"),
+    (["static", "--tip-force", "0", "100", "0", "--model", "fe", *DISK], "disk.thickness"),
+    (["modal", *DISK], "disk.thickness"),
+    (["transient", "--out", "{out}", *DISK], "disk.thickness"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "disk.E_factor=0"], "disk.E_factor"),
+    (["modal", "--interface", "free", "--model", "fe", *DISK, "--set", "ring.mistuning_std=0.01"], "ring.mistuning"),
+])
+def test_disk_sector_bad_input(tmp_path, capsys, argv, key):
+    """A disk the sector cannot be built of (no ring, a bore outside the rim, a rim thinner or a sector
+    narrower than the blade's root, hexahedra) and the paths without a flexible disk: one line, exit 2."""
+    out = tmp_path / "out"
+    _refused(capsys, [a.format(out=out) for a in argv], key, out)
+
+
 @pytest.mark.parametrize("argv, key", [(["section", "--at", "0.16"], "--at"), (["section", "--at", "-0.01"], "--at"),
                                        (["section", "--set", "blade.step=blade.step"], "blade.step"),
                                        (["section", "--set", "blade.section=naca6"], "blade.section")])

@@ -53,7 +53,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "system (default), or without it")
     p.add_argument("--interface", choices=("free", "stuck"),
                    help="the contact's linear limit: no springs, or every contact as springs kn, kt "
-                        "(with ring.blades = N: per nodal diameter)")
+                        "(with ring.blades = N: per nodal diameter; with disk.thickness > 0 the FE sector of "
+                        "blade and disk, free unless stuck is asked)")
 
     p = sub.add_parser("static", help="tip displacement under a force at the blade tip")
     _common(p)
@@ -144,14 +145,14 @@ PROFILE_MODELS = ("reduced", "full", "extended", "fe", "fe-reduced")
 STEP_MODEL = "fe"
 
 
-def _params(args):
+def _params(args, disk: bool = False):
     from workbench.scene import load_scene
     overrides = list(args.set)
     if getattr(args, "rpm", None) is not None:
         overrides.append(f"speed.rpm={args.rpm}")
     model = getattr(args, "model", None)
     return load_scene(args.scene, overrides, profile=model in PROFILE_MODELS,
-                      step=model == STEP_MODEL and args.command == "modal").params
+                      step=model == STEP_MODEL and args.command == "modal", disk=disk).params
 
 
 def _emit(args, payload: dict, text: str) -> None:
@@ -168,14 +169,15 @@ def cmd_modal(args) -> None:
     from shroud.analysis.api import linear_limits, modal
     if args.modes < 1:
         raise InputError("--modes", f"{args.modes} is out of range; allowed: an integer >= 1")
-    params = _params(args)
-    if args.interface is not None:
-        limit = linear_limits(params, args.model, params.speed.rpm, args.modes, args.coriolis, args.interface)
+    params = _params(args, disk=True)
+    if args.interface is not None or params.disk.thickness > 0:    # the disk sector comes per nodal diameter
+        interface = args.interface or "free"
+        limit = linear_limits(params, args.model, params.speed.rpm, args.modes, args.coriolis, interface)
         diameters = "".join(f"\n  nd {d['nd']:3d}: " + " ".join(f"{m['f_hz']:.2f}" for m in d["modes"])
                             for d in limit.nodal_diameters or [])
         rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in limit.blade.modes)
         return _emit(args, limit.to_json(), f"{args.model} model, {params.speed.rpm:g} r/min, interface "
-                                            f"{args.interface}\n{rows}{diameters}")
+                                            f"{interface}\n{rows}{diameters}")
     result = modal(params, args.model, rpm=params.speed.rpm, n_modes=args.modes, coriolis=args.coriolis)
     rows = "\n".join(f"  {m.label:10s} {m.f_hz:12.2f} Hz" for m in result.modes)
     _emit(args, result.to_json(),

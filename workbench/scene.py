@@ -113,13 +113,16 @@ def _same_kind(value: Any, want: Any) -> bool:
 
 
 def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool = False,
-               study: str | None = None, profile: bool = False, step: bool = False) -> Scene:
+               study: str | None = None, profile: bool = False, step: bool = False,
+               disk: bool = False) -> Scene:
     """Read, merge and validate a scene (or the bare defaults when ``path`` is None).
 
     The blade keys the path at hand cannot honour are refused here, before
     anything is written (shroud.params.Blade.check_modelled; ``profile`` lets
     a NACA section and tapers through, for ``shroud section``, the beams and
-    the solid models, ``step`` a STEP file, for the solid's modes).
+    the solid models, ``step`` a STEP file, for the solid's modes), and so is
+    a flexible disk unless ``disk`` says the command builds one
+    (shroud.params.Disk.check_rigid).
 
     The ``[quick]`` table is checked whether or not ``quick`` is asked for, so
     a typo in it fails on the first run, not on the first quick run.
@@ -159,6 +162,8 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
             param_sets.append(text)
     params = params.with_overrides(param_sets)
     params.blade.check_modelled(profile, step)
+    if not disk:
+        params.disk.check_rigid()
     options: dict[str, Any] = {}
     if name:
         defaults = getattr(study_module(name), "OPTIONS", {})

@@ -76,6 +76,8 @@ def interface_modal(params: Parameters, model: str, rpm: float, n_modes: int, co
     if ring and not params.ring.tuned:
         raise InputError("ring.mistuning", "nodal diameters belong to a tuned ring; allowed: all d_j = 0 with "
                                            "modal --interface")
+    if params.disk.thickness > 0:
+        return _disk_modal(params, model, rpm, n_modes, coriolis, interface, t0)
     system = registry.model(model).build_system(params)
     if not 1 <= n_modes <= system.dofs:
         raise InputError("--modes", f"{n_modes} is out of range; allowed: 1..{system.dofs} (the model's DOFs)")
@@ -100,4 +102,22 @@ def interface_modal(params: Parameters, model: str, rpm: float, n_modes: int, co
                                         n_modes, G))]}
                      for n in nodal_diameters(ring)]
     blade = replace(blade, elapsed_s=time.perf_counter() - t0)
+    return InterfaceModal(interface=interface, blade=blade, nodal_diameters=diameters)
+
+
+def _disk_modal(params: Parameters, model: str, rpm: float, n_modes: int, coriolis: bool, interface: str,
+                t0: float) -> InterfaceModal:
+    """The cyclic sector of blade and flexible disk per nodal diameter (docs/disk.md); its nodal
+    diameter 0 stands for the blade's own modes."""
+    sector = registry.model(model).disk_sector
+    if sector is None:
+        with_disk = [name for name in registry.names("modal") if registry.model(name).disk_sector is not None]
+        raise InputError("disk.thickness", f"{params.disk.thickness!r}: the {model} model has a rigid disk only; "
+                                           f"allowed: 0, or --model {' or '.join(with_disk)}")
+    if n_modes < 1:
+        raise InputError("--modes", f"{n_modes} is out of range; allowed: an integer >= 1")
+    found = sector(params, rpm, n_modes, coriolis, interface)
+    diameters = [{"nd": nd, "modes": [{"f_hz": m.f_hz, "label": m.label} for m in result.modes]}
+                 for nd, result in found]
+    blade = replace(found[0][1], elapsed_s=time.perf_counter() - t0)
     return InterfaceModal(interface=interface, blade=blade, nodal_diameters=diameters)

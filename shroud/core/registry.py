@@ -57,6 +57,10 @@ class ModelEntry:
     # side-1 point it touches (shroud.core.ring.paired_by_position); None: the builder lists both faces'
     # points in the same order (the beams).
     contact_points: Callable[[Any], tuple] | None = None
+    # (params, rpm, n_modes, coriolis, interface) -> [(nd, ModalResult)] for nd = 0 .. N // 2: the modes per nodal
+    # diameter of the model's cyclic sector of blade and flexible disk (disk.thickness > 0); None: the
+    # model has no disk.
+    disk_sector: Callable[..., Any] | None = None
 
 
 ENTRY_POINTS = "shroud.models"          # the metadata group where builders declare their models
