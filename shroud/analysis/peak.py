@@ -228,7 +228,7 @@ def track_peak(params: Parameters, model: str, n0_from: float, n0_to: float, rpm
 
         for stop in sorted({m for m in marks if p < m < end} | {float(end)}):
             branch = continue_branch(extended, y, p, stop, x_scale, ds=0.05, ds_max=0.3, dp_max=dp_max,
-                                     p_scale=n0_scale, on_point=keep)
+                                     p_scale=n0_scale, on_point=keep, forward=True)
             if not branch.complete or not branch.p or branch.p[-1] < stop:
                 return out, branch.stopped or f"the corrector did not reach N0 = {stop:g} N"
             y, p = branch.x[-1], branch.p[-1]

@@ -97,7 +97,8 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
                     ds: float = 0.02, ds_min: float = 1e-5, ds_max: float = 0.1, max_points: int = 2000,
                     dp_max: float | None = None, max_turn: float = 0.5, ds_kink: float = 2e-3,
                     on_point: Callable[[np.ndarray, float], None] | None = None,
-                    p_scale: float | None = None, factorize: Factorize | None = None) -> Branch:
+                    p_scale: float | None = None, factorize: Factorize | None = None,
+                    forward: bool = False) -> Branch:
     """Follow R(x, p) = 0 from (x0, p0) until p passes ``p_end`` (p0 < p_end).
 
     ``x0`` needs only be near the solution at p0 (Newton at fixed p first).
@@ -118,6 +119,13 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     recorded in ``Branch.kinks`` (where it lies and the turn), each fold, a
     change of sign of dp/ds (smooth, or at a corner), in ``Branch.folds``.
     The last point is put exactly at p_end. ``on_point(x, p)`` is called for every accepted point.
+
+    ``forward``: the branch is one point per parameter value (a resonance followed in the preload,
+    shroud.analysis.peak.track_peak), so a corner is a junction of the law's pieces, never a fold: it is
+    passed onto the arm that goes on along the previous tangent, wherever the corrector lands within
+    ``ds_kink`` (the rule before the secant's). Where three arms meet, the secant's rule takes the one going
+    back (the hb_friction scene's peak at mu 0.3, a 167-degree corner at 177.5 N, just below full stick at
+    182.9 N).
 
     A branch never retraces itself: a point that lies on an earlier chord of
     the path, going the same way, is held back, and if the next one does too
@@ -178,8 +186,9 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
             # a corner is taken within ds_kink, and only from the predictor's side: a corrector that moved
             # further from the predictor than the step (a secant more than 45 degrees off t) may have jumped to
             # a neighbouring arm (24 blades, 9336 r/min: from the fold's upper arm onto the middle one)
-            ok = not corner or (ds <= ds_kink and np.linalg.norm(u_new - u - ds * t) <= ds)
-        elif 0.5 * ds < ds_min:        # the last resort before stopping: the corner lies within this step
+            near = forward or np.linalg.norm(u_new - u - ds * t) <= ds
+            ok = not corner or (ds <= ds_kink and near)
+        elif 0.5 * ds < ds_min and not forward:   # the last resort before stopping: the corner lies within this step
             past = _past_corner(residual, u, t, ds, x_scale, p_scale, factorize)
             if past is not None:
                 (u_new, it, R, J, Rp), ok, corner = past, True, True
@@ -191,7 +200,8 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
                                   f"(step below {ds_min:g} in scaled arclength)")
                 return branch
             continue
-        if corner:      # oriented by the secant across the corner (the border too: t may be near normal to it)
+        if corner and not forward:    # oriented by the secant across the corner (the border too: t may be
+                                      # near normal to it)
             t_new = _tangent(J * x_scale, Rp() * p_scale, (u_new - u) / np.linalg.norm(u_new - u), factorize)
         p_new = u_new[-1] * p_scale
         if p_new < p0 - 0.05 * (p_end - p0):
