@@ -12,9 +12,12 @@ from workbench.cli import main
 from shroud.params import SECTIONS, Parameters
 
 # A value other than the default for each string key (the schema's own defaults are the other).
-OTHER = {"time.contact": "explicit", "reduced.shroud": "rigid", "fe.cell": "tet"}
+OTHER = {"time.contact": "explicit", "reduced.shroud": "rigid", "fe.cell": "tet", "blade.section": "naca4"}
+# String keys whose value is a file's path, not a word from a set (blade.step: its refusals are the hostile
+# STEP files of tests/test_airfoil_solid.py and tests/test_cli_errors.py)
+PATHS = {"blade.step"}
 STRING_KEYS = sorted(f"{s}.{f.name}" for s, cls in SECTIONS.items() for f in dataclasses.fields(cls)
-                     if f.type == "str")
+                     if f.type == "str" and f"{s}.{f.name}" not in PATHS)
 
 
 def test_every_string_key_has_a_second_value_here():
