@@ -239,19 +239,25 @@ def write_mesh(spec: MeshSpec, path: Path) -> None:
             check_mesh_size(spec, volume=build_from_step(gmsh, spec))
         else:
             _build_model(gmsh, spec)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", spec.size)
-        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 1)
-        gmsh.option.setNumber("Mesh.Algorithm", 6)        # Frontal-Delaunay surfaces
-        gmsh.option.setNumber("Mesh.Algorithm3D", 1)      # Delaunay volumes
-        gmsh.option.setNumber("Mesh.Optimize", 1)
-        gmsh.model.mesh.generate(3)
-        gmsh.model.mesh.setOrder(spec.order)
-        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
-        gmsh.write(str(path))
+        write_tetrahedra(gmsh, spec.size, spec.order, path)
     finally:
         gmsh.finalize()
+
+
+def write_tetrahedra(gmsh, size: float, order: int, path: Path) -> None:
+    """Mesh the current gmsh model with tetrahedra of at most ``size`` (m), of polynomial order ``order``,
+    and write ``path`` (.msh 4.1): the blade's and the disk sector's meshes alike."""
+    gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 1)
+    gmsh.option.setNumber("Mesh.Algorithm", 6)        # Frontal-Delaunay surfaces
+    gmsh.option.setNumber("Mesh.Algorithm3D", 1)      # Delaunay volumes
+    gmsh.option.setNumber("Mesh.Optimize", 1)
+    gmsh.model.mesh.generate(3)
+    gmsh.model.mesh.setOrder(order)
+    gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+    gmsh.write(str(path))
 
 
 def write_step(spec: MeshSpec, path) -> None:

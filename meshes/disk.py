@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshes.blade import build_solid, check_geometry, contact_faces
+from meshes.blade import build_solid, check_geometry, contact_faces, write_tetrahedra
 from meshes.spec import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec, SweptBlade, embed_tip_points,
                          section_frame, shroud_frame)
 from shroud.base.cache import cached
@@ -147,16 +147,7 @@ def write_sector_mesh(spec: DiskSpec, path: Path) -> None:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("disk_sector")
         _build_sector(gmsh, spec)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", DISK_SIZE_RATIO * spec.size)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 1)
-        gmsh.option.setNumber("Mesh.Algorithm", 6)        # Frontal-Delaunay surfaces
-        gmsh.option.setNumber("Mesh.Algorithm3D", 1)      # Delaunay volumes
-        gmsh.option.setNumber("Mesh.Optimize", 1)
-        gmsh.model.mesh.generate(3)
-        gmsh.model.mesh.setOrder(spec.order)
-        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
-        gmsh.write(str(path))
+        write_tetrahedra(gmsh, DISK_SIZE_RATIO * spec.size, spec.order, path)
     finally:
         gmsh.finalize()
 
