@@ -290,9 +290,10 @@ def mesh_file(spec: MeshSpec) -> Path:
 
 
 def check_msh_complete(path: Path) -> None:
-    """Raise ValueError unless ``path`` ends as a finished gmsh file ends (its $Elements section closed)."""
+    """Raise ValueError unless ``path`` ends as a finished gmsh file ends: its $Elements section closed, or
+    its $Periodic section, which gmsh writes last where side faces are meshed alike (the disk sector)."""
     with open(path, "rb") as fh:
         fh.seek(max(0, path.stat().st_size - 64))
-        tail = fh.read()
-    if not tail.rstrip().endswith(b"$EndElements"):
-        raise ValueError("the file stops before $EndElements: cut short")
+        tail = fh.read().rstrip()
+    if not (tail.endswith(b"$EndElements") or tail.endswith(b"$EndPeriodic")):
+        raise ValueError("the file stops before $EndElements or $EndPeriodic: cut short")

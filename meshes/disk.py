@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshes.blade import build_solid, check_geometry, contact_faces, write_tetrahedra
+from meshes.blade import build_solid, check_geometry, check_msh_complete, contact_faces, write_tetrahedra
 from meshes.spec import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec, SweptBlade, embed_tip_points,
                          section_frame, shroud_frame)
 from shroud.base.cache import cached
@@ -157,13 +157,4 @@ def sector_mesh_file(spec: DiskSpec) -> Path:
     check_geometry(spec)
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
     return cached("mesh", inputs, ".msh", lambda tmp: write_sector_mesh(spec, tmp), what="disk sector mesh",
-                  sources=(__name__, "meshes.blade", "meshes.spec"), check=check_periodic_msh_complete)
-
-
-def check_periodic_msh_complete(path: Path) -> None:
-    """Raise ValueError unless ``path`` ends as a finished periodic gmsh file ends ($Periodic section closed)."""
-    with open(path, "rb") as fh:
-        fh.seek(max(0, path.stat().st_size - 64))
-        tail = fh.read()
-    if not tail.rstrip().endswith(b"$EndPeriodic"):
-        raise ValueError("the file stops before $EndPeriodic: cut short")
+                  sources=(__name__, "meshes.blade", "meshes.spec"), check=check_msh_complete)
