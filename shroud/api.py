@@ -113,7 +113,9 @@ def harmonic_balance(params: Parameters, model: str, rpm: float, harmonics: int 
     (shroud.analysis.hb.checkpoint: ``start`` the harmonics Newton begins from, ``retry`` from the linear
     starts where it fails from there, ``multipliers=False`` without stability); with ``ring.blades = N``,
     the ring's (one sector when tuned, the whole ring when mistuned: ``blades_amplitude_v_L``). Read
-    ``converged`` before the amplitudes: where Newton did not converge they are no answer."""
+    ``converged`` before the amplitudes: where Newton did not converge they are no answer; then ``stable``:
+    a ring's state decided unstable is not the ring's response (``shroud sweep --checkpoints`` refuses it,
+    shroud.analysis.hb.ring_steady_states)."""
     return _analysis.harmonic_balance(params, model, rpm, harmonics, samples, start, retry, multipliers)
 
 

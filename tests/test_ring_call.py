@@ -60,6 +60,26 @@ def test_a_checkpoint_newton_did_not_converge_on_exits_1_with_null_amplitudes(ca
     assert payload["blades_amplitude_v_L"] == [None] and payload["checkpoints"][0]["amplitude_v_L"] is None
 
 
+def test_a_checkpoint_on_an_unstable_travelling_wave_exits_2_and_names_the_ring_in_time(capsys, tmp_path):
+    """6 tuned blades (the default contact), 6000 and 7200 r/min: the wave at 7200 r/min is unstable against
+    another nodal diameter (|mu| 1.68; tests/test_ring_hb.py holds its growth in time), and the ring from rest
+    in time does not settle on it (measured at 100 periods: no period, blades 1.44 and 1.52 um in turn
+    against the wave's 1.05 um). The checkpoints refuse it: exit 2, nothing on stdout, one line naming
+    7200 r/min (not 6000, whose wave the ring settles on) with its multiplier and the transient it points to;
+    before, exit 0 with the wave's 1.05 um as the ring's answer."""
+    ring = _sets(["ring.blades=6"])
+    code, out, err = _run(capsys, "sweep", "--method", "hb", "--checkpoints", "6000", "7200", *ring, "--json")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert err.startswith("error: --checkpoints:") and "unstable at 7200 r/min (largest |multiplier| 1.6" in err
+    assert "6000 r/min" not in err and "shroud transient --set ring.blades=6 --rpm 7200" in err
+    wave = api.harmonic_balance(api.parameters({"ring.blades": 6}), "reduced", 7200.0, multipliers=False)
+    code, out, err = _run(capsys, "transient", "--rpm", "7200", *ring, "--set", "time.periods=100", "--json",
+                          "--out", str(tmp_path))
+    assert code == 0, err
+    timed = np.array([b["amplitude"]["v_L"] for b in json.loads(out)["blades"]])
+    assert np.abs(timed / wave.amplitude_v_L - 1).min() > 0.2
+
+
 def test_the_single_blades_checkpoint_finds_the_state_of_its_time_run(capsys, tmp_path):
     """Preload 20 N, 9000 r/min: Newton from the free blade's linear solution fails at once (|R| 244 N) and so
     does the load homotopy (the preload is not scaled); the checkpoint reaches the state from the linear blade

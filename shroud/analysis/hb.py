@@ -25,7 +25,7 @@ import numpy as np
 from shroud.analysis.api import build_system
 from shroud.analysis.transient import contact_law_for
 from shroud.base.errors import InputError, RunDiverged
-from shroud.base.log import Progress
+from shroud.base.log import Progress, warn
 from shroud.base.resources import in_words, physical_memory
 from shroud.analysis.checks import MEMORY_SHARE
 from shroud.analysis.systems import solver
@@ -846,17 +846,51 @@ def checkpoint(params: Parameters, model: str, rpm: float, harmonics: int = DEFA
                       X=sol.X)
 
 
+def ring_steady_states(params: Parameters, points: list[Checkpoint]) -> None:
+    """Refuse (InputError on --checkpoints: exit 2, one line) a ring's checkpoints whose state is decided
+    unstable by the ring's monodromy (every nodal diameter), and warn where it is undecided.
+
+    A tuned ring's checkpoint is the travelling wave, the one state the sector holds: where a perturbation of
+    another nodal diameter grows, the ring in time leaves the wave for a state the sector cannot represent
+    (24 blades, preload 20 N, 12000 r/min: |mu| 1.42, the ring in time unsettled at 11.8 um against the
+    wave's 10.1 um, docs/ring.md), so its amplitude is not the ring's response and the ring in time is the way
+    to it. (A mistuned ring's whole-ring state is refused alike: the ring in time leaves it too.) The single
+    blade's unstable states stay answers: they lie on its own branch, whose continuation finds the stable
+    ones beside them."""
+    kind = "travelling wave" if params.ring.tuned else "periodic state"
+    N = params.ring.blades
+
+    def where(p: Checkpoint) -> str:
+        return (f"{p.rpm:g} r/min (largest |multiplier| {max(p.largest_multiplier.values()):.4g} "
+                f"+- {p.multiplier_error:.2g})")
+    unstable = [p for p in points if p.converged and p.stable is False]
+    if unstable:
+        raise InputError("--checkpoints", f"the {N}-blade ring's {kind} is unstable at "
+                                          + ", ".join(where(p) for p in unstable)
+                                          + f": not the ring's steady response; allowed: the ring in time "
+                                            f"(shroud transient --set ring.blades={N} --rpm "
+                                            f"{unstable[0].rpm:g}), the other speeds' checkpoints without "
+                                            f"{'them' if len(unstable) > 1 else 'it'}")
+    for p in points:
+        if p.converged and p.stable is None and p.largest_multiplier:
+            warn(f"the {N}-blade ring's {kind} at {where(p)} is neither stable nor unstable within its error: "
+                 f"the ring in time decides (shroud transient --set ring.blades={N} --rpm {p.rpm:g})")
+
+
 def run_checkpoints(params: Parameters, model: str, rpms, harmonics: int = DEFAULT_HARMONICS,
                     samples: int | None = None) -> dict:
     """The checkpoint at each speed of ``rpms`` (r/min) of the system ``params`` describe (the blade's
     :func:`checkpoint`, a ring's shroud.analysis.ring_hb.ring_checkpoint: shroud.analysis.systems), as the
-    JSON of ``shroud sweep --checkpoints``: a point Newton did not converge on has null amplitudes."""
+    JSON of ``shroud sweep --checkpoints``: a point Newton did not converge on has null amplitudes; a ring's
+    unstable states are refused (:func:`ring_steady_states`)."""
     t0 = time.perf_counter()
     solve = solver("checkpoint", params)
     for rpm in rpms:
         check_inputs(harmonics, samples, 0.5 * rpm, rpm)
         params.updated({"speed.rpm": float(rpm)})     # the models' speed bound (shroud.params)
     points = [solve(params, model, float(rpm), harmonics, samples) for rpm in rpms]
+    if params.ring.blades:
+        ring_steady_states(params, points)
     shown = [p.to_json() for p in points]
     ring = {"blades": params.ring.blades,
             "blades_amplitude_v_L": [p["blades_amplitude_v_L"] for p in shown]} if params.ring.blades else {}
