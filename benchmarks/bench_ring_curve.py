@@ -12,11 +12,23 @@ after a first round that compiles the kernels and builds the models:
 
 Prints per curve its points, whether it is complete, CPU and wall medians and the ratio of the CPU
 median to the single blade's. ``--anatomy``: where a ring point's stability goes, piece by piece, at
-every point of the curve (the pieces of ring_hb.ring_stability timed one by one, CPU s). ``--profile``:
-the ring's curve with stability at every point under cProfile (CPU clock), summed by piece (the names of
-before and after the ring's halves, so that it runs on either tree).
+every point of the curve (the pieces of ring_hb.ring_stability timed one by one, CPU s; the monodromy at
+the AFT's samples split into its halves' flows over T / q and their eigenvalues), then the floor: the
+ring-size eigenproblem alone and one monodromy alone against the single blade's point and curve.
+``--profile``: the ring's curve with stability at every point under cProfile (CPU clock), summed by piece
+(the names of before and after the ring's halves, so that it runs on either tree).
 
     OMP_NUM_THREADS=1 python benchmarks/bench_ring_curve.py [--repeat 3] [--spread 12] [--anatomy] [--profile]
+
+Result (11:51-11:57 UTC 2026-11-29, ``--repeat 3 --anatomy``, load 10-12 on the 2 cores; docs/performance.md):
+the goal, the ring's curve with stability at most 2x the single blade's, is not met and no exact method
+meets it. The single blade 31 points, 0.067 s CPU (2.15 ms a point); the ring with its stability at every
+point 116 points, 11.28 s (97.2 ms a point), 169x; at 12 spread points and the changes 55x; without
+stability 0.327 s (2.82 ms a point), 4.9x: the ring's branch alone (116 points through its folds against
+31) is past 2x before any stability. The ring-size eigenproblems alone (two halves of 156 states) take
+5.9 ms a point, 2.7x the single blade's whole point, 10x its curve over the ring's points; one monodromy's
+multipliers (no error estimate) 34 ms a point, 59x. The monodromy is already the one from g / N of the
+period by the wave's symmetry (floquet.symmetric_monodromy), on the ring's halves.
 """
 
 from __future__ import annotations
@@ -32,6 +44,7 @@ import numpy as np
 import reduced_model  # noqa: F401  (registers the beams)
 from shroud.analysis import ring_hb
 from shroud.analysis.hb import REFINED_ITERATIONS, SpeedModel, run_hb
+from shroud.core import floquet
 from shroud.core import harmonic_balance as hb
 from shroud.params import Parameters
 
@@ -80,7 +93,8 @@ def main() -> None:
               f"CPU {c:.3f} s ({1e3 * c / len(r.rpm):.2f} ms a point), wall {w:.3f} s; "
               f"{c / single:.1f}x the single blade's CPU", flush=True)
     if a.anatomy:
-        anatomy(p, lo, hi, H, results["ring sector, no stability"])
+        blade = next(iter(results.values()))
+        anatomy(p, lo, hi, H, results["ring sector, no stability"], single / len(blade.rpm), len(blade.rpm))
 
 
 def profile(p: Parameters, lo: float, hi: float, H: int) -> None:
@@ -102,7 +116,8 @@ def profile(p: Parameters, lo: float, hi: float, H: int) -> None:
                                                                           where="floquet.py"),
             "  monodromy at 2 H": cum("ring_multipliers", "_wave_multipliers", where="ring_hb.py"),
             "  the ring's matrices (_ring_flow before, ring_blocks after)": cum("_ring_flow", "ring_blocks"),
-            "  sector Newton at 2 H (and the first point's)": cum("sector_newton", where="ring_hb.py"),
+            "  sector Newton at 2 H (and the first point's)": cum("sector_newton", where="ring_hb.py")
+                                                               + cum("sector_newton", where="starts.py"),
             "    in the monodromies: the run loop (floquet._flow_grazing)": cum("_flow_grazing"),
             "    in the monodromies: eigenvalues (numpy eigvals)": cum("eigvals"),
             "SpeedModel builds (systems, H and 2 H harmonics; in the branch and the stability)":
@@ -113,16 +128,19 @@ def profile(p: Parameters, lo: float, hi: float, H: int) -> None:
         print(f"  {name}: {s:.3f} s ({1e3 * s / n:.2f} ms a point, {100 * s / total:.0f} %)")
 
 
-def anatomy(p: Parameters, lo: float, hi: float, H: int, branch) -> None:
+def anatomy(p: Parameters, lo: float, hi: float, H: int, branch, single_point: float, single_points: int) -> None:
     """ring_hb.ring_stability's pieces at every point of ``branch`` (CPU s summed over the points): the
     blade's model and harmonics at the speed (SpeedModel, built afresh here), the ring's subspaces
-    (ring_blocks), the monodromies at the AFT's samples and at half of them, the 2 H Newton and the 2 H
-    monodromy."""
+    (ring_blocks), the monodromy at the AFT's samples (its halves' flows over T / q with their powers, and
+    their eigenvalues apart), at half the samples, the 2 H Newton and the 2 H monodromy; then the floor
+    against the single blade's curve (``single_point`` its CPU s a point, ``single_points`` its points):
+    the ring-size eigenproblem alone, one monodromy alone, over the ring's points."""
     basis = hb.fourier(H, branch.samples)
     at = ring_hb.ring_model_at_speed(p, "reduced")
     pieces = dict.fromkeys(["SpeedModel builds (system, H and 2 H harmonics)", "ring_blocks",
-                            "monodromy, the AFT's samples", "monodromy, half the samples",
-                            "sector Newton at 2 H", "monodromy at 2 H"], 0.0)
+                            "monodromy, the AFT's samples: the halves' flows over T / q (run loop) and powers",
+                            "monodromy, the AFT's samples: the halves' eigenvalues (the ring-size eigenproblem)",
+                            "monodromy, half the samples", "sector Newton at 2 H", "monodromy at 2 H"], 0.0)
     names = list(pieces)
     for rpm, X in zip(branch.rpm, branch.X):
         clock = [time.process_time()]
@@ -138,24 +156,36 @@ def anatomy(p: Parameters, lo: float, hi: float, H: int, branch) -> None:
         sector = ring_hb.sector_of(system, p, H)
         blocks, count = ring_hb.ring_blocks(system, sector)
         lap(1)
-        ring_hb._wave_multipliers(blocks, count, sector, lin, X, basis)
+        orbit = ring_hb._ring_orbit(sector, lin, X, basis, ring_hb._ring_samples(sector, basis.samples), count)
+        monodromies = [floquet.symmetric_monodromy(M, C, K, W, law, *orbit[:2], lin.omega, orbit[2], symmetry)[0]
+                       for M, C, K, W, law, symmetry in blocks]
         lap(2)
+        for Phi in monodromies:
+            floquet.multipliers(Phi)
+        lap(3)
         half = ring_hb._ring_samples(sector, max(ring_hb._ring_samples(sector, basis.samples) // 2, 2 * H + 1))
         ring_hb._wave_multipliers(blocks, count, sector, lin, X, hb.fourier(H, half))
-        lap(3)
+        lap(4)
         fine_basis = hb.fourier(2 * H, max(basis.samples, 8 * H + 1))
         X0 = np.zeros((fine_basis.nh, X.size // basis.nh))
         X0[:basis.nh] = X.reshape(basis.nh, -1)
         X2, ok = ring_hb.sector_newton(X0.ravel(), fine_lin, sector, fine_basis, max_iterations=REFINED_ITERATIONS)
-        lap(4)
+        lap(5)
         if ok:
             ring_hb._wave_multipliers(blocks, count, sector, fine_lin, X2, fine_basis)
-        lap(5)
+        lap(6)
     total = sum(pieces.values())
     print(f"ring_stability's pieces over the {len(branch.rpm)} points of the curve without stability "
           f"(CPU, {1e3 * total / len(branch.rpm):.1f} ms a point):")
     for name, s in pieces.items():
         print(f"  {name}: {s:.3f} s ({1e3 * s / len(branch.rpm):.2f} ms a point, {100 * s / total:.0f} %)")
+    flows, eigs = (pieces[names[i]] for i in (2, 3))
+    curve = single_point * single_points
+    print(f"floor against the single blade's curve ({single_points} points, {1e3 * single_point:.2f} ms a point, "
+          f"its stability included; the ring's {len(branch.rpm)} points):")
+    for name, s in (("the ring-size eigenproblems alone", eigs), ("one monodromy's multipliers alone", flows + eigs)):
+        print(f"  {name}: {1e3 * s / len(branch.rpm):.2f} ms a point ({s / len(branch.rpm) / single_point:.1f}x the "
+              f"single blade's whole point), over the ring's curve {s / curve:.1f}x the single blade's curve")
 
 
 if __name__ == "__main__":
