@@ -80,6 +80,20 @@ def test_a_checkpoint_on_an_unstable_travelling_wave_exits_2_and_names_the_ring_
     assert np.abs(timed / wave.amplitude_v_L - 1).min() > 0.2
 
 
+def test_an_undecided_rings_checkpoint_is_answered_with_a_warning(capsys):
+    """24 blades, preload 20 N, 13000 r/min: largest |multiplier| 0.981 +- 0.02, undecided, where the ring in
+    time settles on the wave (9.2408-9.2465 um against 9.2682, docs/ring.md): answered (exit 0, `stable`
+    null) with one warning line on stderr naming the speed and the transient that decides."""
+    code, out, err = _run(capsys, "sweep", "--method", "hb", "--checkpoints", "13000", "--json",
+                          *_sets(["ring.blades=24", *PRELOAD]))
+    assert code == 0, err
+    hb = json.loads(out)
+    assert hb["stable"] == [None] and abs(hb["amplitude_v_L"][0] / 9.2682e-6 - 1) < 1e-3
+    warnings = [line for line in err.splitlines() if "warning" in line]
+    assert len(warnings) == 1 and "13000 r/min" in warnings[0] and "neither stable nor unstable" in warnings[0]
+    assert "shroud transient --set ring.blades=24 --rpm 13000" in warnings[0]
+
+
 def test_the_single_blades_checkpoint_finds_the_state_of_its_time_run(capsys, tmp_path):
     """Preload 20 N, 9000 r/min: Newton from the free blade's linear solution fails at once (|R| 244 N) and so
     does the load homotopy (the preload is not scaled); the checkpoint reaches the state from the linear blade
