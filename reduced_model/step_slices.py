@@ -48,6 +48,7 @@ import numpy as np
 
 from shroud.base.cache import cached
 from shroud.base.errors import InputError
+from shroud.base.log import info
 from shroud.params import Blade, Shroud
 from reduced_model.section import SectionProperties
 from reduced_model.section_mesh import inside_polygon, section_on_mesh
@@ -341,6 +342,11 @@ def sliced_blade(blade: Blade, shroud: Shroud) -> SlicedBlade:
     file = cached("step_slices", inputs, ".npz", lambda tmp: _sample(path, blade, shroud, stations, tmp),
                   what="slices of the STEP blade", sources=(__name__,))
     slices = _read(file)
+    x, angle = slices.stations, np.degrees(slices.principal)
+    info(f"slices of {path}: x = {', '.join(f'{v:.4g}' for v in x)} m; their principal axes lie "
+         f"{', '.join(f'{a:.3g}' for a in angle)} deg from the keys' e_w: the file's twist "
+         f"{blade.twist_deg * (x[-1] - x[0]) / blade.length + angle[-1] - angle[0]:.4g} deg from the first to "
+         f"the last, the keys' {blade.twist_deg * (x[-1] - x[0]) / blade.length:.4g} deg")
     sections, chords, thicknesses = zip(*(_section(loops) for loops in slices.loops))
     return SlicedBlade(stations=slices.stations, sections=tuple(sections), chords=np.array(chords),
                        thicknesses=np.array(thicknesses), principal=slices.principal)
