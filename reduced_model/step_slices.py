@@ -139,7 +139,8 @@ def _chained(pieces: list[np.ndarray], tol: float) -> list[np.ndarray]:
 
 def _thinned(points: np.ndarray, spacing: float) -> np.ndarray:
     """The vertices of the densely sampled polyline ``points`` (closed loop) kept so that each edge turns by
-    at most TURN_DEG and is at most ``spacing`` long (corners, where the direction jumps, always kept)."""
+    about TURN_DEG at most and is about ``spacing`` long at most (to within one sample's share; corners,
+    where the direction jumps by more than TURN_DEG, always kept)."""
     edge = np.roll(points, -1, axis=0) - points
     length = np.linalg.norm(edge, axis=1)
     heading = np.arctan2(edge[:, 1], edge[:, 0])
