@@ -284,7 +284,7 @@ def mesh_file(spec: MeshSpec) -> Path:
     check_geometry(spec)
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
     write, sources = (write_hex_mesh, (__name__, "meshes.hexa", "meshes.spec")) if spec.cell == "hex" else \
-        (write_mesh, (__name__, "meshes.spec", "meshes.step", "reduced_model.airfoil"))
+        (write_mesh, (__name__, "meshes.spec", "meshes.step", "reduced_model.airfoil", "reduced_model.step_slices"))
     return cached("mesh", inputs, ".msh", lambda tmp: write(spec, tmp), what="blade mesh",
                   sources=sources, check=check_msh_complete)
 

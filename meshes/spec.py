@@ -15,14 +15,13 @@ Example
 
 from __future__ import annotations
 
-import hashlib
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from reduced_model.airfoil import chord_and_thickness, naca4_outline
+from reduced_model.step_slices import step_digest
 from shroud.base.errors import InputError
 from shroud.params import Parameters
 
@@ -182,15 +181,6 @@ def polygon_area(loop: np.ndarray) -> float:
     """Area of a counter-clockwise or clockwise simple polygon (n, 2), m^2 (shoelace)."""
     a, b = loop, np.roll(loop, -1, axis=0)
     return 0.5 * abs(float(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1])))
-
-
-def step_digest(path: str) -> str:
-    """sha256 of the STEP file's bytes; InputError on blade.step when it cannot be read."""
-    try:
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-    except OSError as exc:
-        raise InputError("blade.step", f"{path!r} cannot be read ({exc.strerror or exc}); "
-                                       "allowed: a readable STEP file") from None
 
 
 def tip_points(spec: SweptBlade) -> np.ndarray:

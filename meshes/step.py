@@ -14,8 +14,9 @@ tip points (meshes.spec.tip_points, from the blade.* keys) embedded in it.
 
 Everything wrong with the file is an InputError on ``blade.step``: no file
 gmsh reads as STEP, no solid, lengths 1000 times off (a file in
-millimetres declared as metres, or the reverse), no face in the root plane,
-no contact faces.
+millimetres declared as metres, or the reverse: these three by
+reduced_model.step_slices.read_solid, which the beams' slices share), no
+face in the root plane, no contact faces.
 """
 
 from __future__ import annotations
@@ -25,48 +26,16 @@ import math
 import numpy as np
 
 from meshes.spec import BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, MeshSpec, embed_tip_points, shroud_frame
+from reduced_model.step_slices import read_solid
 from shroud.base.errors import InputError
 
 # A contact face's outward normal may turn this far from -/+ e_vs: the contact law acts along e_vs,
 # so a face much further off is not the shroud face the keys describe.
 MAX_NORMAL_DEG = 1.0
-# Lengths whose root lies this close to 1000 or 1/1000 times R_d are read as a unit mix-up.
-UNIT_SLACK = 2.0
 
 
 def _refuse(spec: MeshSpec, message: str) -> InputError:
     return InputError("blade.step", f"{spec.step!r} {message}")
-
-
-def _import(gmsh, spec: MeshSpec) -> list[int]:
-    """Read the file (lengths converted to metres); the volumes' tags, made one conforming body."""
-    occ = gmsh.model.occ
-    gmsh.option.setString("Geometry.OCCTargetUnit", "M")
-    try:
-        entities = occ.importShapes(spec.step, highestDimOnly=False, format="step")
-    except Exception as exc:            # gmsh raises Exception with its own message
-        reason = str(exc).splitlines()[0] if str(exc) else "unreadable"
-        raise _refuse(spec, f"is not a STEP file gmsh can read ({reason}); allowed: a STEP (AP203/AP214) "
-                            "file of blade and shroud") from None
-    volumes = [(d, t) for d, t in entities if d == 3]
-    if not volumes:
-        raise _refuse(spec, f"holds no solid ({len(entities)} curves and surfaces); allowed: a file of one "
-                            "closed solid of blade and shroud")
-    if len(volumes) > 1:
-        volumes, _ = occ.fragment(volumes, [])       # one conforming body
-    occ.synchronize()
-    return [t for _, t in volumes]
-
-
-def _check_units(gmsh, spec: MeshSpec) -> None:
-    """InputError when the solid's root lies 1000 times too far out or in: its lengths are not metres."""
-    x_min = gmsh.model.getBoundingBox(-1, -1)[0]
-    ratio = x_min / spec.disk_radius
-    for factor, words in ((1e3, "millimetres read as metres"), (1e-3, "metres read as millimetres")):
-        if factor / UNIT_SLACK < ratio < factor * UNIT_SLACK:
-            raise _refuse(spec, f"has its root at X = {x_min:.4g} m, {ratio:.4g} x blade.disk_radius "
-                                f"{spec.disk_radius:g} m: its units are off by 1000 ({words}); allowed: "
-                                "a file whose length unit matches its numbers (metres after conversion)")
 
 
 def _named(gmsh, names: tuple[str, ...]) -> dict[str, list[int]]:
@@ -138,8 +107,7 @@ def _found_faces(gmsh, spec: MeshSpec, volumes: list[int]) -> tuple[list[int], l
 def build_from_step(gmsh, spec: MeshSpec) -> float:
     """The STEP file's solid in the current gmsh model, with meshes.blade's physical groups; its
     volume, m^3 (for meshes.blade.check_mesh_size)."""
-    volumes = _import(gmsh, spec)
-    _check_units(gmsh, spec)
+    volumes = read_solid(gmsh, spec.step, spec.disk_radius)
     root, side1, side2 = _found_faces(gmsh, spec, volumes)
     model = gmsh.model
     model.addPhysicalGroup(2, root, ROOT, name="root")

@@ -1,6 +1,7 @@
 """Reduced Timoshenko-beam model of the twisted shrouded blade (paper Sect. 2.1).
 
-numpy/scipy/numba only: importing it never loads DOLFINx or gmsh. Importing
+numpy/scipy/numba only: importing it never loads DOLFINx or gmsh (gmsh is
+imported by reduced_model.step_slices only when a STEP file is cut). Importing
 the package registers its models with the core:
 
 * ``full``: the Galerkin beam, 5 fields x N shape functions (5N DOF), 6N with reduced.torsion;

@@ -22,9 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shroud.params import Blade
+from shroud.params import Blade, Shroud
 from reduced_model.section import SectionProperties, rectangle
 from reduced_model.section_mesh import section_on_mesh
+from reduced_model.step_slices import sliced_blade
 
 PROFILE_POINTS = 240          # points along each surface, cosine-spaced (dense at both edges)
 MESH_CELLS_THICK = 16         # P2 triangles' size: the profile's maximum thickness over this
@@ -143,27 +144,40 @@ def span_stations(blade: Blade, count: int = SPAN_STATIONS) -> np.ndarray:
     return 0.5 * blade.length * (1.0 - np.cos(np.pi * np.arange(count) / (count - 1)))
 
 
-def span_sections(blade: Blade, x, nu: float | None = None, count: int = SPAN_STATIONS) -> SpanSections:
-    """The sections at ``x`` (m from the root), from the sections solved at span_stations(blade, count).
+def span_sections(blade: Blade, x, nu: float | None = None, count: int = SPAN_STATIONS,
+                  shroud: Shroud | None = None) -> SpanSections:
+    """The sections at ``x`` (m from the root), from the sections solved at stations along the span.
 
-    Each station's property is carried to x by the scaling of a profile of
-    fixed shape, A_k (c(x) / c_k)^a (t(x) / t_k)^b (_SCALING), and the
-    stations' values are joined by the Lagrange polynomial through them:
-    exact for a profile that keeps its shape, and what is left is the slow
-    change of shape with t/c (measured in docs/extended-beam.md). ``nu``:
+    The stations: span_stations(blade, count) on the blade.* keys' profile,
+    or the slices of the STEP file ``blade.step`` (reduced_model.step_slices,
+    checked against ``shroud``, the shroud keys), their chord and thickness
+    those measured on the slices. Each station's property is carried to x by
+    the scaling of a profile of fixed shape, A_k (c(x) / c_k)^a (t(x) /
+    t_k)^b (_SCALING), and the stations' values are joined by the Lagrange
+    polynomial through them: exact for a profile that keeps its shape, and
+    what is left is the slow change of shape with t/c (measured in
+    docs/extended-beam.md). c(x), t(x): the keys' linear tapers, or for a
+    file the Lagrange polynomial through the slices' values. ``nu``:
     Poisson's ratio for the shear coefficients (None: not solved).
     """
     x = np.asarray(x, dtype=float)
-    stations = span_stations(blade, count)
-    chord, thickness = chord_and_thickness(blade, x)
+    if blade.step:
+        sliced = sliced_blade(blade, shroud)
+        stations, sections = sliced.stations, sliced.sections
+        scales = np.column_stack([sliced.chords, sliced.thicknesses])
+    else:
+        stations = span_stations(blade, count)
+        sections = [blade_section(blade, float(xk)) for xk in stations]
+        scales = np.column_stack(chord_and_thickness(blade, stations))
     weights = np.ones((1,) + x.shape)
     if stations.size > 1:
         weights = np.stack([np.prod([(x - xj) / (xk - xj) for j, xj in enumerate(stations) if j != k], axis=0)
                             for k, xk in enumerate(stations)])
+    chord, thickness = chord_and_thickness(blade, x) if not blade.step else \
+        (np.tensordot(scales[:, 0], weights, axes=1), np.tensordot(scales[:, 1], weights, axes=1))
     out = {key: np.zeros_like(x) for key in _SCALING}
-    for weight, xk in zip(weights, stations):
-        ck, tk = chord_and_thickness(blade, float(xk))
-        for key, value in _station_values(blade_section(blade, float(xk)), nu).items():
+    for weight, section, (ck, tk) in zip(weights, sections, scales):
+        for key, value in _station_values(section, nu).items():
             if value is not None:
                 a, b = _SCALING[key]
                 out[key] = out[key] + weight * value * (chord / ck) ** a * (thickness / tk) ** b

@@ -157,7 +157,7 @@ import numpy as np
 
 from reduced_model.airfoil import SpanSections, chord_and_thickness, span_sections
 from reduced_model.basis import Quadrature, held_root_slope, sample
-from shroud.params import Blade, Material
+from shroud.params import Blade, Material, Shroud
 
 FIELDS = ("u", "v_Y", "w_Z", "psi_Y", "psi_Z", "theta")
 # s = (U_X, U_Y, U_Z, r_X, r_Y, r_Z) from the fields: (field index, sign); r = (theta, -psi_Z, psi_Y)
@@ -373,18 +373,19 @@ def _line_load(terms: np.ndarray, phis: list, weight: np.ndarray, N: int) -> np.
 
 @functools.lru_cache(maxsize=64)
 def beam_matrices(blade: Blade, material: Material, tip_body: TipBody, N: int,
-                  torsion: bool = False) -> BeamMatrices:
+                  torsion: bool = False, shroud: Shroud | None = None) -> BeamMatrices:
     """Assemble every speed-independent matrix once per (blade, material, shroud body, N, torsion).
 
     The sections are the blade's (reduced_model.airfoil.span_sections: the
-    rectangle or the NACA profile, tapered); the paper's model keeps Cowper's
-    rectangle formula for the rectangle, every other beam the section's own
-    shear coefficients.
+    rectangle or the NACA profile, tapered, or the slices of the STEP file
+    blade.step, which ``shroud``, the shroud keys, must describe); the
+    paper's model keeps Cowper's rectangle formula for the rectangle, every
+    other beam the section's own shear coefficients.
     """
-    blade.check_modelled(profile=True)   # any section and taper of the blade keys; not a STEP file yet
-    own_kappa = torsion or blade.section != "rectangle"
+    blade.check_modelled(profile=True, step=True)   # any section and taper of the blade keys, or a STEP file
+    own_kappa = torsion or blade.section != "rectangle" or bool(blade.step)
     return assemble(blade, material, tip_body, N, torsion,
-                    functools.partial(span_sections, blade, nu=material.nu if own_kappa else None))
+                    functools.partial(span_sections, blade, nu=material.nu if own_kappa else None, shroud=shroud))
 
 
 def assemble(blade: Blade, material: Material, tip_body: TipBody, N: int, torsion: bool,
@@ -558,4 +559,4 @@ def for_parameters(params) -> BeamMatrices:
     """The cached matrices of ``params`` (blade, material, shroud, N, torsion); the beam's disk is rigid."""
     params.disk.check_rigid()
     return beam_matrices(params.blade, params.material, tip_body(params), params.reduced.N,
-                         params.reduced.torsion)
+                         params.reduced.torsion, params.shroud if params.blade.step else None)

@@ -48,11 +48,13 @@ class Blade:
 
     def check_modelled(self, profile: bool = False, step: bool = False) -> None:
         """Refuse (InputError) the blade keys the path at hand cannot honour: blade.step unless ``step``
-        (the solid's modes read it), a NACA section or a taper unless ``profile`` (the beam models, the
+        (the beams and the solid's modes read it), a NACA section or a taper unless ``profile`` (the beam models, the
         solid models and ``shroud section`` take them)."""
         if self.step and not step:
-            raise InputError("blade.step", f"{self.step!r}: only the solid's modes (shroud modal --model fe) "
-                                           'read a STEP file yet; allowed: "" (the blade of the blade.* keys)')
+            raise InputError("blade.step", f"{self.step!r}: only the beams (reduced, full, extended: modal, "
+                                           "transient, static, sweep, HB) and the solid's modes (shroud modal "
+                                           '--model fe) read a STEP file yet; allowed: "" (the blade of the '
+                                           "blade.* keys)")
         if profile:
             return
         not_yet = "only the beam models (reduced, full, extended) and the solid models (fe, fe-reduced) take it yet"

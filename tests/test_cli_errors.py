@@ -130,16 +130,16 @@ COMMANDS = [["modal"], ["static", "--tip-force", "0", "100", "0"], ["transient",
 @pytest.mark.parametrize("assignment, key", UNBUILT)
 @pytest.mark.parametrize("argv", COMMANDS)
 def test_blade_keys_no_model_takes_yet_are_refused_not_dropped(tmp_path, capsys, argv, assignment, key):
-    """The airfoil and its tapers on the shell models and in studies, a STEP file on every path but the
-    solid's modes: refused, naming the key, before anything is written (a rectangle run in their place
-    would answer another question). The beams (tests/test_reduced_airfoil.py) and the solid
-    (tests/test_airfoil_solid.py) take the airfoil and the tapers."""
+    """The airfoil, its tapers and a STEP file on the shell models and in studies: refused, naming the key,
+    before anything is written (a rectangle run in their place would answer another question). The beams
+    (tests/test_reduced_airfoil.py, tests/test_step_beam.py) and the solid (tests/test_airfoil_solid.py)
+    take the airfoil and the tapers, the beams and the solid's modes a STEP file."""
     out = tmp_path / "out"
     argv = [a.format(scene=_scene(tmp_path, GOOD), out=out) for a in argv]
-    if argv[0] != "run" and key != "blade.step":        # the shell (the beams and the solid take the airfoil)
+    if argv[0] != "run":                                # the shell (the beams and the solid take them)
         argv += ["--model", "shell-reduced" if "--rpm-count" in argv else "shell"]
     line = _refused(capsys, argv + ["--set", assignment], key, out)
-    assert "only the solid's modes" in line if key == "blade.step" else "only the beam models" in line
+    assert "only the beams" in line if key == "blade.step" else "only the beam models" in line
 
 
 @pytest.mark.parametrize("argv, key", [

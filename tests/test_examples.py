@@ -12,7 +12,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = sorted((ROOT / "examples").glob("*.py"))
-FE = {"fe_modal.py"}                  # need the DOLFINx stack; also run under mpirun -n 2
+FE = {"fe_modal.py", "step_blade.py"}     # need the DOLFINx stack
+MPI = {"fe_modal.py"}                     # also run under mpirun -n 2
 MPIRUN = Path(sys.executable).parent / "mpirun"
 
 
@@ -40,7 +41,7 @@ def test_example_runs(path, tmp_path):
 
 @pytest.mark.fe
 @pytest.mark.mpi
-@pytest.mark.parametrize("name", sorted(FE))
+@pytest.mark.parametrize("name", sorted(MPI))
 def test_fe_example_runs_on_two_ranks(name, tmp_path):
     if not MPIRUN.exists():
         pytest.skip("mpirun is not installed beside this Python")

@@ -15,7 +15,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # Lowest first. Builders share a layer; inside it only reference_fe -> meshes is allowed, and
 # meshes -> reduced_model.airfoil (the loft takes the NACA profile from where the beam's sections
-# take it: one definition, numpy only).
+# take it: one definition, numpy only) and reduced_model.step_slices (the solid reads a STEP file as the
+# beam's slices read it: one reader).
 LAYERS = [
     ("base", ("shroud.base",)),
     ("core", ("shroud.core",)),
@@ -28,7 +29,7 @@ LAYERS = [
 ]
 PACKAGES = ("shroud", "reduced_model", "meshes", "reference_fe", "comparisons", "workbench")
 BUILDER_IMPORTS = {("reference_fe", "meshes")}      # the solid is built on the mesh package
-BUILDER_MODULE_IMPORTS = {("meshes", "reduced_model.airfoil")}
+BUILDER_MODULE_IMPORTS = {("meshes", "reduced_model.airfoil"), ("meshes", "reduced_model.step_slices")}
 
 
 def layer_of(module: str) -> int | None:

@@ -158,15 +158,16 @@ def test_the_sections_between_stations_are_those_solved_there():
             assert abs(getattr(between, key)[k] - value) <= 2e-4 * scale, (key, xk)
 
 
-def test_the_beams_take_the_airfoil_and_the_solid_still_refuses_it(capsys):
-    """`shroud modal --model extended` on the NACA blade answers (flap1 first); the STEP key stays refused."""
+def test_the_beams_take_the_airfoil_and_refuse_a_step_file_they_cannot_read(capsys):
+    """`shroud modal --model extended` on the NACA blade answers (flap1 first); a STEP file it cannot read is
+    refused (the beams on a STEP file: tests/test_step_beam.py)."""
     from workbench.cli import main
     sets = [a for s in NACA_BLADE for a in ("--set", s)]
     assert main(["modal", "--model", "extended", "--modes", "2"] + sets) in (None, 0)
     out = capsys.readouterr().out
     assert "flap1" in out.splitlines()[1], out
     assert main(["modal", "--model", "extended", "--set", "blade.step=blade.step"] + sets) == 2
-    assert "error: blade.step:" in capsys.readouterr().err
+    assert "error: blade.step: 'blade.step' cannot be read" in capsys.readouterr().err
 
 
 def test_the_pretwist_helix_couples_bending_and_twist_as_the_fibres_stretch():

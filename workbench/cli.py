@@ -139,10 +139,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # The models that take a NACA section and tapers: the beams, on the sections along the span
-# (reduced_model.airfoil.span_sections), and the solid (meshes.blade's loft); the one whose modes take a
-# STEP file (its load per unit span and its shroud volume would need the sections the file does not name).
+# (reduced_model.airfoil.span_sections), and the solid (meshes.blade's loft). A STEP file: the beams, on
+# its slices (reduced_model.step_slices), in every command, and the solid's modes (its transient and
+# static need a load per unit span and a shroud volume the file does not name).
 PROFILE_MODELS = ("reduced", "full", "extended", "fe", "fe-reduced")
-STEP_MODEL = "fe"
+STEP_MODELS = ("reduced", "full", "extended")
+STEP_MODAL_MODELS = STEP_MODELS + ("fe",)
 
 
 def _params(args, disk: bool = False):
@@ -152,7 +154,8 @@ def _params(args, disk: bool = False):
         overrides.append(f"speed.rpm={args.rpm}")
     model = getattr(args, "model", None)
     return load_scene(args.scene, overrides, profile=model in PROFILE_MODELS,
-                      step=model == STEP_MODEL and args.command == "modal", disk=disk).params
+                      step=model in (STEP_MODAL_MODELS if args.command == "modal" else STEP_MODELS),
+                      disk=disk).params
 
 
 def _emit(args, payload: dict, text: str) -> None:
