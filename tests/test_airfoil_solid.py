@@ -88,19 +88,12 @@ def test_the_blade_read_back_from_its_step_file_has_the_lofts_modes(tmp_path, ca
     assert np.abs(read / loft - 1).max() < 3e-3, (loft, read)
 
 
-# The spec's NACA blade (m 0.04, p 0.4, chord 40 -> 30 mm, thickness 7 -> 4.2 mm, alpha 15 deg), its
-# five lowest undamped frequencies (Hz) converged: cubic displacements on the 2 mm mesh (305 256 DOF),
-# within 0.03 % of P2 on 1.3 mm (300 801 DOF); `python benchmarks/bench_airfoil_convergence.py`
-# (docs/fe-solid.md, "The airfoil solid").
-CONVERGED_HZ = {0.0: [150.622, 768.166, 929.678, 1105.662, 2274.949],
-                10000.0: [274.312, 852.725, 1111.096, 1128.138, 2535.540]}
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("cell, size", [("tet", 0.0021), ("hex", 0.005)])
 def test_the_naca_blade_on_either_cell_is_within_0_3_percent_of_its_converged_modes(cell, size):
     """The coarsest tetrahedra allowed (two cells through the 4.2 mm tip) and the hexahedra at the default
     size, against the converged frequencies of docs/fe-solid.md (cubic displacements on a fine mesh)."""
+    from comparisons.airfoil import CONVERGED_HZ
     from reference_fe.modal import solve_modes
     params = Parameters().with_overrides(NACA + [f"fe.cell={cell}", f"fe.mesh_size={size}", "contact.alpha_deg=15"])
     for rpm, converged in CONVERGED_HZ.items():
