@@ -1,4 +1,4 @@
-"""Structured hexahedral solid of the twisted, shrouded blade (``fe.cell = "hex"``).
+"""Swept hexahedral solid of the twisted, shrouded blade (``fe.cell = "hex"``).
 
 The blade is a rectangle swept along X while it turns (geometry.md), the
 shroud a box on its tip turned by alpha further: both are extrusions of one
@@ -24,6 +24,14 @@ cut corner cells. Where a cut does not fit in a corner cell (alpha = 30 deg:
 (:func:`_free_plane`: a structured middle block, free end blocks). A
 footprint that cuts T within a quarter chord of its centre (where the tip
 nodes sit) is refused: sweep a tetrahedral mesh instead.
+
+The airfoil (``blade.section = "naca4"``, tapers included) sweeps the same
+way from a gmsh all-quadrilateral mesh of its tip plane (:func:`_profile_plane`:
+the tip profile and the footprint, fragmented); each profile node keeps its
+chord fraction and share of the half-thickness (:func:`_section_map`), so
+that every layer's nodes lie on the tapered profile at x. Its closed
+trailing edge is one quadrilateral corner of the wedge's angle (about
+20 deg at the spec's tip): sharp, not collapsed.
 
 Cells are Lagrange hexahedra of order ``fe.order`` (order 2: 27 nodes,
 tensor-product Q2, the element DOLFINx builds from gmsh's hex27), written
