@@ -134,7 +134,7 @@ def main() -> None:
     if ccx:
         print(json.dumps({"calculix": ccx}), flush=True)
     sizes = np.array([r["size"] for r in rows])
-    for rpm in SPEEDS:
+    for rpm in SPEEDS if len(rows) >= 3 or cubic else ():      # a limit needs three sizes or P3
         f = np.array([r[str(rpm)] for r in rows])
         reference = "Richardson limit, order q" if len(rows) >= 3 else "P3"
         print(f"\n{rpm:g} r/min: mode, f per size (Hz), {reference}, error of each size (%)")
