@@ -325,8 +325,8 @@ def report(result: AirfoilResult, scene, files: list[str]) -> str:
               f"{_solid_modes(result)} modes), the other models' against the solid.", ""]
     lines += [markdown_table(["model", f"worst {'/'.join(JUDGED)} error (%)", "modal solve (s)", "transient NRMSE",
                               "transient run (s)"],
-                             [[r["model"], _num(r["frequency_error_pct"], "{:.3f}"), _num(r["modal_s"], "{:.2f}"),
-                               _num(r["transient_nrmse"], "{:.4f}"), _num(r["transient_s"], "{:.1f}")]
+                             [[r["model"], _num(r["frequency_error_pct"], "{:.3f}"), _num(r["modal_s"], "{:.3g}"),
+                               _num(r["transient_nrmse"], "{:.4f}"), _num(r["transient_s"], "{:.3g}")]
                               for r in error_vs_time(result)]), ""]
     lines += ["## Fig. 8 on the airfoil", ""]
     fig8_report = fig8.report(result.transient, _fig8_scene(scene), files)
