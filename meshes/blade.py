@@ -46,10 +46,10 @@ def check_geometry(spec: MeshSpec) -> None:
 
     A STEP file's solid is checked when it is read (meshes.step).
     """
-    if spec.cell == "hex" and not spec.is_rectangle:
-        key = "blade.step" if spec.step else "blade.section" if spec.section != "rectangle" else "blade.chord_taper"
-        raise InputError("fe.cell", f'"hex" sweeps the untapered rectangle only, not this blade ({key}); '
-                         'allowed: "tet" (P2 tetrahedra on the airfoil loft or the STEP solid)')
+    if spec.cell == "hex" and not (spec.is_rectangle or spec.section == "naca4" and not spec.step):
+        key = "blade.step" if spec.step else "blade.chord_taper"
+        raise InputError("fe.cell", f'"hex" sweeps the untapered rectangle and the airfoil only, not this blade '
+                         f'({key}); allowed: "tet" (P2 tetrahedra on the tapered rectangle or the STEP solid)')
     if spec.step:
         return
     if spec.has_shroud and spec.shroud_width < spec.thickness:
@@ -283,7 +283,8 @@ def mesh_file(spec: MeshSpec) -> Path:
     """
     check_geometry(spec)
     inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
-    write, sources = (write_hex_mesh, (__name__, "meshes.hexa", "meshes.spec")) if spec.cell == "hex" else \
+    write, sources = (write_hex_mesh, (__name__, "meshes.hexa", "meshes.spec", "reduced_model.airfoil")) \
+        if spec.cell == "hex" else \
         (write_mesh, (__name__, "meshes.spec", "meshes.step", "reduced_model.airfoil", "reduced_model.step_slices"))
     return cached("mesh", inputs, ".msh", lambda tmp: write(spec, tmp), what="blade mesh",
                   sources=sources, check=check_msh_complete)

@@ -1,4 +1,4 @@
-"""Structured hexahedral solid of the twisted, shrouded blade (``fe.cell = "hex"``).
+"""Swept hexahedral solid of the twisted, shrouded blade (``fe.cell = "hex"``).
 
 The blade is a rectangle swept along X while it turns (geometry.md), the
 shroud a box on its tip turned by alpha further: both are extrusions of one
@@ -25,6 +25,14 @@ cut corner cells. Where a cut does not fit in a corner cell (alpha = 30 deg:
 footprint that cuts T within a quarter chord of its centre (where the tip
 nodes sit) is refused: sweep a tetrahedral mesh instead.
 
+The airfoil (``blade.section = "naca4"``, tapers included) sweeps the same
+way from a gmsh all-quadrilateral mesh of its tip plane (:func:`_profile_plane`:
+the tip profile and the footprint, fragmented); each profile node keeps its
+chord fraction and share of the half-thickness (:func:`_section_map`), so
+that every layer's nodes lie on the tapered profile at x. Its closed
+trailing edge is one quadrilateral corner of the wedge's angle (about
+20 deg at the spec's tip): sharp, not collapsed.
+
 Cells are Lagrange hexahedra of order ``fe.order`` (order 2: 27 nodes,
 tensor-product Q2, the element DOLFINx builds from gmsh's hex27), written
 to a .msh with the physical groups of meshes.blade.
@@ -36,6 +44,7 @@ import math
 
 import numpy as np
 
+from reduced_model.airfoil import chord_and_thickness, naca4_coordinates, naca4_place
 from meshes.spec import (BLADE, CONTACT_SIDE1, CONTACT_SIDE2, ROOT, SHROUD, MeshSpec, section_frame,
                          tip_points)
 from shroud.base.errors import InputError
@@ -136,7 +145,7 @@ def check_hex_geometry(spec: MeshSpec) -> None:
                          f"than thick at fe.mesh_size {spec.size:g} m, past what a direct factor survives "
                          f"({MAX_CELL_ASPECT:g}); allowed: a thickness >= {spec.thickness * aspect / MAX_CELL_ASPECT:.3g} m, "
                          f"or fe.mesh_size <= {spec.size * MAX_CELL_ASPECT / aspect:.3g} m")
-    if not spec.has_shroud:
+    if not spec.has_shroud or spec.section == "naca4":     # the airfoil's tip points are vertices of any plane mesh
         return
     n_v, n_w, n_end, _, _ = grid(spec)
     if n_end and (n_w - 2 * n_end) * 4 < n_w * 2:      # the cuts reach the tip points at |w| <= b/4
@@ -147,7 +156,10 @@ def check_hex_geometry(spec: MeshSpec) -> None:
 
 def _plane_mesh(gmsh, spec: MeshSpec):
     """Quadrilaterals of the tip plane: (points (n, 2) in (v, w), quads (m, 4) counter-clockwise,
-    in_T (m,), in_S (m,)): the structured tip grid if the footprint allows it, else gmsh's."""
+    in_T (m,), in_S (m,)): the structured tip grid if the footprint allows it, else gmsh's; the airfoil's
+    tip profile always gmsh's."""
+    if spec.section == "naca4":
+        return _profile_plane(gmsh, spec)
     found = _structured_plane(gmsh, spec)
     if found is None:
         gmsh.model.remove()
@@ -189,35 +201,78 @@ def _free_plane(gmsh, spec: MeshSpec):
         along_chord = abs(y1 - y0) > abs(x1 - x0)
         model.mesh.setTransfiniteCurve(abs(c), (n_w - 2 * n_end if along_chord else n_v) // 2 + 1)
     model.mesh.setTransfiniteSurface(middle[0])
-    for _, t in model.getEntities(2):
+    parts = {t: (abs(c[0]) < 0.5 * h and abs(c[1]) < 0.5 * b,
+                 spec.has_shroud and all(c @ n < d for n, d, _ in _half_planes(spec)))
+             for _, t in model.getEntities(2) for c in [np.array(occ.getCenterOfMass(2, t))[:2]]}
+    return _quad_cover(gmsh, spec, parts)
+
+
+def _quad_cover(gmsh, spec: MeshSpec, parts: dict[int, tuple[bool, bool]], curvature: int = 0):
+    """All-quadrilateral mesh of the plane surfaces of the current gmsh model, each surface ``t`` of the
+    blade's section and/or the shroud's footprint as ``parts[t]`` says: (points, quads, in_T, in_S) as
+    :func:`_plane_mesh`. gmsh meshes at twice ``spec.size`` and splits every triangle into 3 and every
+    quad into 4 quadrilaterals (all-quad for any outline); transfinite parts stay structured.
+    ``curvature``: edges per 2 pi of a curved outline's turn (before the split; 0: the size alone)."""
+    model, occ = gmsh.model, gmsh.model.occ
+    for t in parts:
         model.mesh.setRecombine(2, t)
     gmsh.option.setNumber("Mesh.Algorithm", 8)                # frontal-Delaunay for quads
     gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 1)   # blossom
     gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 1)     # all quadrilaterals
     gmsh.option.setNumber("Mesh.MeshSizeMax", 2 * spec.size)
     gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", curvature)
     model.mesh.generate(2)
     tags, x, _ = model.mesh.getNodes()
     index = np.full(int(tags.max()) + 1, -1)
     index[tags.astype(int)] = np.arange(tags.size)
     points = x.reshape(-1, 3)[:, :2]
     quads, in_T, in_S = [], [], []
-    for _, t in model.getEntities(2):
+    for t, (blade, shroud) in parts.items():
         types, _, nodes = model.mesh.getElements(2, t)
         if any(ty != QUAD[1] for ty in types):
             raise InputError("fe.cell", '"hex" could not mesh the tip plane with quadrilaterals only; '
                              'allowed: fe.cell = "tet" for this geometry')
         q = index[nodes[0].astype(int)].reshape(-1, 4)
-        centre = np.array(model.occ.getCenterOfMass(2, t))[:2]
         quads.append(q)
-        in_T.append(np.full(len(q), abs(centre[0]) < 0.5 * h and abs(centre[1]) < 0.5 * b))
-        in_S.append(np.full(len(q), spec.has_shroud and all(centre @ n < d for n, d, _ in _half_planes(spec))))
-    union = sum(occ.getMass(2, t) for _, t in model.getEntities(2))
+        in_T.append(np.full(len(q), blade))
+        in_S.append(np.full(len(q), shroud))
+    union = sum(occ.getMass(2, t) for t in parts)
     quads = _valid_cover(points, np.vstack(quads), union)
     if quads is None:
         raise RuntimeError("the quadrilaterals of the tip plane are not a valid cover of it")
     return points, quads, np.concatenate(in_T), np.concatenate(in_S)
+
+
+# Edges per 2 pi of the profile's turn: its nose (radius 1.1 tau^2 c, 0.6 mm at the spec's tip) gets
+# cells that follow it rather than cells of fe.mesh_size across it.
+NOSE_EDGES = 12
+
+
+def _profile_plane(gmsh, spec: MeshSpec):
+    """The tip plane of the airfoil blade: the tip profile T (two B-splines through its points, as the
+    loft's sections) and the shroud footprint S, fragmented, with the tip points (meshes.spec.tip_points)
+    as vertices; all quadrilaterals (:func:`_quad_cover`). Which surface is T's or S's is read from
+    the fragment's map, not guessed from centres (S minus T is a ring about T)."""
+    occ = gmsh.model.occ
+    outline = spec.profile(spec.length, PLANE_SPLINE_POINTS)
+    corners = [occ.addPoint(v, w, 0.0) for v, w in outline]
+    leading = PLANE_SPLINE_POINTS - 1      # trailing edge -> upper -> leading edge -> lower, as the loft's
+    T = occ.addPlaneSurface([occ.addCurveLoop([occ.addSpline(corners[:leading + 1]),
+                                               occ.addSpline(corners[leading:] + corners[:1])])])
+    shapes = [(2, T)]
+    if spec.has_shroud:
+        S = occ.addRectangle(-0.5 * spec.shroud_width, -0.5 * spec.shroud_length, 0,
+                             spec.shroud_width, spec.shroud_length)
+        occ.rotate([(2, S)], 0, 0, 0, 0, 0, 1, spec.alpha)
+        shapes.append((2, S))
+    quarter = 0.25 * spec.tip_chord                  # the tip points in (v, w): the centroid and w = -/+ c(L)/4
+    tips = [(0, occ.addPoint(0.0, w, 0.0)) for w in (0.0, -quarter, quarter)]
+    _, children = occ.fragment(shapes, tips)
+    occ.synchronize()
+    mine = [{t for d, t in c if d == 2} for c in children[:len(shapes)]]
+    in_S = mine[1] if spec.has_shroud else set()
+    return _quad_cover(gmsh, spec, {t: (t in mine[0], t in in_S) for t in mine[0] | in_S}, NOSE_EDGES)
 
 
 def _cross(a, b):
@@ -226,13 +281,14 @@ def _cross(a, b):
 
 def _valid_cover(points: np.ndarray, quads: np.ndarray, area: float):
     """``quads`` turned counter-clockwise in (v, w) (+X out of the plane), or None unless every
-    corner is convex and they cover ``area`` (m^2) exactly once."""
+    corner is convex and they cover ``area`` (m^2) exactly once: within half the smallest quad (a gap or
+    an overlap of a cell, not the straight edges' sag under a curved outline, 1e-6 of the airfoil's plane)."""
     P = points[quads]
     signed = 0.5 * _cross(P[:, 2] - P[:, 0], P[:, 3] - P[:, 1])
     quads = np.where((signed < 0)[:, None], quads[:, ::-1], quads)
     P = points[quads]
     corner = min(np.min(_cross(P[:, (i + 1) % 4] - P[:, i], P[:, (i + 3) % 4] - P[:, i])) for i in range(4))
-    if corner <= 0 or abs(np.abs(signed).sum() - area) > 1e-9 * area:
+    if corner <= 0 or abs(np.abs(signed).sum() - area) > 0.5 * np.abs(signed).min():
         return None
     return quads
 
@@ -454,15 +510,71 @@ def _reference(gmsh, element_type: int) -> np.ndarray:
     return np.rint((ref + 1.0) * 0.5 * k).astype(int)        # gmsh hexes/quads live on [-1, 1]^dim
 
 
+# Points a surface of the B-splines of the airfoil's tip profile in the plane (the loft's have 21, meshes.blade):
+# the profile's area within 3e-6 of the exact one's.
+PLANE_SPLINE_POINTS = 41
+
+
+def _section_map(spec: MeshSpec, plane: np.ndarray):
+    """``section(p, x)``: (v, w), m, at x m from the root of the node of the tip plane's point ``plane[p]``.
+
+    The rectangle keeps its (v, w). The airfoil's node keeps its chord fraction s and its share r of the
+    half-thickness along the camber line's normal (reduced_model.airfoil.naca4_coordinates at the tip),
+    so every layer's nodes on the profile lie on the profile at x, whose chord and thickness taper
+    apart (a map affine near both edges: the tip's quadrilaterals stay quadrilaterals at every x).
+    """
+    if spec.section != "naca4":
+        return lambda p, x: plane[p]
+    shape = (spec.naca_m, spec.naca_p)
+    chord, thickness = chord_and_thickness(spec, spec.length)
+    s, r = naca4_coordinates(*shape, thickness / chord, chord, PLANE_SPLINE_POINTS, plane)
+
+    def section(p: int, x: float) -> np.ndarray:
+        chord, thickness = chord_and_thickness(spec, x)
+        return naca4_place(*shape, thickness / chord, chord, PLANE_SPLINE_POINTS, s[p], r[p])
+    return section
+
+
+def _on_the_profile(spec: MeshSpec, plane: np.ndarray, lattice: np.ndarray) -> np.ndarray:
+    """``plane`` with the edge nodes of the tip profile's outline moved onto the profile: the nodes
+    between two vertices of an outline edge of the blade's quads (``lattice`` (m, k+1, k+1), as
+    :func:`_plane_nodes`) sit on its straight chord; each goes along the camber line's normal to the
+    profile's surface on the side of the edge's vertices (r = +/-1), so that order-2 cells follow the
+    curved profile instead of its polygon."""
+    k = lattice.shape[1] - 1
+    edges = {}
+    for cell in lattice:
+        for side in (cell[:, 0], cell[:, k], cell[0, :], cell[k, :]):
+            edges.setdefault(frozenset((int(side[0]), int(side[k]))), []).append(side)
+    outline = [sides[0] for sides in edges.values() if len(sides) == 1]
+    if k == 1 or not outline:
+        return plane
+    inner = np.array([side[1:k] for side in outline], dtype=np.int64).ravel()
+    ends = np.array([side[[0, k]] for side in outline], dtype=np.int64)
+    shape = (spec.naca_m, spec.naca_p)
+    chord, thickness = chord_and_thickness(spec, spec.length)
+    tau = thickness / chord
+    s, _ = naca4_coordinates(*shape, tau, chord, PLANE_SPLINE_POINTS, plane[inner])
+    _, r_ends = naca4_coordinates(*shape, tau, chord, PLANE_SPLINE_POINTS, plane[ends.ravel()])
+    side = np.sign(r_ends.reshape(-1, 2).sum(axis=1))          # an edge's vertices on one surface (r = 0 at the edges)
+    moved = plane.copy()
+    moved[inner] = naca4_place(*shape, tau, chord, PLANE_SPLINE_POINTS, s, np.repeat(side, k - 1))
+    return moved
+
+
 def _solid(spec: MeshSpec, points, quads, in_T, in_S, gmsh):
     """Node positions and hexahedra (gmsh order) of the blade and the shroud, and the tagged facets."""
     k = spec.order
     _, _, _, n_x, n_t = grid(spec)
     pos2, lattice = _plane_nodes(points, quads, k)
+    if spec.section == "naca4":
+        pos2 = _on_the_profile(spec, pos2, lattice[in_T])
     levels_blade, levels_shroud = k * n_x, k * n_t
     n_levels = levels_blade + levels_shroud + 1
     node_id = np.full((n_levels, len(pos2)), -1, dtype=np.int64)
     coords = []
+
+    section = _section_map(spec, pos2)
 
     def node(level: int, p: int) -> int:
         if node_id[level, p] < 0:
@@ -471,6 +583,8 @@ def _solid(spec: MeshSpec, points, quads, in_T, in_S, gmsh):
                 x = spec.length * span_position(level / levels_blade)
                 X0 = spec.disk_radius + x
                 e_v, e_w = section_frame(spec.stagger + spec.twist * x / spec.length)
+                if level < levels_blade:
+                    v, w = section(p, x)
             else:                                      # shroud, in the tip frame
                 X0 = spec.tip_x + spec.shroud_thickness * (level - levels_blade) / levels_shroud
                 e_v, e_w = section_frame(spec.beta_tip)

@@ -31,20 +31,29 @@ PROFILE_POINTS = 240          # points along each surface, cosine-spaced (dense 
 MESH_CELLS_THICK = 16         # P2 triangles' size: the profile's maximum thickness over this
 
 
-def naca4_surfaces(m: float, p: float, tau: float, s: np.ndarray):
-    """Upper and lower surfaces (s, y) in chord units at chord fractions ``s``: two (n, 2) arrays."""
+def naca4_camber(m: float, p: float, s) -> tuple[np.ndarray, np.ndarray]:
+    """The camber line y_c(s) (chord units) and its slope dy_c/ds at chord fractions ``s``."""
     s = np.asarray(s, dtype=float)
+    if m == 0:
+        return np.zeros_like(s), np.zeros_like(s)
     front = s < p
-    if m > 0:
-        y_c = np.where(front, m / p**2 * (2 * p * s - s**2), m / (1 - p) ** 2 * ((1 - 2 * p) + 2 * p * s - s**2))
-        slope = np.where(front, 2 * m / p**2 * (p - s), 2 * m / (1 - p) ** 2 * (p - s))
-    else:
-        y_c, slope = np.zeros_like(s), np.zeros_like(s)
+    return (np.where(front, m / p**2 * (2 * p * s - s**2), m / (1 - p) ** 2 * ((1 - 2 * p) + 2 * p * s - s**2)),
+            np.where(front, 2 * m / p**2 * (p - s), 2 * m / (1 - p) ** 2 * (p - s)))
+
+
+def naca4_points(m: float, p: float, tau: float, s, r) -> np.ndarray:
+    """Points (s_c, y) in chord units at chord fraction ``s``, ``r`` half-thicknesses off the camber line
+    along its normal: the upper surface at r = +1, the lower at r = -1 (arrays broadcast), shape (..., 2)."""
+    s = np.asarray(s, dtype=float)
+    y_c, slope = naca4_camber(m, p, s)
     y_t = 5 * tau * (0.2969 * np.sqrt(s) - 0.1260 * s - 0.3516 * s**2 + 0.2843 * s**3 - 0.1036 * s**4)
     theta = np.arctan(slope)
-    upper = np.column_stack([s - y_t * np.sin(theta), y_c + y_t * np.cos(theta)])
-    lower = np.column_stack([s + y_t * np.sin(theta), y_c - y_t * np.cos(theta)])
-    return upper, lower
+    return np.stack(np.broadcast_arrays(s - r * y_t * np.sin(theta), y_c + r * y_t * np.cos(theta)), axis=-1)
+
+
+def naca4_surfaces(m: float, p: float, tau: float, s: np.ndarray):
+    """Upper and lower surfaces (s, y) in chord units at chord fractions ``s``: two (n, 2) arrays."""
+    return naca4_points(m, p, tau, s, 1.0), naca4_points(m, p, tau, s, -1.0)
 
 
 def polygon_centroid(loop: np.ndarray) -> np.ndarray:
@@ -60,11 +69,52 @@ def naca4_outline(m: float, p: float, tau: float, chord: float, points: int = PR
     Upper surface from the trailing edge to the leading edge, then the lower
     one back; ``points`` per surface.
     """
+    loop = _naca4_loop(m, p, tau, chord, points)
+    return loop - polygon_centroid(loop)
+
+
+def _naca4_loop(m: float, p: float, tau: float, chord: float, points: int) -> np.ndarray:
+    """naca4_outline before it is centred: (eta_v, eta_w) = c (y, s_c), the leading edge at the origin."""
     s = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, points)))      # 0 .. 1, dense at both edges
     upper, lower = naca4_surfaces(m, p, tau, s)
     chordwise = np.concatenate([upper[::-1], lower[1:-1]])          # (s, y): the edges shared once each
-    loop = chord * chordwise[:, ::-1]                                # (eta_v, eta_w) = c (y, s)
-    return loop - polygon_centroid(loop)
+    return chord * chordwise[:, ::-1]                                # (eta_v, eta_w) = c (y, s)
+
+
+def naca4_place(m: float, p: float, tau: float, chord: float, points: int, s, r) -> np.ndarray:
+    """(eta_v, eta_w), m, of the points (s, r) of naca4_points in the frame of naca4_outline(.., points)
+    (its polygon's centroid at the origin): what carries a point of one section to the same (s, r) of
+    another, shape (..., 2)."""
+    return chord * naca4_points(m, p, tau, s, r)[..., ::-1] - polygon_centroid(_naca4_loop(m, p, tau, chord, points))
+
+
+def naca4_coordinates(m: float, p: float, tau: float, chord: float, points: int, eta: np.ndarray):
+    """The inverse of naca4_place: (s, r) of points ``eta`` (n, 2) (eta_v, eta_w), m, inside the profile.
+
+    s is the foot of the point's normal on the camber line (the root of (S - s) + (Y - y_c(s)) y_c'(s),
+    decreasing in s for a point within the profile's half-thickness of a camber line whose slope varies
+    as slowly as a NACA four-digit one's), r its distance along that normal over y_t(s); r = 0 where
+    y_t(s) vanishes (the edges, where every r is the same point).
+    """
+    c_eta = (np.asarray(eta, dtype=float) + polygon_centroid(_naca4_loop(m, p, tau, chord, points))) / chord
+    Y, S = c_eta[:, 0], c_eta[:, 1]
+
+    def foot(s):                         # (S - s, Y - y_c) . (1, y_c')
+        y_c, slope = naca4_camber(m, p, s)
+        return (S - s) + (Y - y_c) * slope
+
+    lo, hi = np.zeros_like(S), np.ones_like(S)
+    for _ in range(60):                  # bisection to 1e-18 of the chord
+        mid = 0.5 * (lo + hi)
+        right = foot(mid) > 0
+        lo, hi = np.where(right, mid, lo), np.where(right, hi, mid)
+    s = 0.5 * (lo + hi)
+    camber, upper = naca4_points(m, p, tau, s, 0.0), naca4_points(m, p, tau, s, 1.0)
+    normal = upper - camber
+    half = np.einsum("ij,ij->i", normal, normal)
+    r = np.divide(np.einsum("ij,ij->i", c_eta[:, ::-1] - camber, normal), half, out=np.zeros_like(S),
+                  where=half > 1e-24)
+    return s, r
 
 
 def chord_and_thickness(blade: Blade, x: float) -> tuple[float, float]:

@@ -39,22 +39,31 @@ def _naca_area(m, p, tau, chord):
     return chord**2 * quad(integrand, 0, 1, points=[p], limit=200)[0]
 
 
-def test_the_loft_has_the_profiles_volume_and_stands_on_its_centroids(tmp_path):
+# gmsh element types: the 10-node tetrahedron, the 27-node hexahedron (the spec's tapers, apart)
+CELLS = {"tet": (COARSE, 11), "hex": (["fe.cell=hex", "fe.mesh_size=0.005"], 12)}
+
+
+@pytest.mark.parametrize("cell", sorted(CELLS))
+def test_the_loft_has_the_profiles_volume_and_stands_on_its_centroids(cell):
     """Volume and centroid of the blade's P2 tetrahedra (OCC's own volume of the B-spline loft is off by
-    0.35 %: its integration, not the solid, as the mesh shows)."""
+    0.35 %: its integration, not the solid, as the mesh shows) and of its swept Q2 hexahedra (the tip
+    profile's quadrilaterals carried to every section, chord and thickness tapered apart, by their
+    chord fraction and share of the half-thickness)."""
     import gmsh
-    from meshes.blade import BLADE, write_mesh
-    write_mesh(_spec(*NACA, *COARSE), tmp_path / "naca.msh")
-    b = Parameters().blade
-    chord = lambda x: b.width * (1 - 0.25 * x / b.length)              # noqa: E731
-    blade = quad(lambda x: _naca_area(0.04, 0.4, b.thickness / chord(x), chord(x)), 0, b.length)[0]
+    from meshes.blade import BLADE, mesh_file
+    from reduced_model.airfoil import chord_and_thickness
+    sets, element = CELLS[cell]
+    path = mesh_file(_spec(*NACA, *sets))
+    b = Parameters().with_overrides(NACA + sets).blade
+    tau = lambda x: chord_and_thickness(b, x)[1] / chord_and_thickness(b, x)[0]     # noqa: E731
+    blade = quad(lambda x: _naca_area(0.04, 0.4, tau(x), chord_and_thickness(b, x)[0]), 0, b.length)[0]
     gmsh.initialize(interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.merge(str(tmp_path / "naca.msh"))
+        gmsh.merge(str(path))
         (volume,) = gmsh.model.getEntitiesForPhysicalGroup(3, BLADE)
-        points, weights = gmsh.model.mesh.getIntegrationPoints(11, "Gauss4")
-        _, det, coords = gmsh.model.mesh.getJacobians(11, points, volume)
+        points, weights = gmsh.model.mesh.getIntegrationPoints(element, "Gauss4")
+        _, det, coords = gmsh.model.mesh.getJacobians(element, points, volume)
     finally:
         gmsh.finalize()
     dv = det * np.tile(weights, det.size // weights.size)
@@ -79,19 +88,15 @@ def test_the_blade_read_back_from_its_step_file_has_the_lofts_modes(tmp_path, ca
     assert np.abs(read / loft - 1).max() < 3e-3, (loft, read)
 
 
-# The spec's NACA blade (m 0.04, p 0.4, chord 40 -> 30 mm, thickness 7 -> 4.2 mm, alpha 15 deg), its
-# five lowest undamped frequencies (Hz) converged: cubic displacements on the 2 mm mesh (305 256 DOF),
-# within 0.03 % of P2 on 1.3 mm (300 801 DOF); `python benchmarks/bench_airfoil_convergence.py`
-# (docs/fe-solid.md, "The airfoil solid").
-CONVERGED = {0.0: [150.622, 768.166, 929.678, 1105.662, 2274.949],
-             10000.0: [274.312, 852.725, 1111.096, 1128.138, 2535.540]}
-
-
 @pytest.mark.slow
-def test_the_naca_blade_at_the_coarsest_mesh_allowed_is_within_0_3_percent_of_its_converged_modes():
+@pytest.mark.parametrize("cell, size", [("tet", 0.0021), ("hex", 0.005)])
+def test_the_naca_blade_on_either_cell_is_within_0_3_percent_of_its_converged_modes(cell, size):
+    """The coarsest tetrahedra allowed (two cells through the 4.2 mm tip) and the hexahedra at the default
+    size, against the converged frequencies of docs/fe-solid.md (cubic displacements on a fine mesh)."""
+    from comparisons.airfoil import CONVERGED_HZ
     from reference_fe.modal import solve_modes
-    params = Parameters().with_overrides(NACA + ["fe.cell=tet", "fe.mesh_size=0.0021", "contact.alpha_deg=15"])
-    for rpm, converged in CONVERGED.items():
+    params = Parameters().with_overrides(NACA + [f"fe.cell={cell}", f"fe.mesh_size={size}", "contact.alpha_deg=15"])
+    for rpm, converged in CONVERGED_HZ.items():
         f = solve_modes(params, rpm, 5, coriolis=False).f_undamped
         assert np.abs(f / converged - 1).max() < 3e-3, (rpm, f)
 

@@ -148,12 +148,12 @@ def test_blade_keys_no_model_takes_yet_are_refused_not_dropped(tmp_path, capsys,
       "--set", "blade.step=b.step"], "blade.step"),
     (["static", "--model", "fe", "--tip-force", "0", "100", "0", "--set", "blade.step=b.step"], "blade.step"),
     (["transient", "--model", "fe", "--out", "{out}", "--set", "blade.step=b.step"], "blade.step"),
-    (["modal", "--model", "fe", "--set", "blade.section=naca4"], "fe.cell"),      # hex sweeps the rectangle only
     (["modal", "--model", "fe", "--set", "blade.chord_taper=0.75", "--set", "fe.cell=hex"], "fe.cell"),
     (["modal", "--model", "fe", "--set", "blade.section=naca4", "--set", "fe.cell=tet"], "fe.mesh_size"),
 ])
 def test_solid_paths_refuse_the_blade_they_cannot_build(tmp_path, capsys, argv, key):
-    """The solid takes the airfoil (on tetrahedra, fine enough for its thin tip) and the STEP file only
+    """The solid takes the airfoil (on hexahedra, or tetrahedra fine enough for its thin tip), a taper
+    of the rectangle on tetrahedra only, and the STEP file only
     for its modes (F_e per unit span and the shroud's tip load need sections the file does not name);
     the shell keeps the rectangle."""
     out = tmp_path / "out"

@@ -226,6 +226,19 @@ def test_fig8_quick_agrees_with_full(tmp_path):
 
 
 @pytest.mark.fe
+@pytest.mark.slow
+def test_airfoil_quick_agrees_with_full(tmp_path):
+    """The same modes (the quick version keeps the solid and the beams) and the transients over 30
+    periods instead of 100: every frequency verdict and every transient comparison the same."""
+    got, _ = quick("airfoil", tmp_path)
+    full = full_conclusions("airfoil")
+    assert got["solid_vs_converged"] and agrees(got["solid_vs_converged"], full["solid_vs_converged"])
+    assert got["within_limit"].keys() == full["within_limit"].keys()
+    assert agrees(got["within_limit"], full["within_limit"])
+    same_where_shared(got["fig8"], full["fig8"], FIG8_VERDICTS)
+
+
+@pytest.mark.fe
 def test_default_quick_agrees_with_full(tmp_path):
     got, _ = quick("default", tmp_path)
     full = full_conclusions("default")

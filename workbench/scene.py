@@ -120,7 +120,8 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
     The blade keys the path at hand cannot honour are refused here, before
     anything is written (shroud.params.Blade.check_modelled; ``profile`` lets
     a NACA section and tapers through, for ``shroud section``, the beams and
-    the solid models, ``step`` a STEP file, for the solid's modes), and so is
+    the solid models, and for a study that declares ``PROFILE = True``; ``step`` a STEP file, for the
+    solid's modes), and so is
     a flexible disk unless ``disk`` says the command builds one
     (shroud.params.Disk.check_rigid).
 
@@ -161,7 +162,8 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
         else:
             param_sets.append(text)
     params = params.with_overrides(param_sets)
-    params.blade.check_modelled(profile, step)
+    # a study that declares PROFILE = True runs every model on the airfoil (comparisons.airfoil)
+    params.blade.check_modelled(profile or bool(name and getattr(study_module(name), "PROFILE", False)), step)
     if not disk:
         params.disk.check_rigid()
     options: dict[str, Any] = {}
