@@ -182,6 +182,7 @@ def test_periodicity_quick_agrees_with_full(tmp_path):
     for key in ("period_doubling_in_band", "instability_kinds_in_band"):
         assert q[key] == f[key], key
     assert agrees(q["td_p1_on_stable_p1_at_least_95pct"], f["td_p1_on_stable_p1_at_least_95pct"])
+    assert decided_pairs([(q["td_p1_on_stable_p1_at_least_95pct"], f["td_p1_on_stable_p1_at_least_95pct"])]) == 1
     # "every" over the quick map's fewer points: a quick counterexample must be one of the full map too
     # (the full map has points without a P1 state within its 15 % reach that the quick one does not run)
     if not q["every_td_non_p1_on_unstable_p1"]:
