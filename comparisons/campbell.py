@@ -17,17 +17,19 @@ The study is compute (:func:`compute` -> :class:`CampbellComparison`) -> plot ->
 from __future__ import annotations
 
 import csv
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
+from comparisons import paper
 from comparisons._study import study
 from reduced_model.campbell import CampbellResult, campbell
 from shroud.base.errors import InputError
 from shroud.core.plotting import MODEL_COLOURS, figure, save
 from shroud.base.markdown import markdown_table, seconds
 from shroud.base.outputs import open_replacing
+from shroud.core.verdict import BandVerdict, Verdict
 
 OPTIONS = {
     "rpm_from": 0.0,
@@ -38,6 +40,9 @@ OPTIONS = {
     "with_fe": False,
     "fe_rpms": [0.0, 5000.0, 10000.0, 15000.0],
 }
+FREQUENCY_TOLERANCE = 0.02   # a beam's frequencies against a reference: table1's criterion (within 2 % of the paper)
+TRUNCATION_ERROR = 0.64      # %, the paper's largest modal-truncation error at N = 6 (Sect. 2.1, Table 1)
+EIGEN_TOLERANCE = 1e-6       # %, the eigen-solves' relative accuracy (1e-8) in %
 
 
 def check(scene) -> None:
@@ -126,13 +131,66 @@ class CampbellComparison:
         """Coriolis's frequency shift, %, per speed and mode."""
         return 100 * (self.gyro.f_hz - self.plain.f_hz) / self.plain.f_hz
 
+    def beam_crossing(self, label: str, every: int = 1) -> float | None:
+        """The beam's (with Coriolis) crossing of ``label`` with k_e x rotation, r/min, read on every
+        ``every``-th speed of the grid; None where it has none."""
+        grid = replace(self.gyro, rpm=self.gyro.rpm[::every], f_hz=self.gyro.f_hz[::every])
+        return next((r for lab, r, _ in grid.crossings(self.ke) if lab == label), None)
+
+    def speed_band(self, rpm: float, label: str) -> float:
+        """FREQUENCY_TOLERANCE carried to the crossing speed, %: a frequency f (1 + e) moves the crossing of
+        f(rpm) with k_e rpm / 60 by e / (1 - s), s = d ln f / d ln rpm the beam's slope there."""
+        j, rpms = self.gyro.labels.index(label), self.gyro.rpm
+        at = rpms > 0
+        slope = np.interp(rpm, rpms[at], np.gradient(np.log(self.gyro.f_hz[at, j]), np.log(rpms[at])))
+        return 100 * FREQUENCY_TOLERANCE / (1 - slope)
+
+    def verdicts(self) -> dict:
+        """flap1's k_e crossing, the beam's, against the paper's resonance (Fig. 11a, 8500 r/min) and against
+        the solid's (Southwell fit), within Table 1's 2 % on frequency carried to speed; Coriolis's largest
+        frequency shift against the paper's modal-truncation error."""
+        out = {"coriolis_negligible": Verdict.of(
+            float(np.abs(self.shift).max()), threshold=TRUNCATION_ERROR, margin=EIGEN_TOLERANCE, below=True,
+            above=False, unit="%", reason="largest frequency shift by Coriolis over the modes and speeds against the "
+                                          f"paper's largest modal-truncation error {TRUNCATION_ERROR:g} % (Table 1), "
+                                          "margin the eigen-solves' accuracy")}
+        beam = self.beam_crossing("flap1")
+        if beam is None:
+            return out
+        grid = abs(beam - (self.beam_crossing("flap1", every=2) or np.inf)) / beam   # the step doubled
+        band = self.speed_band(beam, "flap1")
+        words = {"above": "beam higher", "below": "beam lower", "between": "the same"}
+        # the paper's own crossing by Table 1 (flap1 284.2 Hz at 8500 r/min against 2 x 8500 / 60) moved from
+        # the 8500 r/min its Fig. 11a names: how well the paper knows its resonant speed
+        line = self.ke * paper.FIG11_RESONANCE_RPM / 60.0
+        own = (paper.TABLE1_REDUCED[6][0] / line - 1) * band / (100 * FREQUENCY_TOLERANCE)   # e / (1 - s)
+        out["flap1_resonance_against_paper"] = BandVerdict(
+            100 * (beam / paper.FIG11_RESONANCE_RPM - 1), band=band, margin=100 * (grid + abs(own)), unit="%",
+            reason=f"the beam's flap1 crossing with {self.ke} x rotation against the paper's resonance at "
+                   f"{paper.FIG11_RESONANCE_RPM:g} r/min (Fig. 11a); band Table 1's 2 % on frequency carried to "
+                   "speed, margin the crossing's change on every other speed plus the paper's own (its Table 1's "
+                   "284.2 Hz crosses the line there)", **words)
+        solid = self.fe_crossings.get("flap1")
+        if solid is not None:
+            f0sq, s = self.fits["flap1"]
+            pts = [(p["rpm"], p["f_hz"]["flap1"]) for p in self.fe if "flap1" in p["f_hz"]]
+            fit = max(abs(np.sqrt(f0sq + s * (r / 60) ** 2) / f - 1) for r, f in pts)
+            out["flap1_resonance_against_solid"] = BandVerdict(
+                100 * (beam / solid - 1), band=band, margin=100 * (grid + fit * band / (100 * FREQUENCY_TOLERANCE)),
+                unit="%", reason=f"the beam's flap1 crossing with {self.ke} x rotation against the solid's "
+                                 "(Southwell fit of its points); band Table 1's 2 % on frequency carried to speed, "
+                                 "margin the beam's crossing's change on every other speed plus the fit's largest "
+                                 "residual carried to speed", **words)
+        return out
+
     def conclusions(self) -> dict:
         crossings, ke = self.crossings, self.ke
         beam_ke = {lab: next((c["rpm"] for c in crossings[str(ke)] if c["label"] == lab), None)
                    for lab in self.gyro.labels}
         return {"ke": ke, "beam_crossings_rpm": beam_ke, "solid_crossings_rpm": self.fe_crossings,
                 "beam_crossings_every_order_rpm": {f"{k}x {c['label']}": c["rpm"] for k in self.orders
-                                                   for c in crossings[str(k)]}}
+                                                   for c in crossings[str(k)]},
+                **{name: v.to_json() for name, v in self.verdicts().items()}}
 
     def to_json(self) -> dict:
         plain, gyro = self.plain, self.gyro
@@ -174,8 +232,9 @@ def plot(result: CampbellComparison, scene, out: Path) -> list[str]:
 
 
 def report(result: CampbellComparison, scene, files: list[str]) -> str:
+    verdicts = ["\n## Verdicts\n"] + [f"- `{name}`: {v.sentence()}" for name, v in result.verdicts().items()]
     return _report(scene, result.plain, result.gyro, result.fe, result.tracks, result.crossings,
-                   result.fe_crossings, result.shift, result.ke)
+                   result.fe_crossings, result.shift, result.ke) + "\n".join(verdicts) + "\n"
 
 
 run = study(compute, plot, report)

@@ -35,6 +35,8 @@ from shroud.core.plotting import figure, save
 from shroud.core.verdict import Verdict
 
 RING = True          # solves the ring of ring.blades (workbench.runner refuses a ring elsewhere)
+EIGEN_TOLERANCE = 1e-8   # relative accuracy of the eigen-solves' frequencies (shroud.analysis.limits)
+IDENTITY = 1e-6          # an identity of the stuck ring holds to this relative difference (well above 1e-8)
 OPTIONS = {"rpm_from": 2000.0, "rpm_to": 16000.0, "speeds": 29, "n_modes": 3, "engine_orders": 12,
            "model": "reduced"}
 
@@ -72,6 +74,20 @@ def crossing(rpm: np.ndarray, f: np.ndarray, ke: int) -> float | None:
     return float(rpm[i] - g[i] * (rpm[i + 1] - rpm[i]) / (g[i + 1] - g[i]))
 
 
+def meets(rpm: np.ndarray, f: np.ndarray, ke: int, what: str) -> Verdict:
+    """Whether the line ke rpm / 60 meets ``f`` (Hz over ``rpm`` r/min) in the range: the smallest ratio
+    f / (ke rpm / 60) over the speeds > 0 against 1 (below: they cross), margin the ratio's change over the
+    step next to its smallest (where f^2 = f0^2 + S (rpm/60)^2, S < ke^2, the ratio falls with speed: the
+    smallest lies at the top speed, on the grid; a dip between two speeds would be bounded by that step)."""
+    at = rpm > 0
+    ratio = f[at] / (ke * rpm[at] / 60.0)
+    i = int(np.argmin(ratio))
+    step = max(abs(ratio[j] - ratio[i]) for j in (i - 1, i + 1) if 0 <= j < ratio.size)
+    return Verdict.of(float(ratio[i]), threshold=1.0, margin=float(step), below=True, above=False,
+                      reason=f"smallest {what} / (k_e x rotation) over {rpm[at][0]:g}-{rpm[-1]:g} r/min against 1, "
+                             "margin its change over the speed step next to it")
+
+
 @dataclass(frozen=True)
 class InterferenceComparison:
     """The ring's frequencies per nodal diameter at the scene's speed and its flap family over speed."""
@@ -105,16 +121,39 @@ class InterferenceComparison:
                 "fixed_neighbours_stuck": crossing(self.rpms, self.blade_fixed, self.ke),
                 "free": crossing(self.rpms, self.blade_free, self.ke)}
 
-    def verdict(self) -> Verdict:
-        nd = self.nd_ke
-        return Verdict.of(float(self.diagram["stuck"][nd][0] / self.fixed_stuck_hz), threshold=1.0, margin=1e-6,
-                          below="ring softer", above="ring stiffer",
-                          reason=f"stuck flap1 of the ring at nd {nd} over the blade stuck to fixed neighbours at "
-                                 f"{self.rpm:g} r/min (eigenvalues to 1e-8; relative-motion factor {self.factor:.3f} "
-                                 "against 1)")
+    def verdicts(self) -> dict[str, Verdict]:
+        """The ring's flap1 at the engine order's nodal diameter against the blade stuck to fixed neighbours;
+        two identities of the stuck ring (nd 0: no relative motion, the free blade; nd N/4: neighbours in
+        quadrature, |1 - exp(i pi / 2)|^2 = 2 = the two fixed interfaces' 1 + 1, the blade stuck to fixed
+        neighbours); whether the engine order's line meets the stuck ring's and the free blade's flap1 in
+        the speed range (the interference diagram's crossings)."""
+        nd, stuck = self.nd_ke, self.diagram["stuck"]
+        out = {"ring_against_fixed_neighbours": Verdict.of(
+            float(stuck[nd][0] / self.fixed_stuck_hz), threshold=1.0, margin=EIGEN_TOLERANCE,
+            below="ring softer", above="ring stiffer",
+            reason=f"stuck flap1 of the ring at nd {nd} over the blade stuck to fixed neighbours at {self.rpm:g} "
+                   f"r/min (relative-motion factor {self.factor:.3f} against 1; margin the eigen-solves' relative "
+                   f"accuracy {EIGEN_TOLERANCE:g})"),
+            "stuck_nd0_is_free_blade": Verdict.of(
+                max(abs(s / f - 1.0) for s, f in zip(stuck[0], self.diagram["free"][0])),
+                threshold=IDENTITY, margin=EIGEN_TOLERANCE, below=True, above=False,
+                reason="largest relative difference of the stuck ring's modes at nd 0 from the free ring's: at nd 0 "
+                       "neighbours move alike (2 |sin 0| = 0), the stuck interface carries no load; threshold "
+                       f"{IDENTITY:g}, margin the eigen-solves' accuracy")}
+        if self.N % 4 == 0:
+            out["stuck_quarter_nd_is_fixed_neighbours"] = Verdict.of(
+                abs(stuck[self.N // 4][0] / self.fixed_stuck_hz - 1.0), threshold=IDENTITY, margin=EIGEN_TOLERANCE,
+                below=True, above=False,
+                reason=f"relative difference of the stuck ring's flap1 at nd {self.N // 4} = N/4 from the blade "
+                       "stuck to fixed neighbours: in quadrature |1 - exp(i pi / 2)|^2 = 2, the two fixed "
+                       f"interfaces' 1 + 1; threshold {IDENTITY:g}, margin the eigen-solves' accuracy")
+        for name, f_hz, what in (("engine_order_meets_stuck_ring", self.ring_nd, f"the stuck ring's flap1 at nd {nd}"),
+                                 ("engine_order_meets_free_blade", self.blade_free, "the free blade's flap1")):
+            out[name] = meets(self.rpms, f_hz, self.ke, what)
+        return out
 
     def conclusions(self) -> dict:
-        return {"ring_against_fixed_neighbours": self.verdict().answer}
+        return {name: v.to_json() for name, v in self.verdicts().items()}
 
     def to_json(self) -> dict:
         i = int(np.argmin(abs(self.rpms - self.rpm)))
@@ -192,7 +231,7 @@ def plot(result: InterferenceComparison, scene, out: Path) -> list[str]:
 
 
 def report(result: InterferenceComparison, scene, files: list[str]) -> str:
-    N, ke, nd_ke, rpm0, verdict = result.N, result.ke, result.nd_ke, result.rpm, result.verdict()
+    N, ke, nd_ke, rpm0, verdicts = result.N, result.ke, result.nd_ke, result.rpm, result.verdicts()
     rows = [(name, "none in range" if c is None else f"{c:.0f}") for name, c in result.crossings.items()]
     lines = [f"# {scene.title}\n",
              f"{N} blades, engine order {ke} (nodal diameter {nd_ke}, inter-blade phase "
@@ -200,9 +239,9 @@ def report(result: InterferenceComparison, scene, files: list[str]) -> str:
              f"{result.model}.\n",
              f"At {rpm0:g} r/min the stuck ring's flap1 at nd {nd_ke} is "
              f"{result.diagram['stuck'][nd_ke][0]:.1f} Hz against {result.fixed_stuck_hz:.1f} Hz for the "
-             f"blade stuck to fixed neighbours and {result.blade_free_hz[0]:.1f} Hz free: {verdict.answer} "
-             f"(ratio {verdict.value:.4f}).\n",
-             markdown_table(["flap1 meets k_e x rotation", "r/min"], rows), ""]
+             f"blade stuck to fixed neighbours and {result.blade_free_hz[0]:.1f} Hz free.\n",
+             markdown_table(["flap1 meets k_e x rotation", "r/min"], rows), "", "## Verdicts\n"]
+    lines += [f"- `{name}`: {v.sentence()}" for name, v in verdicts.items()] + [""]
     lines += [f"![{f}]({f})" for f in files]
     return "\n".join(lines) + "\n"
 

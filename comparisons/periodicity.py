@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import math
 import os
 import time
 from dataclasses import dataclass, field
@@ -44,6 +45,7 @@ from shroud.core import harmonic_balance as hb
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult, TransientResult
 from shroud.base.outputs import open_replacing, write_text
+from shroud.core.verdict import Verdict
 
 OPTIONS = {"mu_values": [0.1, 0.5], "gaps_um": [1.0], "preloads_N": [10.0, 25.0, 50.0],
            "plot_periods": 20,
@@ -156,6 +158,12 @@ class PeriodicityResult:
                 for r, per, amp, sts in zip(self.map_rpm, by_label[c.label].period,
                                             by_label[c.label].amplitude_v_L, c.states)]
 
+    def p1_verdict(self) -> Verdict:
+        """Whether HB's stability predicts the map's P1 points (:func:`p1_share`)."""
+        p1 = [r for r in self.readings() if r["period"] == 1]
+        return p1_share(sum(r["verdict"] == "agree" for r in p1), sum(r["verdict"] == "marginal" for r in p1),
+                        len(p1), self.match)
+
     def hb_conclusions(self) -> dict:
         """The prediction against the time domain, as data."""
         rows = self.readings()
@@ -165,7 +173,7 @@ class PeriodicityResult:
         agree_non_p1 = sum(r["verdict"] == "agree" for r in non_p1)
         agree_p1 = sum(r["verdict"] == "agree" for r in p1)
         return {"every_td_non_p1_on_unstable_p1": bool(non_p1) and agree_non_p1 == len(non_p1),
-                "td_p1_on_stable_p1_at_least_95pct": bool(p1) and agree_p1 >= 0.95 * len(p1),
+                "td_p1_on_stable_p1_at_least_95pct": self.p1_verdict().to_json(),
                 "period_doubling_in_band": "period-doubling" in kinds,
                 "p1_unstable_in_band": {f"mu {self.search_mu:g}, {c.label}": bool(unstable_kinds(c, self.band))
                                         for c in self.hb_cases},
@@ -218,6 +226,22 @@ class PeriodicityResult:
                 "hb_states": sum(c.states_s for c in self.hb_cases),
                 "td_map_cpu": sum(sw.cpu_s for _, sw in self.period_map),
                 "td_map_wall": sum(sw.elapsed_s for _, sw in self.period_map)}
+
+
+P1_SHARE = 0.95   # HB's stability predicts the map's P1 points: all but one in twenty on a stable P1 state
+
+
+def p1_share(agree: int, marginal: int, points: int, match: float) -> Verdict:
+    """The share of the map's P1 points on a stable P1 state of HB (within ``match``) against P1_SHARE. A
+    marginal point (its nearest state's |multiplier| within its error of 1) may go either way: the share lies
+    between agree / points and (agree + marginal) / points, the value its middle and the margin half its width
+    (NaN without P1 points: nothing to decide)."""
+    low, high = (agree / points, (agree + marginal) / points) if points else (math.nan, math.nan)
+    return Verdict.of(0.5 * (low + high), threshold=P1_SHARE, margin=0.5 * (high - low) if points else 0.0,
+                      below=False, above=True,
+                      reason=f"share of the {points} P1 time-domain points on a stable HB P1 state within "
+                             f"{100 * match:g} % against {P1_SHARE:g} (all but one in twenty), margin half the "
+                             f"share of the {marginal} points whose nearest state's stability is undecided")
 
 
 def waveform_case(runs: list[CaseRun]) -> CaseRun:
@@ -663,6 +687,7 @@ def report_hb(result: PeriodicityResult, scene) -> list[str]:
              f"{seconds(cost['hb_branches'])} / {seconds(cost['hb_states'])} wall (one process) / "
              f"{seconds(cost['td_map_cpu'])} CPU ({seconds(cost['td_map_wall'])} wall on "
              f"{os.cpu_count()} cores) |", "",
+             f"`td_p1_on_stable_p1_at_least_95pct`: {result.p1_verdict().sentence()}.", "",
              markdown_table(["case", "HB: unstable P1 (r/min, kind of the largest multiplier)",
                              "time domain: speeds without P1", "points agreeing", "HB branch", "HB states",
                              "time domain (CPU)"], rows), "",

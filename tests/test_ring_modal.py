@@ -155,6 +155,6 @@ def test_interference_study_quick(tmp_path):
     run_scene(Path(__file__).resolve().parents[1] / "scenes" / "interference.toml", tmp_path / "i", quick=True)
     record = json.loads((tmp_path / "i" / "results.json").read_text())
     results = record["results"]
-    assert results["conclusions"]["ring_against_fixed_neighbours"] == "ring softer"
+    assert results["conclusions"]["ring_against_fixed_neighbours"]["answer"] == "ring softer"
     assert results["nd_engine_order"] == 2
     assert results["relative_motion_factor"] == pytest.approx(2 * math.sin(math.pi / 12))
