@@ -433,19 +433,13 @@ def mesh_name(cell: str, size_m: float) -> str:
 def within(worst_pct: float, tolerance_pct: float, known_pct: float | None) -> Verdict:
     """Whether a mesh's worst frequency error lies within the tolerance; the margin is how well the
     converged values are known (the other cell kind's Richardson estimate against them; None when this
-    run has no second estimate, and then the margin is 0 and the reason says it is unmeasured). The reason
-    of a known margin also says what would decide a mesh inside it (docs/fe-solid.md: the default 5 mm
-    bricks, 0.147 % against 0.15 % +- 0.07 %)."""
+    run has no second estimate, and then the margin is 0 and the reason says it is unmeasured)."""
     if known_pct is None:
         return Verdict.of(worst_pct, tolerance_pct, 0.0, below=True, above=False, unit="%",
                           reason="no second cell kind's estimate in this run: how well the converged values "
                                  "are known is not measured (margin 0)")
     return Verdict.of(worst_pct, tolerance_pct, known_pct, below=True, above=False, unit="%",
-                      reason="the converged values known to the other cell kind's Richardson estimate; a mesh "
-                             "inside it is decided by converged values known closer than its error's distance "
-                             "to the tolerance, which finer uniform meshes do not give at the observed orders "
-                             "(below the element's: the re-entrant root and shroud corners): meshes graded at "
-                             "those corners or a higher order there would (docs/fe-solid.md)")
+                      reason="the converged values known to the other cell kind's Richardson estimate")
 
 
 def conclusions(results: dict) -> dict:
