@@ -40,3 +40,14 @@ def test_table1_scene_writes_its_outputs(tmp_path):
     run_scene(Path(__file__).parents[1] / "scenes" / "table1.toml", out=tmp_path, quick=True)
     for name in ("table1.csv", "report.md", "table1_convergence.png", "results.json"):
         assert (tmp_path / name).stat().st_size > 0
+
+
+def test_fe_halved_without_both_fe_models_is_refused(tmp_path):
+    """fe_halved measures the margin of the shell against the solid: without both columns it cannot, so the
+    scene is refused before anything runs (exit 2), never run without it."""
+    import pytest
+    from shroud.base.errors import InputError
+    from workbench.runner import run_scene
+    with pytest.raises(InputError, match="needs with_fe and with_shell"):
+        run_scene(Path(__file__).parents[1] / "scenes" / "table1.toml", out=tmp_path, quick=True,
+                  overrides=["options.with_shell=false", "options.fe_halved=true"])

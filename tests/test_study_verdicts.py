@@ -220,6 +220,22 @@ def test_table1_converged_reference_margin_holds_its_own_convergence():
     assert table1.conclusions(rows, ref, moving)["converged_within_0.1pct_of_paper_fe"]["flap1"].answer == NOT_DECIDED
 
 
+def test_table1_shell_margin_is_the_measured_move_of_its_difference_from_the_solid():
+    """The shell 0.6 % below the solid against flap1's 1 % limit: the meshes' tolerances (0.65 %) cannot
+    decide it; halved meshes that move the difference by 0.03 % leave about 0.1 % (order 1/2): within; by
+    0.2 % they leave about 0.7 %: not decided."""
+    def column(shell_hz: float, solid_hz: float) -> tuple[dict, dict]:
+        return ({"f": {lab: shell_hz if lab == "flap1" else None for lab in TABLE1_LABELS}},
+                {"f": {lab: solid_hz if lab == "flap1" else None for lab in TABLE1_LABELS}})
+
+    shell, solid = column(0.994 * 282.0, 282.0)
+    assert table1.shell_conclusions(shell, solid)["flap1"].answer == NOT_DECIDED
+    for move, answer in ((0.0003, True), (0.002, NOT_DECIDED)):
+        shell_halved, solid_halved = column((0.994 + move) * 282.0, 282.0)
+        halved = {"shell": shell_halved, "fe": solid_halved}
+        assert table1.shell_conclusions(shell, solid, halved)["flap1"].answer == answer, move
+
+
 def test_table1_falls_with_N():
     rows, ref, before = table1_rows(1.0)
     assert table1.conclusions(rows, ref, before)["falls_with_N"]["flap1"].answer is True    # 7 below 6
