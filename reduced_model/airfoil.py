@@ -30,16 +30,27 @@ PROFILE_POINTS = 240          # points along each surface, cosine-spaced (dense 
 MESH_CELLS_THICK = 16         # P2 triangles' size: the profile's maximum thickness over this
 
 
-def naca4_surfaces(m: float, p: float, tau: float, s: np.ndarray):
-    """Upper and lower surfaces (s, y) in chord units at chord fractions ``s``: two (n, 2) arrays."""
+def naca4_camber(m: float, p: float, s):
+    """Camber line y_c(s) and its slope dy_c/ds, chord units, at chord fractions ``s`` (numpy)."""
     s = np.asarray(s, dtype=float)
+    if m == 0:
+        return np.zeros_like(s), np.zeros_like(s)
     front = s < p
-    if m > 0:
-        y_c = np.where(front, m / p**2 * (2 * p * s - s**2), m / (1 - p) ** 2 * ((1 - 2 * p) + 2 * p * s - s**2))
-        slope = np.where(front, 2 * m / p**2 * (p - s), 2 * m / (1 - p) ** 2 * (p - s))
-    else:
-        y_c, slope = np.zeros_like(s), np.zeros_like(s)
-    y_t = 5 * tau * (0.2969 * np.sqrt(s) - 0.1260 * s - 0.3516 * s**2 + 0.2843 * s**3 - 0.1036 * s**4)
+    y_c = np.where(front, m / p**2 * (2 * p * s - s**2), m / (1 - p) ** 2 * ((1 - 2 * p) + 2 * p * s - s**2))
+    return y_c, np.where(front, 2 * m / p**2 * (p - s), 2 * m / (1 - p) ** 2 * (p - s))
+
+
+def naca4_half_thickness(tau, s):
+    """y_t(s), chord units, at chord fractions ``s`` of a profile tau thick (numpy or UFL arguments)."""
+    return 5 * tau * (0.2969 * s**0.5 - 0.1260 * s - 0.3516 * s**2 + 0.2843 * s**3 - 0.1036 * s**4)
+
+
+def naca4_surfaces(m: float, p: float, tau: float, s: np.ndarray):
+    """Upper and lower surfaces (s, y) in chord units at chord fractions ``s``: two (n, 2) arrays, y_t
+    off the camber line along its normal (their mean is the camber line's point (s, y_c))."""
+    s = np.asarray(s, dtype=float)
+    y_c, slope = naca4_camber(m, p, s)
+    y_t = naca4_half_thickness(tau, s)
     theta = np.arctan(slope)
     upper = np.column_stack([s - y_t * np.sin(theta), y_c + y_t * np.cos(theta)])
     lower = np.column_stack([s + y_t * np.sin(theta), y_c - y_t * np.cos(theta)])
@@ -53,16 +64,27 @@ def polygon_centroid(loop: np.ndarray) -> np.ndarray:
     return np.sum((a + b) * cross[:, None], axis=0) / (3.0 * np.sum(cross))
 
 
+def _chordwise_loop(m: float, p: float, tau: float, points: int) -> np.ndarray:
+    """The profile's polygon (s, y), chord units: upper surface from the trailing edge to the leading edge,
+    then the lower one back, ``points`` per surface cosine-spaced (dense at both edges), edges shared once."""
+    s = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, points)))
+    upper, lower = naca4_surfaces(m, p, tau, s)
+    return np.concatenate([upper[::-1], lower[1:-1]])
+
+
+def naca4_centroid(m: float, p: float, tau: float, points: int = PROFILE_POINTS) -> np.ndarray:
+    """(s, y) of the area centroid of the profile's polygon of ``points`` per surface, chord units: the
+    point every section is stacked on (naca4_outline)."""
+    return polygon_centroid(_chordwise_loop(m, p, tau, points))
+
+
 def naca4_outline(m: float, p: float, tau: float, chord: float, points: int = PROFILE_POINTS) -> np.ndarray:
     """The profile as a polygon (eta_v, eta_w), m, in the section frame, its area centroid at the origin.
 
     Upper surface from the trailing edge to the leading edge, then the lower
     one back; ``points`` per surface.
     """
-    s = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, points)))      # 0 .. 1, dense at both edges
-    upper, lower = naca4_surfaces(m, p, tau, s)
-    chordwise = np.concatenate([upper[::-1], lower[1:-1]])          # (s, y): the edges shared once each
-    loop = chord * chordwise[:, ::-1]                                # (eta_v, eta_w) = c (y, s)
+    loop = chord * _chordwise_loop(m, p, tau, points)[:, ::-1]      # (eta_v, eta_w) = c (y, s)
     return loop - polygon_centroid(loop)
 
 

@@ -55,7 +55,8 @@ class Blade:
                                            'read a STEP file yet; allowed: "" (the blade of the blade.* keys)')
         if profile:
             return
-        not_yet = "only the beam models (reduced, full, extended) and the solid models (fe, fe-reduced) take it yet"
+        not_yet = ("only the beam models (reduced, full, extended), the solid models (fe, fe-reduced) and the shell "
+                   "models (shell, shell-reduced) take it yet")
         if self.section != "rectangle":
             raise InputError("blade.section", f"{self.section!r}: {not_yet}; allowed: \"rectangle\" "
                                               "(shroud section computes the profile)")

@@ -139,9 +139,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # The models that take a NACA section and tapers: the beams, on the sections along the span
-# (reduced_model.airfoil.span_sections), and the solid (meshes.blade's loft); the one whose modes take a
-# STEP file (its load per unit span and its shroud volume would need the sections the file does not name).
-PROFILE_MODELS = ("reduced", "full", "extended", "fe", "fe-reduced")
+# (reduced_model.airfoil.span_sections), the solid (meshes.blade's loft) and the shell (meshes.shell's
+# camber surface); the one whose modes take a STEP file (its load per unit span and its shroud volume would
+# need the sections the file does not name).
+PROFILE_MODELS = ("reduced", "full", "extended", "fe", "fe-reduced", "shell", "shell-reduced")
 STEP_MODEL = "fe"
 
 
