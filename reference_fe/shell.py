@@ -38,9 +38,12 @@ centrifugal load rho h Omega^2 (X, Y, 0), spin softening
 -rho h (Om x u) . (Om x v), Coriolis 2 rho h (Om x u) . v, and the
 geometric stiffness of the membrane forces N0 of the centrifugal state
 (K_e u0 = f_c): int N0 : (grad_t u^T grad_t v), the shell's form of the
-solid's int sigma0 : (grad u^T grad v) through the thickness. The bending
-moments of the prestatic state add to it at order h^2 / L^2 and are left
-out; so are the rotary terms of spin softening and Coriolis.
+solid's int sigma0 : (grad u^T grad v) through the thickness, and on the
+shroud plate that of its offset material turned on its arm t_s/2 e_X
+(arm_stiffness: the radial tension of the solid's box, which the plate
+carries in bending, not as a membrane force). The bending moments of the
+prestatic state add to it at order h^2 / L^2 and are left out; so are the
+rotary terms of spin softening and Coriolis.
 
 The shroud (meshes.shell) is a plate of thickness t_s carried by the same
 forms: the thickness is a cell-wise (DG0) field there, and on the blade
@@ -261,11 +264,29 @@ def _forms(model: ShellModel):
 
 
 def geometric_stiffness(model: ShellModel, k: Kinematics, u0: fem.Function):
-    """int N0 : (grad_t du^T grad_t v): the membrane forces N0 of the state ``u0`` (N/m) on the test pair."""
-    (du, _), (v, _) = ufl.TrialFunctions(model.V), ufl.TestFunctions(model.V)
+    """The prestress stiffness of the state ``u0`` at 1 rad/s on the test pair: int N0 : (grad_t du^T grad_t v),
+    the membrane forces N0 (N/m), plus that of the offset material's arm (:func:`arm_stiffness`)."""
+    (du, dth), (v, eta) = ufl.TrialFunctions(model.V), ufl.TestFunctions(model.V)
     u0_disp = ufl.split(u0)[0]
     N0 = model.thickness * plane_stress(k.membrane(u0_disp), model.material)
-    return ufl.inner(ufl.dot(k.tgrad(du), N0), k.tgrad(v)) * _dx(model)
+    return (ufl.inner(ufl.dot(k.tgrad(du), N0), k.tgrad(v)) + arm_stiffness(model, dth, eta)) * _dx(model)
+
+
+def arm_stiffness(model: ShellModel, theta, eta):
+    """The centrifugal load f (1 rad/s) on material carried at the arm r = d e_X (the shroud plate's, d = t_s/2)
+    turned by theta: its second-order displacement theta x (theta x r) / 2 does work
+    (f.r)(theta.eta) - ((f.theta)(r.eta) + (f.eta)(r.theta)) / 2 (per unit area).
+
+    The solid has it as the radial tension of its shroud box (sigma_XX falling from m Omega^2 X_c / A at the
+    blade's tip to 0 outside) in int sigma0 : grad u^T grad u: m Omega^2 X_c d per radian^2 of the box
+    turning about an axis across X; the plate, which carries that load in bending, has no membrane force for it.
+    """
+    X = ufl.SpatialCoordinate(model.mesh)
+    d = model.offset
+    f = model.material.rho * model.thickness * ufl.as_vector((X[0] + d, X[1], 0.0))
+    r = d * ufl.as_vector((1.0, 0.0, 0.0))
+    return (ufl.dot(f, r) * ufl.dot(theta, eta)
+            - 0.5 * (ufl.dot(f, theta) * ufl.dot(r, eta) + ufl.dot(f, eta) * ufl.dot(r, theta)))
 
 
 @functools.lru_cache(maxsize=4)

@@ -72,7 +72,7 @@ def _blade_frequencies(model: str, rpm: float, stage: dict) -> dict[str, float]:
 
 
 BARE_TOLERANCE = {"flap1": 0.01, "chord1": 0.01, "flap2": 0.01, "torsion1": 0.02, "flap3": 0.02}
-SHROUDED_TOLERANCE = {"flap1": 0.01, "chord1": 0.02, "flap2": 0.02, "torsion1": 0.03, "flap3": 0.03}
+SHROUDED_TOLERANCE = {"flap1": 0.005, "chord1": 0.02, "flap2": 0.02, "torsion1": 0.03, "flap3": 0.03}
 
 
 @pytest.mark.parametrize("rpm", [0.0, 10000.0])
@@ -279,10 +279,9 @@ def test_the_naca_shell_carries_the_profiles_volume_on_the_solids_stacking_line(
 @pytest.mark.parametrize("rpm", [0.0, 10000.0])
 def test_the_naca_shell_is_within_1_5_percent_of_the_converged_solid(rpm):
     """The first five undamped frequencies against the solid's converged ones (cubic tetrahedra, 305 256 DOF;
-    tests/test_airfoil_solid.py), at 3 mm (docs/shell.md, "The NACA blade": flap1 at 10000 r/min is the
-    closest, -1.45 %; it converges to about -1.4 %, the shell's own error, not the mesh's)."""
+    tests/test_airfoil_solid.py), on the default 4 mm mesh: 0.12-0.72 % below (docs/shell.md, "The NACA
+    blade"). Without the shroud plate's arm stiffness flap1 at 10000 r/min was 1.52 % below."""
     from test_airfoil_solid import CONVERGED
-    out = run_json("modal", "--model", "shell", "--rpm", str(rpm), "--modes", "5", "--no-coriolis",
-                   *sets({**NACA, "shell.mesh_size": 0.003}))
+    out = run_json("modal", "--model", "shell", "--rpm", str(rpm), "--modes", "5", "--no-coriolis", *sets(NACA))
     f = np.array([m["f_hz"] for m in out["modes"]])
     np.testing.assert_allclose(f, CONVERGED[rpm], rtol=0.015)
