@@ -119,8 +119,8 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
 
     The blade keys the path at hand cannot honour are refused here, before
     anything is written (shroud.params.Blade.check_modelled; ``profile`` lets
-    a NACA section and tapers through, for ``shroud section``, the beams and
-    the solid models, ``step`` a STEP file, for the solid's modes), and so is
+    a NACA section and tapers through, for ``shroud section``, the beams, the
+    solid and the shell models, ``step`` a STEP file, for the solid's modes), and so is
     a flexible disk unless ``disk`` says the command builds one
     (shroud.params.Disk.check_rigid).
 
