@@ -41,12 +41,17 @@ def naca4_camber(m: float, p: float, s) -> tuple[np.ndarray, np.ndarray]:
             np.where(front, 2 * m / p**2 * (p - s), 2 * m / (1 - p) ** 2 * (p - s)))
 
 
+def naca4_half_thickness(tau, s):
+    """y_t(s), chord units, at chord fractions ``s`` of a profile tau thick (numpy or UFL arguments)."""
+    return 5 * tau * (0.2969 * s**0.5 - 0.1260 * s - 0.3516 * s**2 + 0.2843 * s**3 - 0.1036 * s**4)
+
+
 def naca4_points(m: float, p: float, tau: float, s, r) -> np.ndarray:
     """Points (s_c, y) in chord units at chord fraction ``s``, ``r`` half-thicknesses off the camber line
     along its normal: the upper surface at r = +1, the lower at r = -1 (arrays broadcast), shape (..., 2)."""
     s = np.asarray(s, dtype=float)
     y_c, slope = naca4_camber(m, p, s)
-    y_t = 5 * tau * (0.2969 * np.sqrt(s) - 0.1260 * s - 0.3516 * s**2 + 0.2843 * s**3 - 0.1036 * s**4)
+    y_t = naca4_half_thickness(tau, s)
     theta = np.arctan(slope)
     return np.stack(np.broadcast_arrays(s - r * y_t * np.sin(theta), y_c + r * y_t * np.cos(theta)), axis=-1)
 
@@ -63,6 +68,20 @@ def polygon_centroid(loop: np.ndarray) -> np.ndarray:
     return np.sum((a + b) * cross[:, None], axis=0) / (3.0 * np.sum(cross))
 
 
+def _chordwise_loop(m: float, p: float, tau: float, points: int) -> np.ndarray:
+    """The profile's polygon (s, y), chord units: upper surface from the trailing edge to the leading edge,
+    then the lower one back, ``points`` per surface cosine-spaced (dense at both edges), edges shared once."""
+    s = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, points)))
+    upper, lower = naca4_surfaces(m, p, tau, s)
+    return np.concatenate([upper[::-1], lower[1:-1]])
+
+
+def naca4_centroid(m: float, p: float, tau: float, points: int = PROFILE_POINTS) -> np.ndarray:
+    """(s, y) of the area centroid of the profile's polygon of ``points`` per surface, chord units: the
+    point every section is stacked on (naca4_outline)."""
+    return polygon_centroid(_chordwise_loop(m, p, tau, points))
+
+
 def naca4_outline(m: float, p: float, tau: float, chord: float, points: int = PROFILE_POINTS) -> np.ndarray:
     """The profile as a polygon (eta_v, eta_w), m, in the section frame, its area centroid at the origin.
 
@@ -75,10 +94,7 @@ def naca4_outline(m: float, p: float, tau: float, chord: float, points: int = PR
 
 def _naca4_loop(m: float, p: float, tau: float, chord: float, points: int) -> np.ndarray:
     """naca4_outline before it is centred: (eta_v, eta_w) = c (y, s_c), the leading edge at the origin."""
-    s = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, points)))      # 0 .. 1, dense at both edges
-    upper, lower = naca4_surfaces(m, p, tau, s)
-    chordwise = np.concatenate([upper[::-1], lower[1:-1]])          # (s, y): the edges shared once each
-    return chord * chordwise[:, ::-1]                                # (eta_v, eta_w) = c (y, s)
+    return chord * _chordwise_loop(m, p, tau, points)[:, ::-1]      # (eta_v, eta_w) = c (y, s)
 
 
 def naca4_place(m: float, p: float, tau: float, chord: float, points: int, s, r) -> np.ndarray:

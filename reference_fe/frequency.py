@@ -65,11 +65,13 @@ def _build(params: Parameters, path: Path, kind: str = "fe") -> None:
 def speed_range_operators(params: Parameters, kind: str = "fe") -> Path:
     """Path of the cached .npz of the one-basis operators (K0, K2, G1, loads, W) built at params.speed.rpm
     for the solid (``kind = "fe"``) or the shell."""
-    from reference_fe.system import reduction_inputs
-    # Built serially, as the per-speed bases: under mpirun rank 0 builds it into the cache for all.
+    from reference_fe.system import REDUCTION_SOURCES, reduction_inputs
+    # Built serially, as the per-speed bases: under mpirun rank 0 builds it into the cache for all. Keyed on
+    # the code that shapes it too, as they are (an edited form must not reuse an old basis).
     return on_rank_zero(lambda: cached(f"{kind}_speed_range", {**reduction_inputs(params, params.speed.rpm, kind),
                                                                "polynomial": 1}, ".npz",
-                                       lambda path: _build(params, path, kind), what=f"{kind} speed-range basis"))
+                                       lambda path: _build(params, path, kind), what=f"{kind} speed-range basis",
+                                       sources=(*REDUCTION_SOURCES[kind], __name__)))
 
 
 def at_speed(params: Parameters, kind: str = "fe") -> Callable[[float], StructuralSystem]:

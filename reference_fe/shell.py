@@ -38,12 +38,22 @@ centrifugal load rho h Omega^2 (X, Y, 0), spin softening
 -rho h (Om x u) . (Om x v), Coriolis 2 rho h (Om x u) . v, and the
 geometric stiffness of the membrane forces N0 of the centrifugal state
 (K_e u0 = f_c): int N0 : (grad_t u^T grad_t v), the shell's form of the
-solid's int sigma0 : (grad u^T grad v) through the thickness. The bending
-moments of the prestatic state add to it at order h^2 / L^2 and are left
-out; so are the rotary terms of spin softening and Coriolis.
+solid's int sigma0 : (grad u^T grad v) through the thickness, and on the
+shroud plate that of its offset material turned on its arm t_s/2 e_X
+(arm_stiffness: the radial tension of the solid's box, which the plate
+carries in bending, not as a membrane force). The bending moments of the
+prestatic state add to it at order h^2 / L^2 and are left out; so are the
+rotary terms of spin softening and Coriolis.
 
 The shroud (meshes.shell) is a plate of thickness t_s carried by the same
-forms: the thickness is a cell-wise (DG0) field.
+forms: the thickness is a cell-wise (DG0) field there, and on the blade
+too where it is uniform (the untapered rectangle). Where it varies (a
+thickness taper, the NACA profile: meshes.shell.ShellSpec.mid_thickness,
+h = 2 c(x) y_t(s)) it is the UFL expression of x and of the chord fraction
+s, a P2 field interpolated from the nodes (s is smooth; h ~ sqrt(s) at the
+leading edge is evaluated at the quadrature points, QUADRATURE_DEGREE).
+Membrane ~h, bending ~h^3, shear ~h, mass ~h and rotary inertia ~h^3 all
+read it there.
 
 The operators come out as the solid's (reference_fe.solid.RotatingOperators),
 so the modal solver, the reduction and the system serve both models.
@@ -71,6 +81,7 @@ from shroud.params import Material, Parameters
 
 SHEAR_CORRECTION = 5.0 / 6.0
 DRILLING = 1.0      # drilling stiffness / (E h^3 / h_K^2)
+QUADRATURE_DEGREE = 4   # of a varying thickness's forms (UFL's estimate of h^3 with a sqrt is far higher)
 
 
 @dataclass(frozen=True, eq=False)      # identity hash: one per process and mesh
@@ -78,9 +89,10 @@ class ShellModel(FEModel):
     """Mesh, mixed space (u: P2, theta: CR) and clamp of one mid-surface (spec: a ShellSpec; one per process
     and mesh), and the fields the shell's forms read."""
 
-    thickness: Any               # DG0 field: blade.thickness on the blade, shroud.thickness on the plate
+    thickness: Any               # DG0 field (t_s on the plate, a uniform blade's t) or a UFL expression of it
     offset: Any                  # DG0 field: how far out (along +X) the material sits from the cell: t_s/2 on the plate
     drilling: float = DRILLING
+    quadrature_degree: int | None = None     # of every form (None: UFL's estimate)
 
 
 def shell_model(params: Parameters, drilling: float = DRILLING) -> ShellModel:
@@ -114,17 +126,40 @@ def _shell_model(spec: ShellSpec, material: Material, drilling: float, alone: bo
         clamped.append(dofs[0])
     DG0 = fem.functionspace(msh, ("DG", 0))
     thickness, offset = fem.Function(DG0, name="thickness"), fem.Function(DG0, name="offset")
-    thickness.x.array[:] = spec.thickness
+    uniform = spec.section == "rectangle" and spec.thickness_taper == 1.0
+    thickness.x.array[:] = spec.thickness if uniform else 0.0
     if spec.has_shroud:
         plate = data.cell_tags.find(SHROUD)
         thickness.x.array[plate] = spec.shroud_thickness
         offset.x.array[plate] = 0.5 * spec.shroud_thickness
+    h = thickness if uniform else thickness + _blade_share(DG0, data.cell_tags) * _mid_thickness(msh, spec)
     info(f"shell: {comm.allreduce(msh.topology.index_map(2).size_local)} triangles, "
          f"{V.dofmap.index_map.size_global} DOF (P2/CR, size {spec.size:g} m)")
     return ShellModel(spec=spec, material=material, mesh=msh, V=V, cell_tags=data.cell_tags,
                       facet_tags=data.facet_tags, bcs=tuple(bcs), clamped_dofs=np.unique(np.concatenate(clamped)),
-                      tip_dofs=nodal_dofs(V, 0, tip_points(spec), spec.size), thickness=thickness, offset=offset,
-                      drilling=drilling)
+                      tip_dofs=nodal_dofs(V, 0, tip_points(spec), spec.size), thickness=h, offset=offset,
+                      drilling=drilling, quadrature_degree=None if uniform else QUADRATURE_DEGREE)
+
+
+def _blade_share(DG0, cell_tags):
+    """1 on the blade's cells, 0 on the plate's (DG0)."""
+    share = fem.Function(DG0)
+    share.x.array[cell_tags.find(BLADE)] = 1.0
+    return share
+
+
+def _mid_thickness(msh, spec: ShellSpec):
+    """The blade's thickness h(x, s), m, as UFL: spec.mid_thickness of x = X - R_d and of the chord
+    fraction s, a P2 field of the nodes' own s (meshes.shell.ShellSpec.chord_fraction)."""
+    S = fem.functionspace(msh, ("P", 2))
+    nodes = S.tabulate_dof_coordinates()
+    beta = spec.beta(nodes[:, 0])
+    eta_w = -np.sin(beta) * nodes[:, 1] + np.cos(beta) * nodes[:, 2]
+    s = fem.Function(S, name="chord_fraction")
+    s.x.array[:] = np.clip(spec.chord_fraction(nodes[:, 0] - spec.disk_radius, eta_w), 0.0, 1.0)
+    # s >= 0 at the quadrature points: the P2 field undershoots where its nodal values jump (the plate's,
+    # where s means nothing and the blade's share is 0)
+    return spec.mid_thickness(ufl.SpatialCoordinate(msh)[0] - spec.disk_radius, ufl.max_value(s, 0.0))
 
 
 def nodal_dofs(V, sub: int, points: np.ndarray, size: float) -> np.ndarray:
@@ -192,7 +227,8 @@ def plane_stress(e, material: Material):
 
 def _dx(model: ShellModel):
     """Area measure knowing the blade/shroud cell tags (one measure for every form of a model)."""
-    return ufl.Measure("dx", domain=model.mesh, subdomain_data=model.cell_tags)
+    metadata = {} if model.quadrature_degree is None else {"quadrature_degree": model.quadrature_degree}
+    return ufl.Measure("dx", domain=model.mesh, subdomain_data=model.cell_tags, metadata=metadata)
 
 
 def _forms(model: ShellModel):
@@ -223,16 +259,34 @@ def _forms(model: ShellModel):
         k_spin=-rho * h * ufl.inner(ufl.cross(Om, dU), ufl.cross(Om, V)) * dx,
         g=2.0 * rho * h * ufl.inner(ufl.cross(Om, dU), V) * dx,
         f_c=rho * h * ufl.inner(ufl.as_vector((X[0] + d, X[1], 0.0)), V) * dx,
-        f_aero=ufl.inner(e_v / spec.width, v) * dx(BLADE),
+        f_aero=ufl.inner(e_v * h / spec.section_area(X[0] - spec.disk_radius), v) * dx(BLADE),
     )
 
 
 def geometric_stiffness(model: ShellModel, k: Kinematics, u0: fem.Function):
-    """int N0 : (grad_t du^T grad_t v): the membrane forces N0 of the state ``u0`` (N/m) on the test pair."""
-    (du, _), (v, _) = ufl.TrialFunctions(model.V), ufl.TestFunctions(model.V)
+    """The prestress stiffness of the state ``u0`` at 1 rad/s on the test pair: int N0 : (grad_t du^T grad_t v),
+    the membrane forces N0 (N/m), plus that of the offset material's arm (:func:`arm_stiffness`)."""
+    (du, dth), (v, eta) = ufl.TrialFunctions(model.V), ufl.TestFunctions(model.V)
     u0_disp = ufl.split(u0)[0]
     N0 = model.thickness * plane_stress(k.membrane(u0_disp), model.material)
-    return ufl.inner(ufl.dot(k.tgrad(du), N0), k.tgrad(v)) * _dx(model)
+    return (ufl.inner(ufl.dot(k.tgrad(du), N0), k.tgrad(v)) + arm_stiffness(model, dth, eta)) * _dx(model)
+
+
+def arm_stiffness(model: ShellModel, theta, eta):
+    """The centrifugal load f (1 rad/s) on material carried at the arm r = d e_X (the shroud plate's, d = t_s/2)
+    turned by theta: its second-order displacement theta x (theta x r) / 2 does work
+    (f.r)(theta.eta) - ((f.theta)(r.eta) + (f.eta)(r.theta)) / 2 (per unit area).
+
+    The solid has it as the radial tension of its shroud box (sigma_XX falling from m Omega^2 X_c / A at the
+    blade's tip to 0 outside) in int sigma0 : grad u^T grad u: m Omega^2 X_c d per radian^2 of the box
+    turning about an axis across X; the plate, which carries that load in bending, has no membrane force for it.
+    """
+    X = ufl.SpatialCoordinate(model.mesh)
+    d = model.offset
+    f = model.material.rho * model.thickness * ufl.as_vector((X[0] + d, X[1], 0.0))
+    r = d * ufl.as_vector((1.0, 0.0, 0.0))
+    return (ufl.dot(f, r) * ufl.dot(theta, eta)
+            - 0.5 * (ufl.dot(f, theta) * ufl.dot(r, eta) + ufl.dot(f, eta) * ufl.dot(r, theta)))
 
 
 @functools.lru_cache(maxsize=4)

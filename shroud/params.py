@@ -57,8 +57,8 @@ class Blade:
                                            "blade.* keys)")
         if profile:
             return
-        not_yet = ("only the beam models (reduced, full, extended), the solid models (fe, fe-reduced) and the study "
-                   "airfoil take it yet")
+        not_yet = ("only the beam models (reduced, full, extended), the solid models (fe, fe-reduced), the shell "
+                   "models (shell, shell-reduced) and the study airfoil take it yet")
         if self.section != "rectangle":
             raise InputError("blade.section", f"{self.section!r}: {not_yet}; allowed: \"rectangle\" "
                                               "(shroud section computes the profile)")

@@ -127,23 +127,30 @@ COMMANDS = [["modal"], ["static", "--tip-force", "0", "100", "0"], ["transient",
             ["sweep", "--method", "hb", "--checkpoints", "9000"], ["run", "{scene}", "--out", "{out}"]]
 
 
-@pytest.mark.parametrize("assignment, key", UNBUILT)
-@pytest.mark.parametrize("argv", COMMANDS)
+# Every model takes the airfoil and the tapers (the beams, the solid, the shell): the studies do not yet; a
+# STEP file the beams and the solid's modes read, not the shell.
+REFUSED = [(argv, assignment, key) for argv in COMMANDS for assignment, key in UNBUILT
+           if key == "blade.step" or argv[0] == "run"]
+
+
+@pytest.mark.parametrize("argv, assignment, key", REFUSED)
 def test_blade_keys_no_model_takes_yet_are_refused_not_dropped(tmp_path, capsys, argv, assignment, key):
-    """The airfoil, its tapers and a STEP file on the shell models and in studies: refused, naming the key,
-    before anything is written (a rectangle run in their place would answer another question). The beams
-    (tests/test_reduced_airfoil.py, tests/test_step_beam.py) and the solid (tests/test_airfoil_solid.py)
-    take the airfoil and the tapers, the beams and the solid's modes a STEP file."""
+    """The airfoil and its tapers in studies, a STEP file on the shell models and in studies: refused,
+    naming the key, before anything is written (a rectangle run in their place would answer another
+    question). The beams (tests/test_reduced_airfoil.py, tests/test_step_beam.py), the solid
+    (tests/test_airfoil_solid.py) and the shell (tests/test_shell.py) take the airfoil and the tapers,
+    the beams and the solid's modes a STEP file."""
     out = tmp_path / "out"
     argv = [a.format(scene=_scene(tmp_path, GOOD), out=out) for a in argv]
-    if argv[0] != "run":                                # the shell (the beams and the solid take them)
+    if argv[0] != "run":                                # the shell (the beams and the solid read the file)
         argv += ["--model", "shell-reduced" if "--rpm-count" in argv else "shell"]
     line = _refused(capsys, argv + ["--set", assignment], key, out)
     assert "only the beams" in line if key == "blade.step" else "only the beam models" in line
 
 
 @pytest.mark.parametrize("argv, key", [
-    (["modal", "--model", "shell", "--set", "blade.section=naca4"], "blade.section"),   # the shell: the rectangle
+    # the NACA shell reads its tip outputs on the shroud plate
+    (["modal", "--model", "shell", "--set", "blade.section=naca4", "--set", "shroud.thickness=0"], "shroud.thickness"),
     (["sweep", "--model", "fe-reduced", "--rpm-from", "8000", "--rpm-to", "9000", "--rpm-count", "2",
       "--set", "blade.step=b.step"], "blade.step"),
     (["static", "--model", "fe", "--tip-force", "0", "100", "0", "--set", "blade.step=b.step"], "blade.step"),
@@ -155,7 +162,7 @@ def test_solid_paths_refuse_the_blade_they_cannot_build(tmp_path, capsys, argv, 
     """The solid takes the airfoil (on hexahedra, or tetrahedra fine enough for its thin tip), a taper
     of the rectangle on tetrahedra only, and the STEP file only
     for its modes (F_e per unit span and the shroud's tip load need sections the file does not name);
-    the shell keeps the rectangle."""
+    the shell takes the airfoil with its shroud only."""
     out = tmp_path / "out"
     _refused(capsys, [a.format(out=out) for a in argv], key, out)
 

@@ -72,7 +72,7 @@ def _blade_frequencies(model: str, rpm: float, stage: dict) -> dict[str, float]:
 
 
 BARE_TOLERANCE = {"flap1": 0.01, "chord1": 0.01, "flap2": 0.01, "torsion1": 0.02, "flap3": 0.02}
-SHROUDED_TOLERANCE = {"flap1": 0.01, "chord1": 0.02, "flap2": 0.02, "torsion1": 0.03, "flap3": 0.03}
+SHROUDED_TOLERANCE = {"flap1": 0.005, "chord1": 0.02, "flap2": 0.02, "torsion1": 0.03, "flap3": 0.03}
 
 
 @pytest.mark.parametrize("rpm", [0.0, 10000.0])
@@ -127,14 +127,14 @@ def test_drilling_stiffness_moves_frequencies_less_than_0_1_percent_over_100x(sh
 def test_mid_surface_is_the_helicoid_not_a_loft():
     """Every node lies on P(x, s) = (R_d + x) e_X + s e_w(x); midway up the span the chord edge stands
     where the helicoid puts it, away from the hyperbolic paraboloid through root and tip lines."""
-    from meshes.shell import ShellSpec, on_helicoid
+    from meshes.shell import ShellSpec, on_mid_surface
     from reference_fe.shell import model_of
     from shroud.params import Parameters
 
     params = Parameters().updated({"shroud.thickness": 0.0, "blade.twist_deg": 40.0})
     spec = ShellSpec.from_params(params)
     x = model_of(spec, params.material).mesh.geometry.x
-    np.testing.assert_allclose(on_helicoid(x, spec), x, atol=1e-12)
+    np.testing.assert_allclose(on_mid_surface(x, spec), x, atol=1e-12)
     # radius of every node from the axis: at most b/2, reached on both chord edges at mid-span
     r = np.linalg.norm(x[:, 1:], axis=1)
     assert r.max() == pytest.approx(0.5 * spec.width, rel=1e-12)
@@ -246,3 +246,42 @@ def test_full_shell_by_harmonic_balance_condensed_on_its_contact_points():
     assert full["converged"] == [True] and reduced["converged"] == [True]
     assert full["amplitude_v_L"][0] == pytest.approx(reduced["amplitude_v_L"][0], rel=1e-4)
     assert full["amplitude_w_L"][0] == pytest.approx(reduced["amplitude_w_L"][0], rel=1e-4)
+
+
+# The spec's NACA blade (issue 34: m 0.04, p 0.4, chord 40 -> 30 mm, thickness 7 -> 4.2 mm, alpha 15 deg) on
+# the camber surface with the profile's thickness 2 c y_t(s) (meshes.shell, reference_fe.shell).
+NACA = {"blade.section": "naca4", "blade.chord_taper": 0.75, "blade.thickness_taper": 0.6, "contact.alpha_deg": 15}
+
+
+def test_the_naca_shell_carries_the_profiles_volume_on_the_solids_stacking_line():
+    """int h dA over the blade against int A(x) dx of the spec's profile by quadrature (a uniform thickness
+    would be +46 % off), and its first moment on the X axis (the sections stacked on their centroids)."""
+    import dolfinx_solver  # noqa: F401  (must precede dolfinx)
+    import ufl
+    from dolfinx import fem
+    from scipy.integrate import quad
+    from meshes.spec import BLADE
+    from reference_fe.shell import _dx, shell_model
+    from shroud.params import Parameters
+    from test_airfoil_solid import _naca_area
+
+    model = shell_model(Parameters().updated(NACA))
+    b = Parameters().blade
+    chord = lambda x: b.width * (1 - 0.25 * x / b.length)                  # noqa: E731
+    tau = lambda x: b.thickness * (1 - 0.4 * x / b.length) / chord(x)       # noqa: E731
+    volume = quad(lambda x: _naca_area(0.04, 0.4, tau(x), chord(x)), 0, b.length)[0]
+    dx, X = _dx(model)(BLADE), ufl.SpatialCoordinate(model.mesh)
+    assert fem.assemble_scalar(fem.form(model.thickness * dx)) == pytest.approx(volume, rel=5e-4)
+    moment = [fem.assemble_scalar(fem.form(model.thickness * X[i] * dx)) / volume for i in (1, 2)]
+    assert np.abs(moment).max() < 1e-3 * b.width
+
+
+@pytest.mark.parametrize("rpm", [0.0, 10000.0])
+def test_the_naca_shell_is_within_1_5_percent_of_the_converged_solid(rpm):
+    """The first five undamped frequencies against the solid's converged ones (cubic tetrahedra, 305 256 DOF;
+    tests/test_airfoil_solid.py), on the default 4 mm mesh: 0.12-0.72 % below (docs/shell.md, "The NACA
+    blade"). Without the shroud plate's arm stiffness flap1 at 10000 r/min was 1.52 % below."""
+    from test_airfoil_solid import CONVERGED
+    out = run_json("modal", "--model", "shell", "--rpm", str(rpm), "--modes", "5", "--no-coriolis", *sets(NACA))
+    f = np.array([m["f_hz"] for m in out["modes"]])
+    np.testing.assert_allclose(f, CONVERGED[rpm], rtol=0.015)

@@ -138,10 +138,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # The models that take a NACA section and tapers: the beams, on the sections along the span
-# (reduced_model.airfoil.span_sections), and the solid (meshes.blade's loft). A STEP file: the beams, on
-# its slices (reduced_model.step_slices), in every command, and the solid's modes (its transient and
-# static need a load per unit span and a shroud volume the file does not name).
-PROFILE_MODELS = ("reduced", "full", "extended", "fe", "fe-reduced")
+# (reduced_model.airfoil.span_sections), the solid (meshes.blade's loft) and the shell (meshes.shell's
+# camber surface). A STEP file: the beams, on its slices (reduced_model.step_slices), in every command, and
+# the solid's modes (its transient and static need a load per unit span and a shroud volume the file does
+# not name).
+PROFILE_MODELS = ("reduced", "full", "extended", "fe", "fe-reduced", "shell", "shell-reduced")
 STEP_MODELS = ("reduced", "full", "extended")
 STEP_MODAL_MODELS = STEP_MODELS + ("fe",)
 

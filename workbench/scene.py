@@ -119,9 +119,9 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
 
     The blade keys the path at hand cannot honour are refused here, before
     anything is written (shroud.params.Blade.check_modelled; ``profile`` lets
-    a NACA section and tapers through, for ``shroud section``, the beams and
-    the solid models, and for a study that declares ``PROFILE = True``; ``step`` a STEP file, for the
-    solid's modes), and so is
+    a NACA section and tapers through, for ``shroud section``, the beams, the
+    solid and the shell models, and for a study that declares ``PROFILE = True``; ``step`` a STEP file, for
+    the beams and the solid's modes), and so is
     a flexible disk unless ``disk`` says the command builds one
     (shroud.params.Disk.check_rigid).
 
