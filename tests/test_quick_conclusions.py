@@ -96,7 +96,7 @@ def test_fig7_quick_agrees_with_full(tmp_path, held):
         assert "no steady state" not in q["differing_speed_verdicts"], case
 
 
-@pytest.mark.compares_no_verdict("issue 33: campbell's conclusions are crossing speeds, no verdict objects")
+@pytest.mark.holds_no_decided_verdict("issue 33: campbell's conclusions are crossing speeds, no verdict objects")
 @pytest.mark.fe
 @pytest.mark.slow
 def test_campbell_quick_agrees_with_full(tmp_path, held):
@@ -143,7 +143,7 @@ def test_stability_quick_agrees_with_full(tmp_path, held, study):
     assert held.agrees(got["linear_limit_met"], full["linear_limit_met"])
 
 
-@pytest.mark.compares_no_verdict("issue 33: periodicity's conclusions are words and yes/no, no verdict objects")
+@pytest.mark.holds_no_decided_verdict("issue 33: periodicity's conclusions are words and yes/no, no verdict objects")
 def test_periodicity_quick_agrees_with_full(tmp_path, held):
     got, _ = quick("periodicity", tmp_path)
     full = full_conclusions("periodicity")
@@ -324,7 +324,7 @@ def test_calculix_quick_agrees_with_full(tmp_path, held):
     assert all(held.agrees(got[mesh], full[mesh]) for mesh in got)
 
 
-@pytest.mark.compares_no_verdict("issue 33: interference's conclusions are words, no verdict objects")
+@pytest.mark.holds_no_decided_verdict("issue 33: interference's conclusions are words, no verdict objects")
 def test_interference_quick_agrees_with_full(tmp_path, held):
     """The ring's stuck flap family at the engine order's nodal diameter against fixed neighbours: the
     eigenvalues at the scene's speed do not depend on the Campbell grid the quick version thins."""
@@ -334,7 +334,7 @@ def test_interference_quick_agrees_with_full(tmp_path, held):
     assert all(held.agrees(got[k], full[k]) for k in got)
 
 
-@pytest.mark.compares_no_verdict("issue 33: ring_mistuning's conclusions are words, no verdict objects")
+@pytest.mark.holds_no_decided_verdict("issue 33: ring_mistuning's conclusions are words, no verdict objects")
 @pytest.mark.slow
 def test_ring_mistuning_quick_agrees_with_full(tmp_path, held):
     """8 samples against 100: whether mistuning amplifies (the quick median's wider interval may leave it
@@ -346,7 +346,7 @@ def test_ring_mistuning_quick_agrees_with_full(tmp_path, held):
         assert held.agrees(got[key], full[key]), (key, got[key], full[key])
 
 
-@pytest.mark.compares_no_verdict("issue 33: ring_tuned's conclusions are words and yes/no, no verdict objects")
+@pytest.mark.holds_no_decided_verdict("issue 33: ring_tuned's conclusions are words and yes/no, no verdict objects")
 @pytest.mark.slow
 def test_ring_tuned_quick_agrees_with_full(tmp_path, held):
     """Every time point the quick scene runs is one the full scene runs (the same case, ring size, speed
