@@ -395,8 +395,8 @@ def cmd_record(args) -> int:
                    f"physics changed since: {', '.join(changed)}" if changed else "physics as recorded")
         print(f"{scene}: " + ("current" if not problems else "; ".join(problems)) + (f"; {physics}" if record else ""))
     if behind:               # a warning: the quick tests hold the physics; the records are made again before it lands
-        print(f"warning: a physics change has left {len(behind)} records behind; make them again before it "
-              f"lands: shroud record {' '.join(behind)}")
+        print(f"warning: records a physics change has left behind, to make again before it lands: "
+              f"shroud record {' '.join(behind)}")
     return EXIT_GATE_FAILED if stale else 0
 
 

@@ -137,7 +137,7 @@ def _imported_files(path: str) -> frozenset[str]:
     resolved), by name in a string (importlib, lazy loaders), the builders' entry points for the registry,
     and the packages whose ``__init__`` each of these imports runs."""
     tree = ast.parse((ROOT / path).read_text(), filename=path)
-    package = path.removesuffix(".py").split("/")[:-1] if not path.endswith("__init__.py") else path.split("/")[:-1]
+    package = path.split("/")[:-1]          # where a relative import starts (level 1: this module's package)
     names = _entry_point_modules() if path == "shroud/core/registry.py" else set()
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
