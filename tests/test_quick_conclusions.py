@@ -271,6 +271,12 @@ def test_hb_family_quick_agrees_with_full(tmp_path, held, study):
                 "stuck_resonance_same", "peak_tracking_complete"):
         assert held.agrees(got[key], full[key]), (key, got[key], full[key])      # "not decided" contradicts nothing
     assert held.agrees(got["large_gaps"]["no_effect"], full["large_gaps"]["no_effect"])
+    # the verdicts these words are drawn from, held themselves (the words alone are no verdict objects)
+    for key in ("minimum_amplitude_nearly_same_verdict", "optimal_preload_unaffected_verdict",
+                "resonant_speed_rises_as_gap_closes_verdict"):
+        assert held.agrees(got[key], full[key]), (key, got[key], full[key])
+    for key in ("speed_spread_verdict", "amplitude_spread_verdict"):
+        assert held.agrees(got["large_gaps"][key], full["large_gaps"][key]), (key, got["large_gaps"][key])
     cases = got["preload_cases"].keys() & full["preload_cases"].keys()
     assert len(cases) >= 2
     for case in cases:
