@@ -226,6 +226,24 @@ def test_a_flipped_verdict_or_word_is_a_drift_that_exits_3_naming_it(two_runs):
     assert "no_effect.answer" in shroud("compare", base, flipped).stdout
 
 
+def test_a_run_made_before_verdicts_wrote_their_kind_compares_with_one_after(two_runs):
+    """A ratio recorded before verdicts wrote their kind is told by its unit and held as "ratio"; a
+    difference recorded then (written alike with a band) leaves its kind uncompared, not a drift; a kind
+    that changed between two runs that both wrote it is a drift."""
+    from workbench.compare import compare
+    ratio = RatioVerdict(2.0, 1.0, factor=1.5, noise=1.1, above="more", below="less", between="same", reason="")
+    difference = Verdict.of(0.02, threshold=0.05, margin=0.01, below=True, above=False, reason="")
+    now = {"ratio": ratio.to_json(), "difference": difference.to_json()}
+    before = {k: {key: v for key, v in record.items() if key != "kind"} for k, record in now.items()}
+    old, new = _with_conclusions(two_runs, "kindless", before), _with_conclusions(two_runs, "kinds", now)
+    comparison = compare(old, new)
+    assert not comparison.drifts and "results.conclusions.ratio.kind" in comparison.compared
+    assert "results.conclusions.difference.kind" not in comparison.compared
+    relabelled = _with_conclusions(two_runs, "relabelled", {**now, "ratio": {**now["ratio"], "kind": "band"}})
+    assert [d.path for d in compare(old, relabelled).drifts] == ["results.conclusions.ratio.kind"]
+    assert [d.path for d in compare(new, relabelled).drifts] == ["results.conclusions.ratio.kind"]
+
+
 def test_run_times_are_skipped_by_what_they_are(two_runs):
     """Keys ending in _s (and everything under them), _time_ratio keys, and values whose unit declares
     them drawn from run times (verdicts, a fit of run times as convergence's cost_growth.*.time_slope)

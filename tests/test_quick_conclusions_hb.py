@@ -5,7 +5,8 @@ As tests/test_quick_conclusions.py: each quick scene runs as a user would (workb
 its conclusions (``results["conclusions"]``) are held against the full scene's, recorded in
 tests/data/records/<scene>.json by `shroud record` (tests/test_records.py holds each record current). Resonances (taken on points not shown unstable) must agree within their
 own errors (speed: half the branch steps around each peak; amplitude: the change at twice the harmonics
-plus the rise between points), their stability and every verdict's answer exactly.
+plus the rise between points), their stability and every verdict's answer exactly ("not decided" on both
+sides included, though only a pair decided on both sides counts as held: tests/quick_full.py).
 """
 
 import json
@@ -52,7 +53,7 @@ def amplitude_tolerance(q: dict, f: dict) -> float:
 
 
 @pytest.mark.slow
-def test_hb_fig4_quick_agrees_with_full(tmp_path):
+def test_hb_fig4_quick_agrees_with_full(tmp_path, held):
     got = quick("hb_fig4", tmp_path)
     full = records.load("hb_fig4")["conclusions"]
     cases = got.keys() & full.keys()
@@ -60,23 +61,25 @@ def test_hb_fig4_quick_agrees_with_full(tmp_path):
     for case in cases:
         for model in ("reduced", "full"):
             same_resonance(got[case][model], full[case][model])
-        assert got[case]["same_resonance"]["answer"] == full[case]["same_resonance"]["answer"], case
+        assert held.same(got[case]["same_resonance"], full[case]["same_resonance"]), case
 
 
+@pytest.mark.holds_no_decided_verdict("issue 33: the full scene decides same_resonance at N0 0 N only, which the "
+                                      "quick scene (gap 100 um, gap 600 um, N0 10 N) does not run")
 @pytest.mark.fe
 @pytest.mark.slow
-def test_hb_fig7_quick_agrees_with_full(tmp_path):
+def test_hb_fig7_quick_agrees_with_full(tmp_path, held):
     got = quick("hb_fig7", tmp_path)
     full = records.load("hb_fig7")["conclusions"]
     cases = got.keys() & full.keys()
     assert cases
     for case in cases:
         same_resonance(got[case]["beam"], full[case]["beam"])
-        assert got[case]["same_resonance"]["answer"] == full[case]["same_resonance"]["answer"], case
+        assert held.same(got[case]["same_resonance"], full[case]["same_resonance"]), case
 
 
 @pytest.mark.slow
-def test_hb_gap_preload_quick_agrees_with_full(tmp_path):
+def test_hb_gap_preload_quick_agrees_with_full(tmp_path, held):
     got = quick("hb_gap_preload", tmp_path)
     full = records.load("hb_gap_preload")["conclusions"]
     cases = got["resonances"].keys() & full["resonances"].keys()
@@ -84,7 +87,7 @@ def test_hb_gap_preload_quick_agrees_with_full(tmp_path):
     for case in cases:
         same_resonance(got["resonances"][case], full["resonances"][case])
     key = "resonant_speed_rises_as_gap_closes"
-    assert got[key]["answer"] == full[key]["answer"]
+    assert held.same(got[key], full[key])
     # the optimal preload is not held: the quick scene has two preloads against the full scene's five
 
 

@@ -27,13 +27,62 @@ def _fresh_record(scene="stability"):
     """A record as `shroud record` writes it, of the current sources (the conclusions made up)."""
     rec = {"scene": scene, "study": records.study_of(scene), "command": f"shroud run scenes/{scene}.toml",
            "commit": "0123456789abcdef0123456789abcdef01234567",
-           "sources": records.file_hashes(records.sources_of(scene)), "conclusions": {"implicit_bounded": True}}
+           "sources": records.file_hashes(records.sources_of(scene)),
+           "physics": records.file_hashes(records.physics_of(scene)), "conclusions": {"implicit_bounded": True}}
     rec["digest"] = records.digest(rec)
     return rec
 
 
 def test_a_fresh_record_is_current():
-    assert records.check(_fresh_record()).current
+    rec = _fresh_record()
+    assert records.check(rec).current and records.physics_changes(rec) == ()
+
+
+def test_a_record_made_before_records_carried_physics_stays_current_and_says_so():
+    rec = _fresh_record()
+    del rec["physics"]
+    rec["digest"] = records.digest(rec)
+    assert records.check(rec).current and records.physics_changes(rec) is None
+
+
+def test_a_physics_change_leaves_a_record_current_but_behind():
+    rec = _fresh_record()
+    rec["physics"]["shroud/core/newmark.py"] = "0" * 64     # made when the integrator read otherwise
+    rec["digest"] = records.digest(rec)
+    assert records.check(rec).current
+    assert records.physics_changes(rec) == ("shroud/core/newmark.py",)
+    rec["physics"].pop("shroud/core/contact.py")             # and when the study did not reach the contact law
+    rec["digest"] = records.digest(rec)
+    assert records.physics_changes(rec) == ("shroud/core/contact.py", "shroud/core/newmark.py")
+    rec["physics"]["shroud/core/contact.py"] = "1" * 64
+    assert any("digest" in p for p in records.check(rec).problems)     # the physics is part of what it asserts
+
+
+def test_the_physics_follows_imports_to_the_models_the_registry_loads():
+    """stability integrates the beam (reduced_model, reached through the registry's entry points and lazy
+    loaders) with Newmark; table1 also takes the solid's modes (reference_fe) and the mesh (meshes)."""
+    stability, table1 = records.physics_of("stability"), records.physics_of("table1")
+    assert {"shroud/core/newmark.py", "shroud/core/contact.py", "reduced_model/system.py"} <= set(stability)
+    assert {"reference_fe/modal.py", "meshes/blade.py", "shroud/params.py"} <= set(table1)
+    assert not set(stability) & set(records.sources_of("stability"))     # a source is no physics of its own
+    assert not any(p.startswith("shroud/base/") for p in stability + table1)   # logging, cache: no physics
+
+
+def test_record_check_warns_of_a_record_a_physics_change_left_behind(tmp_path, monkeypatch, capsys):
+    from workbench.cli import main
+    behind = _fresh_record()
+    behind["physics"]["shroud/core/newmark.py"] = "0" * 64
+    behind["digest"] = records.digest(behind)
+    (tmp_path / "stability.json").write_text(json.dumps(behind))
+    monkeypatch.setattr(records, "RECORDS", tmp_path)
+    assert main(["record", "--check", "stability"]) == 0                  # a warning, not a failure
+    out = capsys.readouterr().out
+    assert "stability: current; physics changed since: shroud/core/newmark.py" in out
+    assert "warning:" in out and "shroud record stability" in out
+    behind["sources"]["comparisons/stability.py"] = "0" * 64               # a study source changed: stale
+    behind["digest"] = records.digest(behind)
+    (tmp_path / "stability.json").write_text(json.dumps(behind))
+    assert main(["record", "--check", "stability"]) == 3
 
 
 def test_a_record_edited_by_hand_is_refused():

@@ -132,7 +132,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names (default: every recorded scene)")
     p.add_argument("--stale", action="store_true", help="only the records that are missing or not current")
     p.add_argument("--check", action="store_true", help="run nothing: say which records are current; "
-                                                        "exit 3 if any is not")
+                                                        "exit 3 if any is not; warn of those a change "
+                                                        "of the physics they import has left behind")
     p.add_argument("--jobs", type=int, default=1, help="scenes run side by side (default 1)")
     return parser
 
@@ -385,12 +386,20 @@ def cmd_record(args) -> int:
         for path in made:
             print(path.relative_to(records.ROOT))
         return 0
-    stale = 0
+    stale, behind = 0, []
     for scene in args.scenes or records.RECORDED:
         path = records.RECORDS / f"{scene}.json"
-        problems = records.check(records.load(scene)).problems if path.is_file() else ("missing",)
+        record = records.load(scene) if path.is_file() else None
+        problems = records.check(record).problems if record else ("missing",)
         stale += bool(problems)
-        print(f"{scene}: " + ("current" if not problems else "; ".join(problems)))
+        changed = records.physics_changes(record) if record else ()
+        behind += [scene] if changed else []
+        physics = ("physics not recorded (made before digests)" if changed is None else
+                   f"physics changed since: {', '.join(changed)}" if changed else "physics as recorded")
+        print(f"{scene}: " + ("current" if not problems else "; ".join(problems)) + (f"; {physics}" if record else ""))
+    if behind:               # a warning: the quick tests hold the physics; the records are made again before it lands
+        print(f"warning: records a physics change has left behind, to make again before it lands: "
+              f"shroud record {' '.join(behind)}")
     return EXIT_GATE_FAILED if stale else 0
 
 

@@ -29,6 +29,12 @@ tolerance): such a number is held to |new - base| <= its spread (the larger
 of BASE's and NEW's declarations, never less than the default tolerance)
 instead, and the output says how many were and to what.
 
+A verdict's ``kind`` (how its threshold and margin read: difference, band,
+ratio) is held like a word. A run made before verdicts wrote their kind is
+read with the kind its unit tells (``shroud.core.verdict.kind_of``: a ratio);
+where it cannot tell (a difference and a band wrote alike) the kind is not
+compared, counted with the ignored values.
+
 A results.json without a ``status``, or two runs of different studies, are
 refused in one line. On campaign folders each scene's results.json is
 compared; paths start with the scene's name (``fig8/results.fig8.rpm``) and
@@ -48,7 +54,7 @@ from typing import Any, Sequence
 from workbench import junit
 from workbench.gates import children, is_number
 from shroud.base.errors import InputError
-from shroud.core.verdict import COSTS, ROUNDING, TIME_RATIO, declared_rounding, resource
+from shroud.core.verdict import COSTS, ROUNDING, TIME_RATIO, declared_rounding, is_verdict, kind_of, resource
 
 DEFAULT_RTOL = 1e-6
 DEFAULT_ATOL = 1e-12
@@ -198,6 +204,30 @@ class RunValues:
     costs: dict[str, str]            # path -> resource, of the values drawn from run time or memory
     rounded: dict[str, float]        # path -> declared rounding spread
     name: str                        # study or campaign title
+    untold: frozenset[str]           # paths of verdicts' kinds a run made before kinds cannot tell
+
+
+def kinds_of_old_verdicts(document: Any, prefix: str = "") -> dict[str, str | None]:
+    """Path of the ``kind`` -> kind as :func:`shroud.core.verdict.kind_of` tells it (None where it cannot)
+    of every verdict recorded before verdicts wrote their kind."""
+    found: dict[str, str | None] = {}
+    for segment, value in children(document):
+        path = f"{prefix}.{segment}" if prefix else segment
+        if is_verdict(value):
+            if "kind" not in value:
+                found[f"{path}.kind"] = kind_of(value)
+        elif isinstance(value, (dict, list)):
+            found.update(kinds_of_old_verdicts(value, path))
+    return found
+
+
+def _values(document: dict, prefix: str = "") -> tuple[dict[str, Any], set[str]]:
+    """Every scalar of ``document`` by path (a verdict made before kinds with the kind its unit tells), and
+    the paths of the kinds it cannot tell."""
+    old = {prefix + p: k for p, k in kinds_of_old_verdicts(document).items()}
+    values = {prefix + p: v for p, v in scalars(document).items()}
+    values.update({p: k for p, k in old.items() if k is not None})
+    return values, {p for p, k in old.items() if k is None}
 
 
 def run_values(folder: str | Path, key: str) -> RunValues:
@@ -207,19 +237,23 @@ def run_values(folder: str | Path, key: str) -> RunValues:
         raise InputError(key, f"{str(folder)!r} is not a folder; allowed: an output folder of shroud run")
     document = _record(folder / "results.json", key)
     if "campaign" not in document:
-        return RunValues(False, scalars(document), cost_paths(document), rounding_spreads(document),
-                         str(document.get("study")))
+        values, untold = _values(document)
+        return RunValues(False, values, cost_paths(document), rounding_spreads(document),
+                         str(document.get("study")), frozenset(untold))
     found: dict[str, Any] = {}
     costs: dict[str, str] = {}
     rounded: dict[str, float] = {}
+    untold: set[str] = set()
     for scene in document.get("scenes", []):
         record = folder / scene["results"]
         if record.is_file():          # a scene that never ran has no numbers: each of BASE's drifts
             run = _record(record, key)
-            found.update({f"{scene['name']}/{p}": v for p, v in scalars(run).items()})
+            values, unknown = _values(run, f"{scene['name']}/")
+            found.update(values)
+            untold |= unknown
             costs.update({f"{scene['name']}/{p}": v for p, v in cost_paths(run).items()})
             rounded.update({f"{scene['name']}/{p}": v for p, v in rounding_spreads(run).items()})
-    return RunValues(True, found, costs, rounded, str(document["campaign"]))
+    return RunValues(True, found, costs, rounded, str(document["campaign"]), frozenset(untold))
 
 
 def _record(path: Path, key: str) -> dict:
@@ -269,7 +303,8 @@ def compare(base: str | Path, new: str | Path, rtol: float = DEFAULT_RTOL, atol:
     patterns = DEFAULT_IGNORE + tuple(ignore)
     costs = {**b.costs, **n.costs}
     paths = list(b.values) + [p for p in n.values if p not in b.values]
-    held = [p for p in paths if p not in costs and not _ignored(p, patterns, n.campaign)]
+    untold = b.untold | n.untold          # kinds of verdicts one run recorded before kinds were written
+    held = [p for p in paths if p not in costs and p not in untold and not _ignored(p, patterns, n.campaign)]
     skipped = dict(Counter(costs[p] for p in paths if p in costs))
     rounded = {p: max(b.rounded.get(p, 0.0), n.rounded.get(p, 0.0)) for p in held
                if p in b.rounded or p in n.rounded}
@@ -316,7 +351,8 @@ def _skipped_words(comparison: Comparison) -> str:
     costs = sum(comparison.skipped.values())
     words = [f"{n} of {kind.replace('_', ' ')}" for kind, n in sorted(comparison.skipped.items())]
     skipped = (f"skipped as costs of the machine and rank count: {', '.join(words)}; " if words else "")
-    return f"{skipped}{comparison.ignored - costs} ignored by pattern"
+    return (f"{skipped}{comparison.ignored - costs} ignored by pattern or as the kind of a verdict recorded "
+            "before verdicts wrote their kind")
 
 
 def _rounded_sentence(comparison: Comparison) -> str:

@@ -13,8 +13,15 @@ anyone can make it again and tell that it is current, so each one names
   layer: shroud/analysis/agreement.py, coexistence.py). A record whose
   sources have changed since is stale; physics below the studies is held by
   the quick run itself;
-* ``digest``: the SHA-256 of its conclusions, sources and commit, so a
-  record edited by hand reads as such;
+* ``physics``: the files of the physics below the study that its sources
+  import, transitively within the project (shroud/, reduced_model/,
+  reference_fe/, meshes/: the integrator, the contact law, the models), each
+  with its SHA-256. A physics change does not make a record stale (the quick
+  run holds the physics), but ``shroud record --check`` lists the records it
+  has left behind, to be made again before the change lands. Records made
+  before records carried it lack it;
+* ``digest``: the SHA-256 of its conclusions, sources, physics (where it has
+  it) and commit, so a record edited by hand reads as such;
 * the command that made it, and (not compared) its run time and date.
 
 ``shroud record [SCENE ...]`` runs the named full scenes (default: every
@@ -28,9 +35,11 @@ from __future__ import annotations
 
 import ast
 import datetime
+import functools
 import hashlib
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -94,13 +103,78 @@ def sources_of(scene: str) -> list[str]:
     return [f"scenes/{scene}.toml"] + sorted(f"comparisons/{m}.py" for m in seen) + sorted(helpers)
 
 
+# The packages of the physics below the studies; and the studies' own (already sources), since a physics
+# module never imports one (layers).
+PHYSICS_PACKAGES = ("shroud", "reduced_model", "reference_fe", "meshes", "comparisons")
+NO_PHYSICS = "shroud/base/"     # errors, logging, cache, MPI helpers, Markdown: no physics (CONTRIBUTING.md)
+# A module named in a string, as the registry's lazy loaders, shroud.analysis.systems' SOLVERS and entry points
+# name them ("reduced_model.system", "reference_fe.transient:simulate"): imported at run time.
+_MODULE_NAMED = re.compile(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)+(:\w+)?")
+
+
+def _module_file(name: str) -> str | None:
+    """The project file (relative path) of the module ``name`` of a physics package; None for any other."""
+    parts = name.split(".")
+    if parts[0] not in PHYSICS_PACKAGES:
+        return None
+    base = ROOT.joinpath(*parts)
+    for path in (base.with_suffix(".py"), base / "__init__.py"):
+        if path.is_file() and not (found := path.relative_to(ROOT).as_posix()).startswith(NO_PHYSICS):
+            return found
+    return None
+
+
+def _entry_point_modules() -> set[str]:
+    """The modules the builders declare their models in (pyproject.toml, the registry's entry points)."""
+    import tomllib
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    return {v.split(":")[0] for v in project.get("entry-points", {}).get("shroud.models", {}).values()}
+
+
+@functools.lru_cache(maxsize=None)
+def _imported_files(path: str) -> frozenset[str]:
+    """Project files the module at ``path`` imports: by import statements anywhere in it (relative ones
+    resolved), by name in a string (importlib, lazy loaders), the builders' entry points for the registry,
+    and the packages whose ``__init__`` each of these imports runs."""
+    tree = ast.parse((ROOT / path).read_text(), filename=path)
+    package = path.split("/")[:-1]          # where a relative import starts (level 1: this module's package)
+    names = _entry_point_modules() if path == "shroud/core/registry.py" else set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            above = package[:len(package) - node.level + 1] if node.level else []
+            module = ".".join(above + ([node.module] if node.module else []))
+            names |= {module} | {f"{module}.{a.name}" for a in node.names}
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and _MODULE_NAMED.fullmatch(node.value):
+            names.add(node.value.split(":")[0])
+    files = set()
+    for name in names:
+        parts = name.split(".")
+        files |= {f for i in range(1, len(parts) + 1) if (f := _module_file(".".join(parts[:i])))}
+    return frozenset(files - {path})
+
+
+def physics_of(scene: str) -> list[str]:
+    """Paths of the project files below ``scene``'s sources that they import, transitively (the physics)."""
+    sources = sources_of(scene)
+    todo, seen = [p for p in sources if p.endswith(".py")], set()
+    while todo:
+        path = todo.pop()
+        if path not in seen:
+            seen.add(path)
+            todo.extend(_imported_files(path) - seen)
+    return sorted(seen - set(sources))
+
+
 def file_hashes(paths: list[str]) -> dict[str, str]:
     return {p: hashlib.sha256((ROOT / p).read_bytes()).hexdigest() for p in paths}
 
 
 def digest(record: dict) -> str:
-    """SHA-256 of what a record asserts: its conclusions, sources and commit."""
-    body = {k: record[k] for k in ("scene", "commit", "sources", "conclusions")}
+    """SHA-256 of what a record asserts: its conclusions, sources, physics (records made before records
+    carried it have none, and keep the digest they were made with) and commit."""
+    body = {k: record[k] for k in ("scene", "commit", "sources", "conclusions", "physics") if k in record}
     return hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
 
 
@@ -150,8 +224,17 @@ def check(record: dict) -> Staleness:
     return Staleness(tuple(problems))
 
 
-def load(scene: str, folder: Path = RECORDS) -> dict:
-    return json.loads((folder / f"{scene}.json").read_text())
+def physics_changes(record: dict) -> tuple[str, ...] | None:
+    """The physics files (:func:`physics_of`) changed, added or gone since ``record`` was made; None for a
+    record made before records carried them."""
+    if "physics" not in record:
+        return None
+    now, then = file_hashes(physics_of(record["scene"])), record["physics"]
+    return tuple(sorted(p for p in now.keys() | then.keys() if now.get(p) != then.get(p)))
+
+
+def load(scene: str, folder: Path | None = None) -> dict:
+    return json.loads(((folder or RECORDS) / f"{scene}.json").read_text())
 
 
 def make(scene: str, commit: str, folder: Path = RECORDS) -> Path:
@@ -170,7 +253,7 @@ def make(scene: str, commit: str, folder: Path = RECORDS) -> Path:
         raise RuntimeError(f"{scene}: the run ended {result.get('status')!r}, not complete")
     record = {"scene": scene, "study": study_of(scene), "command": "OMP_NUM_THREADS=1 " + " ".join(command),
               "commit": commit, "sources": file_hashes(sources_of(scene)),
-              "conclusions": result["results"]["conclusions"]}
+              "physics": file_hashes(physics_of(scene)), "conclusions": result["results"]["conclusions"]}
     record["digest"] = digest(record)
     record["elapsed_s"] = round(elapsed, 1)
     record["finished"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")

@@ -32,7 +32,11 @@ from dataclasses import dataclass
 from typing import Any
 
 NOT_DECIDED = "not decided"
-KEYS = ("answer", "value", "threshold", "margin", "unit", "reason")   # a verdict's JSON, in this order
+KEYS = ("answer", "value", "kind", "threshold", "margin", "unit", "reason")   # a verdict's JSON, in this order
+# How a verdict's JSON reads its threshold and margin (its "kind"): "difference" value against threshold +- margin
+# (Verdict); "band" |value| against the band +-threshold, +- margin at either edge (BandVerdict); "ratio" the
+# ratio a/b against a band of x threshold, margin a factor >= 1 at either edge (RatioVerdict).
+DIFFERENCE, BAND, RATIO = "difference", "band", "ratio"
 TIME_RATIO = "time ratio"   # the unit of a number or verdict drawn from run times: a timing, whatever its answer
 MEMORY_MB = "MB of memory"  # the unit of a memory size the run allocated (a factor's, a buffer's), 1e6 bytes
 MEMORY_RATIO = "memory ratio"   # ... of a ratio or a fit of memory sizes
@@ -85,8 +89,8 @@ class Verdict:
                 f" +- {fmt.format(self.margin)}{unit}: {self.reason})")
 
     def to_json(self) -> dict:
-        return {"answer": self.answer, "value": _finite_or_none(self.value), "threshold": self.threshold,
-                "margin": self.margin, "unit": self.unit, "reason": self.reason}
+        return {"answer": self.answer, "value": _finite_or_none(self.value), "kind": DIFFERENCE,
+                "threshold": self.threshold, "margin": self.margin, "unit": self.unit, "reason": self.reason}
 
 
 def _word(answer: Any) -> str:
@@ -124,7 +128,7 @@ class RatioVerdict:
     below: Any
     between: Any
     reason: str
-    unit: str = "ratio"
+    unit: str = RATIO       # records made before verdicts wrote their kind tell a ratio by it (kind_of)
 
     def __post_init__(self):
         if not (self.a > 0 and self.b > 0 and self.factor >= 1 and self.noise >= 1):
@@ -145,7 +149,7 @@ class RatioVerdict:
                 f" +- {_factor(self.noise)}: {self.reason})")
 
     def to_json(self) -> dict:
-        return {"answer": self.answer, "value": self.ratio, "threshold": self.factor,
+        return {"answer": self.answer, "value": self.ratio, "kind": RATIO, "threshold": self.factor,
                 "margin": self.noise, "unit": self.unit, "reason": self.reason}
 
 
@@ -189,8 +193,8 @@ class BandVerdict:
                 f" +- {fmt.format(self.margin)}{unit}: {self.reason})")
 
     def to_json(self) -> dict:
-        return {"answer": self.answer, "value": _finite_or_none(self.value), "threshold": self.band,
-                "margin": self.margin, "unit": self.unit, "reason": self.reason}
+        return {"answer": self.answer, "value": _finite_or_none(self.value), "kind": BAND,
+                "threshold": self.band, "margin": self.margin, "unit": self.unit, "reason": self.reason}
 
 
 def _three_way(x: float, edge: float, margin: float, above: Any, below: Any, between: Any) -> Any:
@@ -205,8 +209,22 @@ def _three_way(x: float, edge: float, margin: float, above: Any, below: Any, bet
 def is_verdict(document: Any) -> bool:
     """Whether a JSON value is a verdict's record (the keys of :meth:`Verdict.to_json`, in any order: a JSON
     object is unordered, and records are written with sorted keys), its round-off declared or not
-    (:func:`with_rounding`)."""
-    return isinstance(document, dict) and set(document) - {ROUNDING} == set(KEYS)
+    (:func:`with_rounding`), its ``kind`` written or not (records made before verdicts named their kind)."""
+    return isinstance(document, dict) and set(document) - {ROUNDING} in (set(KEYS), set(KEYS) - {"kind"})
+
+
+def kind_of(document: dict) -> str | None:
+    """How a verdict's record reads its threshold and margin (:data:`DIFFERENCE`, :data:`BAND`,
+    :data:`RATIO`). A record made before verdicts wrote their kind tells a ratio by its unit (only
+    RatioVerdicts wrote "ratio" or :data:`TIME_RATIO`); a difference and a band wrote alike there, so for
+    those it is None.
+
+    >>> kind_of({"unit": "ratio"}), kind_of({"unit": "%"}), kind_of({"kind": BAND, "unit": "%"})
+    ('ratio', None, 'band')
+    """
+    if "kind" in document:
+        return document["kind"]
+    return RATIO if document.get("unit") in (RATIO, TIME_RATIO) else None
 
 
 def cost(value: Any, unit: str) -> dict:
