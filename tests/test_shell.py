@@ -279,9 +279,9 @@ def test_the_naca_shell_carries_the_profiles_volume_on_the_solids_stacking_line(
 @pytest.mark.parametrize("rpm", [0.0, 10000.0])
 def test_the_naca_shell_is_within_1_5_percent_of_the_converged_solid(rpm):
     """The first five undamped frequencies against the solid's converged ones (cubic tetrahedra, 305 256 DOF;
-    tests/test_airfoil_solid.py), on the default 4 mm mesh: 0.12-0.72 % below (docs/shell.md, "The NACA
+    comparisons.airfoil.CONVERGED_HZ), on the default 4 mm mesh: 0.12-0.72 % below (docs/shell.md, "The NACA
     blade"). Without the shroud plate's arm stiffness flap1 at 10000 r/min was 1.52 % below."""
-    from test_airfoil_solid import CONVERGED
+    from comparisons.airfoil import CONVERGED_HZ
     out = run_json("modal", "--model", "shell", "--rpm", str(rpm), "--modes", "5", "--no-coriolis", *sets(NACA))
     f = np.array([m["f_hz"] for m in out["modes"]])
-    np.testing.assert_allclose(f, CONVERGED[rpm], rtol=0.015)
+    np.testing.assert_allclose(f, CONVERGED_HZ[rpm], rtol=0.015)
