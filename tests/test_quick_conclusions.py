@@ -212,7 +212,7 @@ def test_fig8_quick_agrees_with_full(tmp_path, held):
 @pytest.mark.fe
 @pytest.mark.slow
 def test_airfoil_quick_agrees_with_full(tmp_path, held):
-    """The same modes (the quick version keeps the solid and the beams) and the transients over 30
+    """The same modes (the quick version keeps the solid, the beams and the shell) and the transients over 30
     periods instead of 100: every frequency verdict and every transient comparison the same."""
     got, _ = quick("airfoil", tmp_path)
     full = full_conclusions("airfoil")

@@ -38,10 +38,21 @@ def plain_log(ax, which: str = "y") -> None:
     """A log scale on ``ax``'s ``which`` ("x" or "y") axis labelled in plain numbers: an axis spanning less than
     a decade has no power-of-ten tick, and matplotlib's default then labels its minor ticks as "4 x 10^0"."""
     from matplotlib.ticker import LogFormatter
+
+    class MinorLogFormatter(LogFormatter):
+        """Over one to two decades matplotlib labels the minor ticks 2, 3, 4, 6 of each: on an x axis 3 and
+        4 collide in a narrow panel; 2 and 5 alone keep the labels apart (a y axis stacks them: all kept)."""
+
+        def set_locs(self, locs=None):
+            super().set_locs(locs)
+            if self._sublabels is not None and 1 < len(self._sublabels) < 10:
+                self._sublabels = {1, 2, 5}
+
     getattr(ax, f"set_{which}scale")("log")
     axis = getattr(ax, f"{which}axis")
     axis.set_major_formatter(LogFormatter())
-    axis.set_minor_formatter(LogFormatter(labelOnlyBase=False, minor_thresholds=(2, 0.5)))
+    axis.set_minor_formatter((MinorLogFormatter if which == "x" else LogFormatter)(labelOnlyBase=False,
+                                                                                  minor_thresholds=(2, 0.5)))
 
 
 def save(fig, path: Path, top: float = 1.0) -> Path:
