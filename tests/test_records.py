@@ -121,7 +121,10 @@ def test_the_sources_follow_the_study_helpers_it_imports():
 
 @pytest.mark.slow
 def test_a_record_is_made_again_alike_from_a_clean_clone(tmp_path):
-    """`shroud record stability` in a fresh clone of HEAD gives back the committed record (timings aside)."""
+    """`shroud record stability` in a fresh clone of HEAD gives back the committed record (timings aside):
+    its conclusions and sources alike. The physics' hashes are left out: a physics change below the study
+    since the record was made is a warning of `shroud record --check`, not a stale record, and what this
+    test catches is whether it moved the conclusions."""
     if subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=records.ROOT,
                       capture_output=True, text=True).stdout.strip():
         pytest.skip("the work tree has uncommitted changes: a clone of HEAD would not hold them")
@@ -138,4 +141,5 @@ def test_a_record_is_made_again_alike_from_a_clean_clone(tmp_path):
     committed = records.load("stability")
     for key in records.TIMINGS + ("commit", "digest"):
         again.pop(key), committed.pop(key)
+    again.pop("physics"), committed.pop("physics", None)
     assert again == committed
