@@ -270,8 +270,8 @@ def write_sector_deck(params: Parameters, rpm: float, n_modes: int, path: Path, 
     symmetry model of ``ring.blades`` sectors about +Z, the side theta = +pi/N tied to the side -pi/N
     (*TIE, CYCLIC SYMMETRY; bore nodes clamped, out of the tie), its ``n_modes`` lowest modes of every
     nodal diameter diameters[0] .. diameters[1] (*SELECT CYCLIC SYMMETRY MODES); the steps and
-    ``prestress`` as :func:`write_deck`, without Coriolis (its *COMPLEX FREQUENCY does not take a
-    cyclic model). One material: refuses disk.E_factor != 1."""
+    ``prestress`` as :func:`write_deck`, without Coriolis (the *COMPLEX FREQUENCY step is not written:
+    not tried on a cyclic model). One material: refuses disk.E_factor != 1."""
     from meshes.disk import CYCLIC_HIGH, CYCLIC_LOW, DiskSpec, sector_mesh_file
     if params.disk.E_factor != 1.0:
         raise ValueError("the CalculiX sector has one material: disk.E_factor must be 1")
