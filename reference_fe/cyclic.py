@@ -140,7 +140,8 @@ class CyclicParts:
 
     all real. D lives on the rows and columns coupled to the high side only, so the real 2-copy form
     [[Re, -Im], [Im, Re]] is two copies of the sector joined there (Im taken as T^H A T's imaginary part,
-    every entry stored, made it 4 times as full and its factor 8 times as costly)."""
+    every entry stored, coupled the copies everywhere: 14.2 M nonzeros and 59 M factor entries on the
+    24-blade sector, 3.5 mm, against 7.3 M and 35 M)."""
 
     P: sp.csr_matrix
     S: sp.csr_matrix
