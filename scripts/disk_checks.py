@@ -75,8 +75,8 @@ def _richardson(sizes, f) -> tuple[float, float]:
 def calculix(out: str = "disk_calculix.json") -> None:
     """The 24-blade sector (3.5 mm, the benchmark's) against CalculiX's *CYCLIC SYMMETRY MODEL: k = 0 .. 12 on
     the same mesh (the two codes' difference), and CalculiX's own mesh convergence (3.5 / 2.8 / 2.2 mm,
-    Richardson) at k = 0 and 12, the ends of the disk's effect; the issue's 0.5 % read as a verdict whose
-    margin is the largest extrapolation step (finest mesh to the limit). Both codes: linear prestress,
+    Richardson) at k = 0 and 12, the ends of the disk's effect; the issue's 0.5 % read as one verdict per
+    mode whose margin is its extrapolation step (finest mesh to the limit). Both codes: linear prestress,
     stress stiffening and spin softening, no Coriolis (reference_fe.calculix). ccx's results are kept in
     ``out`` (JSON) and read back on a second run."""
     from reference_fe.calculix import run_calculix_sector
@@ -100,7 +100,7 @@ def calculix(out: str = "disk_calculix.json") -> None:
             for k, f in store[key]["f_hz"].items():
                 ccx.update({(h, rpm, int(k), j): v for j, v in enumerate(f)})
     sec = sector(Parameters().updated({**TETS, **DISK, "fe.mesh_size": sizes[0]}))
-    same, step, error = 0.0, 0.0, 0.0
+    same, checked = 0.0, []         # checked: (ours against ccx's limit, ccx 2.2 mm to its limit), per mode
     for rpm in SPEEDS:
         for k in range(top + 1):
             ours = diameter_modes(sec, rpm, k, 6, coriolis=False).f_hz
@@ -108,20 +108,22 @@ def calculix(out: str = "disk_calculix.json") -> None:
             same = max(same, np.abs(ours / theirs - 1).max())
             print(f"{rpm:g} r/min nd {k:2d} same mesh: " + " ".join(f"{f:.3f}/{g:.3f}" for f, g in zip(ours, theirs))
                   + f"  largest {np.abs(ours / theirs - 1).max():.1e}", flush=True)
-            if k in (0, top):
-                for j, f in enumerate(ours):
-                    limit, order = _richardson(sizes, [ccx[(h, rpm, k, j)] for h in sizes])
-                    step = max(step, abs(ccx[(sizes[-1], rpm, k, j)] / limit - 1))
-                    error = max(error, abs(f / limit - 1))
-                    print(f"   mode {j + 1}: ccx " + " / ".join(f"{ccx[(h, rpm, k, j)]:.3f}" for h in sizes)
-                          + f" -> {limit:.3f} Hz (order {order:.2f}); ours at 3.5 mm {100 * (f / limit - 1):+.3f} %")
-    print(f"largest: same mesh {same:.2e}; ours at 3.5 mm against ccx's limit {100 * error:.3f} %; "
-          f"ccx 2.2 mm to its limit {100 * step:.3f} %")
-    verdict = Verdict.of(100 * error, threshold=0.5, margin=100 * step, below="within 0.5 %", above="beyond 0.5 %",
-                         unit="%", reason="the 3.5 mm sector against CalculiX extrapolated from 3.5 / 2.8 / 2.2 mm "
-                         "(k = 0 and 12); margin: the largest step from ccx's 2.2 mm value to its limit")
-    print(verdict.sentence())
-
+            if k not in (0, top) or any((h, rpm, k, 0) not in ccx for h in sizes):
+                continue
+            for j, f in enumerate(ours):
+                limit, order = _richardson(sizes, [ccx[(h, rpm, k, j)] for h in sizes])
+                checked.append((abs(f / limit - 1), abs(ccx[(sizes[-1], rpm, k, j)] / limit - 1)))
+                print(f"   mode {j + 1}: ccx " + " / ".join(f"{ccx[(h, rpm, k, j)]:.3f}" for h in sizes)
+                      + f" -> {limit:.3f} Hz (order {order:.2f}); ours at 3.5 mm {100 * (f / limit - 1):+.3f} %")
+    print(f"largest same-mesh difference {same:.2e}")
+    # one verdict per mode (its own extrapolation step as margin); the one nearest 0.5 % printed
+    verdicts = [Verdict.of(100 * e, threshold=0.5, margin=100 * m, below="within 0.5 %", above="beyond 0.5 %",
+                           unit="%", reason="the 3.5 mm sector against CalculiX extrapolated from 3.5 / 2.8 / "
+                           "2.2 mm; margin: that mode's step from ccx's 2.2 mm value to its limit")
+                for e, m in checked]
+    if verdicts:
+        print(f"{len(verdicts)} modes, answers {sorted({v.answer for v in verdicts})}; nearest: "
+              + min(verdicts, key=lambda v: v.distance).sentence())
 
 if __name__ == "__main__":
     {"rigid": rigid, "convergence": convergence, "calculix": calculix}[sys.argv[1]](*sys.argv[2:])
