@@ -244,9 +244,11 @@ def write_mesh(spec: MeshSpec, path: Path) -> None:
         gmsh.finalize()
 
 
-def write_tetrahedra(gmsh, size: float, order: int, path: Path) -> None:
+def write_tetrahedra(gmsh, size: float, order: int, path: Path, untangle: bool = False) -> None:
     """Mesh the current gmsh model with tetrahedra of at most ``size`` (m), of polynomial order ``order``,
-    and write ``path`` (.msh 4.1): the blade's and the disk sector's meshes alike."""
+    and write ``path`` (.msh 4.1): the blade's and the disk sector's meshes alike. ``untangle``: gmsh's
+    high-order optimizer moves the edge nodes of curved cells whose Jacobian changes sign (the disk
+    sector's slivers between the plane root and the curved rim)."""
     gmsh.option.setNumber("Mesh.MeshSizeMax", size)
     gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
@@ -256,6 +258,8 @@ def write_tetrahedra(gmsh, size: float, order: int, path: Path) -> None:
     gmsh.option.setNumber("Mesh.Optimize", 1)
     gmsh.model.mesh.generate(3)
     gmsh.model.mesh.setOrder(order)
+    if untangle and order > 1:
+        gmsh.model.mesh.optimize("HighOrder")
     gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
     gmsh.write(str(path))
 

@@ -92,43 +92,53 @@ def write_deck(params: Parameters, rpm: float, n_modes: int, path: Path, corioli
     undeformed mesh, the centrifugal static step that keeps them, then the
     perturbation steps).
     """
+    spec = MeshSpec.from_params(params)
+    lines, facts = _model_lines(mesh_file(spec), spec, params.material)
+    path.write_text("\n".join(lines + _step_lines(rpm, n_modes, coriolis, prestress, initial_stress)) + "\n")
+    return facts
+
+
+def _step_lines(rpm: float, n_modes: int, coriolis: bool, prestress: str, initial_stress: np.ndarray | None,
+                frequency: tuple[str, ...] = ()) -> list[str]:
+    """The steps of :func:`write_deck` (``prestress`` and ``initial_stress`` as there); ``frequency``: more
+    lines of the *FREQUENCY step (the nodal diameters of a cyclic sector)."""
     if prestress not in PRESTRESS:
         raise ValueError(f"prestress {prestress!r}; allowed: {PRESTRESS}")
-    lines, facts = _model_lines(params)
     omega = 2.0 * math.pi * rpm / 60.0
     centrif = f"EALL, CENTRIF, {omega**2:.12e}, 0., 0., 0., 0., 0., 1."   # ccx reads <= 20 characters a number
-    perturbation = ["*FREQUENCY, STORAGE=YES", f"{n_modes}", "*NODE PRINT, NSET=NTIP", "U", "*END STEP"]
+    perturbation = ["*FREQUENCY, STORAGE=YES", f"{n_modes}", *frequency, "*NODE PRINT, NSET=NTIP", "U", "*END STEP"]
     if coriolis and omega > 0:
         perturbation += ["*STEP, PERTURBATION", "*COMPLEX FREQUENCY, CORIOLIS", f"{n_modes}",
                          "*DLOAD", centrif, "*END STEP"]
     if omega == 0:
-        lines += ["*STEP"] + perturbation
-    elif prestress == "nonlinear":
-        lines += ["*STEP, NLGEOM", "*STATIC", "1., 1.", "*DLOAD", centrif, "*END STEP",
-                  "*STEP, PERTURBATION"] + perturbation
-    elif initial_stress is None:
-        lines += ["*STEP", "*STATIC", "*DLOAD", centrif, "*EL PRINT, ELSET=EALL", "S", "*END STEP"]
-    else:
-        lines += ["*INITIAL CONDITIONS, TYPE=STRESS"]
-        lines += [f"{int(e)}, {int(g)}, " + ", ".join(f"{v:.7e}" for v in row)
-                  for e, g, *row in initial_stress.tolist()]
-        lines += ["*STEP", "*STATIC", "*DLOAD", centrif, "*END STEP", "*STEP, PERTURBATION"] + perturbation
-    path.write_text("\n".join(lines) + "\n")
-    return facts
+        return ["*STEP"] + perturbation
+    if prestress == "nonlinear":
+        return ["*STEP, NLGEOM", "*STATIC", "1., 1.", "*DLOAD", centrif, "*END STEP",
+                "*STEP, PERTURBATION"] + perturbation
+    if initial_stress is None:
+        return ["*STEP", "*STATIC", "*DLOAD", centrif, "*EL PRINT, ELSET=EALL", "S", "*END STEP"]
+    return (["*INITIAL CONDITIONS, TYPE=STRESS"]
+            + [f"{int(e)}, {int(g)}, " + ", ".join(f"{v:.7e}" for v in row) for e, g, *row in initial_stress.tolist()]
+            + ["*STEP", "*STATIC", "*DLOAD", centrif, "*END STEP", "*STEP, PERTURBATION"] + perturbation)
 
 
-def _model_lines(params: Parameters) -> tuple[list[str], dict]:
-    """Deck lines of the mesh, root clamp, tip set and material; the mesh facts."""
+def _node_lines(name: str, nodes: np.ndarray) -> list[str]:
+    """*NSET ``name`` of the (0-based) ``nodes``, 12 a line."""
+    return [f"*NSET, NSET={name}"] + [", ".join(str(v + 1) for v in nodes[i:i + 12]) for i in range(0, len(nodes), 12)]
+
+
+def _model_lines(path: Path, spec, material, sides: tuple[int, int] | None = None) -> tuple[list[str], dict]:
+    """Deck lines of the mesh ``path``, its ROOT facets clamped, tip set and ``material``; the mesh facts.
+    ``sides`` (low, high facet tags of a cyclic sector): their unclamped nodes as the sets NLOW, NHIGH."""
     import meshio
-    spec = MeshSpec.from_params(params)
-    mesh = meshio.read(mesh_file(spec))
+    mesh = meshio.read(path)
     blocks = [(b, ELEMENTS[b.type]) for b in mesh.cells if b.type in ELEMENTS]
     facets = [(b, mesh.cell_data["gmsh:physical"][i]) for i, b in enumerate(mesh.cells)
               if b.type in ("triangle6", "quad9")]
-    root = np.unique(np.concatenate([b.data[tag == ROOT].ravel() for b, tag in facets]))
+    on = lambda t: np.unique(np.concatenate([b.data[tag == t].ravel() for b, tag in facets]))
+    root = on(ROOT)
     used = np.unique(np.concatenate([b.data[:, :n].ravel() for b, (_, n) in blocks]))
     tip = [int(np.argmin(np.linalg.norm(mesh.points - p, axis=1))) for p in tip_points(spec)]
-    m = params.material
     lines = ["*HEADING", "shrouded blade (shroud workbench, reference_fe.calculix)", "*NODE, NSET=NALL"]
     lines += [f"{i + 1}, {x:.12e}, {y:.12e}, {z:.12e}" for i, (x, y, z) in zip(used.tolist(), mesh.points[used].tolist())]
     first = 1
@@ -141,10 +151,13 @@ def _model_lines(params: Parameters) -> tuple[list[str], dict]:
             if len(nodes) > 16:
                 lines.append(", ".join(nodes[16:]))
         first += len(b.data)
-    lines += ["*NSET, NSET=NROOT"] + [", ".join(str(v + 1) for v in root[i:i + 12]) for i in range(0, len(root), 12)]
+    lines += _node_lines("NROOT", root)
+    if sides is not None:     # the bore's nodes are clamped: out of the tie (a node both fixed and tied)
+        for name, tag in zip(("NLOW", "NHIGH"), sides):
+            lines += _node_lines(name, np.setdiff1d(on(tag), root))
     lines += ["*NSET, NSET=NTIP", ", ".join(str(v + 1) for v in tip),
               "*BOUNDARY", "NROOT, 1, 3, 0.",
-              "*MATERIAL, NAME=STEEL", "*ELASTIC", f"{m.E!r}, {m.nu!r}", "*DENSITY", f"{m.rho!r}",
+              "*MATERIAL, NAME=STEEL", "*ELASTIC", f"{material.E!r}, {material.nu!r}", "*DENSITY", f"{material.rho!r}",
               "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL"]
     return lines, {"element": blocks[0][1][0], "nodes": int(used.size), "tip_nodes": tip}
 
@@ -170,6 +183,25 @@ def read_frequencies(dat: str) -> tuple[np.ndarray, np.ndarray | None]:
     # *COMPLEX FREQUENCY: MODE, omega (rad/time), f (cycles/time), ...
     fc = np.sort(np.abs(out[1][:, 2])) if len(out) > 1 else None
     return f0, fc
+
+
+def read_cyclic_frequencies(dat: str, n_modes: int) -> dict[int, np.ndarray]:
+    """{nodal diameter: its ``n_modes`` lowest frequencies, Hz} from the .dat of a cyclic *FREQUENCY step.
+    CalculiX solves every nodal diameter (0 and N/2 too) on the sector doubled, cosine and sine parts:
+    each frequency comes twice, and the deck asks for 2 ``n_modes``."""
+    found: dict[int, list[float]] = {}
+    for block in dat.split("E I G E N V A L U E   O U T P U T")[1:]:
+        for line in block.split("P A R T I C I P A T I O N")[0].splitlines():
+            parts = line.split()    # ND, MODE, EIGENVALUE, omega (rad/time), f (cycles/time), imaginary omega
+            if len(parts) == 6 and parts[0].isdigit() and parts[1].isdigit():
+                found.setdefault(int(parts[0]), []).append(float(parts[4].replace("D", "E")))
+    out = {}
+    for nd, f in found.items():
+        f = np.sort(f)
+        if f.size < 2 * n_modes or not np.allclose(f[0::2], f[1::2], rtol=1e-6):
+            raise RuntimeError(f"ccx: nodal diameter {nd} has {f.size} frequencies, not {n_modes} pairs")
+        out[nd] = f[0::2][:n_modes]
+    return out
 
 
 def read_tip_shapes(dat: str, n_modes: int) -> np.ndarray:
@@ -205,23 +237,63 @@ def run_calculix(params: Parameters, rpm: float, n_modes: int, workdir: Path,
     ``prestress``: "linear" (the documented model, two runs) or "nonlinear"
     (NLGEOM, one run); see the module docstring. ``wall_s`` sums the runs.
     """
+    dat, facts, wall = _run_prestressed(
+        lambda path, stress: write_deck(params, rpm, n_modes, path, coriolis, prestress, stress),
+        workdir, "blade", linear=prestress == "linear" and rpm > 0)
+    f0, fc = read_frequencies(dat)
+    labels, _ = label_modes(tip_kinematics(MeshSpec.from_params(params), read_tip_shapes(dat, len(f0))))
+    return CalculixModes(f_hz=f0, f_coriolis_hz=fc, labels=tuple(labels), element=facts["element"],
+                         dofs=3 * facts["nodes"], wall_s=wall)
+
+
+def _run_prestressed(write, workdir: Path, job: str, linear: bool) -> tuple[str, dict, float]:
+    """(text of ``job``.dat, mesh facts, wall s of the ccx runs) of the deck ``write(path, stress)`` writes;
+    ``linear``: the linear prestress's two runs (the first one's stresses given to the second)."""
     exe = ccx()
     if exe is None:
         raise FileNotFoundError("ccx (CalculiX) is not installed")
     workdir.mkdir(parents=True, exist_ok=True)
     wall = 0.0
     stress = None
-    if prestress == "linear" and rpm > 0:
-        write_deck(params, rpm, n_modes, workdir / "prestress.inp", coriolis, prestress)
+    if linear:
+        write(workdir / "prestress.inp", None)
         wall += _run(exe, workdir, "prestress")
         stress = read_stresses((workdir / "prestress.dat").read_text())
-    facts = write_deck(params, rpm, n_modes, workdir / "blade.inp", coriolis, prestress, stress)
-    wall += _run(exe, workdir, "blade")
-    dat = (workdir / "blade.dat").read_text()
-    f0, fc = read_frequencies(dat)
-    labels, _ = label_modes(tip_kinematics(MeshSpec.from_params(params), read_tip_shapes(dat, len(f0))))
-    return CalculixModes(f_hz=f0, f_coriolis_hz=fc, labels=tuple(labels), element=facts["element"],
-                         dofs=3 * facts["nodes"], wall_s=wall)
+    facts = write(workdir / f"{job}.inp", stress)
+    wall += _run(exe, workdir, job)
+    return (workdir / f"{job}.dat").read_text(), facts, wall
+
+
+def write_sector_deck(params: Parameters, rpm: float, n_modes: int, path: Path, prestress: str,
+                      initial_stress: np.ndarray | None = None, diameters: tuple[int, int] = (0, 0)) -> dict:
+    """Write ``path`` (.inp): the disk sector of ``params`` (meshes.disk, docs/disk.md) as a CalculiX cyclic
+    symmetry model of ``ring.blades`` sectors about +Z, the side theta = +pi/N tied to the side -pi/N
+    (*TIE, CYCLIC SYMMETRY; bore nodes clamped, out of the tie), its ``n_modes`` lowest modes of every
+    nodal diameter diameters[0] .. diameters[1] (*SELECT CYCLIC SYMMETRY MODES); the steps and
+    ``prestress`` as :func:`write_deck`, without Coriolis (the *COMPLEX FREQUENCY step is not written:
+    not tried on a cyclic model). One material: refuses disk.E_factor != 1."""
+    from meshes.disk import CYCLIC_HIGH, CYCLIC_LOW, DiskSpec, sector_mesh_file
+    if params.disk.E_factor != 1.0:
+        raise ValueError("the CalculiX sector has one material: disk.E_factor must be 1")
+    spec = DiskSpec.from_params(params)
+    lines, facts = _model_lines(sector_mesh_file(spec), spec, params.material, (CYCLIC_LOW, CYCLIC_HIGH))
+    lines += ["*SURFACE, NAME=SLOW, TYPE=NODE", "NLOW", "*SURFACE, NAME=SHIGH, TYPE=NODE", "NHIGH",
+              "*TIE, NAME=CYCLIC, CYCLIC SYMMETRY", "SHIGH, SLOW",
+              f"*CYCLIC SYMMETRY MODEL, N={spec.blades}, TIE=CYCLIC", "0., 0., 0., 0., 0., 1."]
+    select = (f"*SELECT CYCLIC SYMMETRY MODES, NMIN={diameters[0]}, NMAX={diameters[1]}",)
+    steps = _step_lines(rpm, 2 * n_modes, False, prestress, initial_stress, select)    # each frequency twice
+    path.write_text("\n".join(lines + steps) + "\n")
+    return facts
+
+
+def run_calculix_sector(params: Parameters, rpm: float, n_modes: int, workdir: Path, diameters: tuple[int, int],
+                        prestress: str = "linear") -> tuple[dict[int, np.ndarray], float]:
+    """({nd: the ``n_modes`` lowest frequencies, Hz} for nd = diameters[0] .. diameters[1], wall s of ccx)
+    of the disk sector (:func:`write_sector_deck`), at ``rpm`` without Coriolis."""
+    dat, _, wall = _run_prestressed(
+        lambda path, stress: write_sector_deck(params, rpm, n_modes, path, prestress, stress, diameters),
+        workdir, "sector", linear=prestress == "linear" and rpm > 0)
+    return read_cyclic_frequencies(dat, n_modes), wall
 
 
 def _run(exe: str, workdir: Path, job: str) -> float:

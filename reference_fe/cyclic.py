@@ -12,11 +12,15 @@ of the side -pi/N turned by phi = 2 pi / N, and
 T_k sparse (identity on q's DOFs, the 3 x 3 blocks exp(i k phi) R on the
 high side's rows, zero rows on the clamped bore). The sector's operators of
 nodal diameter k are T_k^H A T_k (Hermitian for K, M; skew-Hermitian for
-the Coriolis G), complex; real PETSc/SLEPc solves their real 2-copy form
-(diameter_modes): option (b) of issue 35. (scipy's complex SuperLU and
-ARPACK on the complex form, half the size, took 170-210 s and 11 GB per
-nodal diameter on the 87 447-DOF N = 4 sector, order 2, size 3.5 mm, on
-the loaded machine.)
+the Coriolis G), complex; with T_k = T_I + exp(i k phi) T_H they are
+P + cos(k phi) S + i sin(k phi) D with P, S, D real and reduced once for
+every k (CyclicParts), D only on the rows coupled to the high side. Real
+PETSc factors their real 2-copy form [[Re, -Im], [Im, Re]] (MUMPS, one
+symbolic analysis for every 0 < k < N/2: the pattern is the same); the
+modes come from SLEPc for the real k = 0, N/2 and from ARPACK on the complex
+Hermitian pencil for the others (each frequency once). (scipy's complex
+SuperLU and ARPACK on the complex form took 170-210 s and 11 GB per nodal
+diameter on the 87 447-DOF N = 4 sector, order 2, size 3.5 mm.)
 
 Prestress: the static centrifugal state of the whole sector, disk included,
 is the k = 0 one, K_e,0 q0 = T_0^T f_c (T_0 real); sigma0 of u0 = T_0 q0
@@ -44,6 +48,7 @@ from dataclasses import dataclass
 import dolfinx_solver  # noqa: F401  (must precede dolfinx / petsc4py)
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 import ufl
 from dolfinx import fem
 from mpi4py import MPI
@@ -53,7 +58,7 @@ from scipy.spatial import cKDTree
 from meshes.disk import CYCLIC_HIGH, CYCLIC_LOW, DISK, DiskSpec, rotation_z, sector_mesh_file
 from meshes.spec import CONTACT_SIDE1, CONTACT_SIDE2, ROOT, shroud_frame, tip_points
 from reference_fe.contact_faces import face_nodes
-from reference_fe.modal import GYROSCOPIC_EXTRA, tip_components, undamped_modes
+from reference_fe.modal import GYROSCOPIC_EXTRA, lowest_vibration_modes, tip_components, undamped_modes
 from reference_fe.solid import (SolidModel, _dx, _tip_dofs, _unit_forms, assemble_matrix, assemble_vector,
                                 epsilon, lu_solver, read_mesh, sigma)
 from shroud.base.log import Progress, info
@@ -86,27 +91,79 @@ class Sector:
 
     def transformation(self, nd: int) -> sp.csr_matrix:
         """T_k (n_all, n_reduced), complex: u = T_k q under the constraint of nodal diameter ``nd``."""
-        return transformation(self.M.shape[0], self.clamped, self.low, self.high, self.pitch, nd)
+        T_I, T_H = self.transformation_parts
+        return (T_I + np.exp(1j * nd * self.pitch) * T_H).tocsr()
+
+    @functools.cached_property
+    def transformation_parts(self) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        """(T_I, T_H), real: T_k = T_I + exp(i k pitch) T_H (:func:`transformation_parts`)."""
+        return transformation_parts(self.M.shape[0], self.clamped, self.low, self.high, self.pitch)
+
+    @functools.lru_cache(maxsize=2)
+    def stiffness_parts(self, omega2: float) -> "CyclicParts":
+        """K_e + omega2 K_rot1 (omega2 in rad^2/s^2) split as :class:`CyclicParts`, kept for the sweep over k."""
+        return self.reduced["K_e"].plus(self.reduced["K_rot1"], omega2)
+
+    @functools.cached_property
+    def reduced(self) -> dict[str, "CyclicParts"]:
+        """K_e, K_rot1, M, G1 split once for every nodal diameter (:class:`CyclicParts`)."""
+        T_I, T_H = self.transformation_parts
+        return {name: CyclicParts.of(getattr(self, name), T_I, T_H) for name in ("K_e", "K_rot1", "M", "G1")}
 
 
-def transformation(n: int, clamped: np.ndarray, low: np.ndarray, high: np.ndarray, pitch: float,
-                   nd: int) -> sp.csr_matrix:
-    """T_k (n, n_reduced) of nodal diameter ``nd``: identity on the kept DOFs (neither ``clamped`` nor on the
-    ``high`` nodes), u_h = exp(i k pitch) R(pitch) u_l on each high node h paired with the low node l."""
+def transformation_parts(n: int, clamped: np.ndarray, low: np.ndarray, high: np.ndarray,
+                         pitch: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """(T_I, T_H), both (n, n_reduced) and real, of T_k = T_I + exp(i k pitch) T_H: T_I the identity on the
+    kept DOFs (neither ``clamped`` nor on the ``high`` nodes), T_H the blocks R(pitch) taking each low node l
+    to the high node h paired with it (u_h = exp(i k pitch) R(pitch) u_l)."""
     eliminated = np.zeros(n, dtype=bool)
     eliminated[clamped] = True
     eliminated[(3 * high[:, None] + np.arange(3)).ravel()] = True
     kept = np.flatnonzero(~eliminated)
     column = np.full(n, -1, dtype=np.int64)
     column[kept] = np.arange(kept.size)
-    block = np.exp(1j * nd * pitch) * rotation_z(pitch)
     rows = (3 * high[:, None, None] + np.arange(3)[None, :, None]).repeat(3, axis=2)
     cols = column[3 * low[:, None, None] + np.arange(3)[None, None, :]].repeat(3, axis=1)
-    values = np.broadcast_to(block, rows.shape)
-    T = sp.coo_matrix((np.concatenate([np.ones(kept.size), values.ravel()]),
-                       (np.concatenate([kept, rows.ravel()]), np.concatenate([np.arange(kept.size), cols.ravel()]))),
-                      shape=(n, kept.size))
-    return T.tocsr()
+    values = np.broadcast_to(rotation_z(pitch), rows.shape)
+    T_I = sp.csr_matrix((np.ones(kept.size), (kept, np.arange(kept.size))), shape=(n, kept.size))
+    T_H = sp.csr_matrix((values.ravel(), (rows.ravel(), cols.ravel())), shape=(n, kept.size))
+    return T_I, T_H
+
+
+@dataclass(frozen=True)
+class CyclicParts:
+    """A real operator A of the sector (on all its DOFs) reduced for every nodal diameter at once:
+    with T_k = T_I + e T_H (e = exp(i k pitch)),
+
+        T_k^H A T_k = P + cos(k pitch) S + i sin(k pitch) D,
+        P = T_I^T A T_I + T_H^T A T_H,   S = Q + Q',   D = Q - Q',   Q = T_I^T A T_H,   Q' = T_H^T A T_I,
+
+    all real. D lives on the rows and columns coupled to the high side only, so the real 2-copy form
+    [[Re, -Im], [Im, Re]] is two copies of the sector joined there (Im taken as T^H A T's imaginary part,
+    every entry stored, coupled the copies everywhere: 14.2 M nonzeros and 59 M factor entries on the
+    24-blade sector, 3.5 mm, against 7.3 M and 35 M)."""
+
+    P: sp.csr_matrix
+    S: sp.csr_matrix
+    D: sp.csr_matrix
+
+    @classmethod
+    def of(cls, A: sp.csr_matrix, T_I: sp.csr_matrix, T_H: sp.csr_matrix) -> "CyclicParts":
+        Q, Qt = T_I.T @ (A @ T_H), T_H.T @ (A @ T_I)
+        return cls((T_I.T @ (A @ T_I) + T_H.T @ (A @ T_H)).tocsr(), (Q + Qt).tocsr(), (Q - Qt).tocsr())
+
+    def plus(self, other: "CyclicParts", weight: float) -> "CyclicParts":
+        """self + weight other."""
+        return CyclicParts(self.P + weight * other.P, self.S + weight * other.S, self.D + weight * other.D)
+
+    def at(self, nd: int, pitch: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        """(Re, Im) of T_k^H A T_k for nodal diameter ``nd``; Im exactly zero for k = 0 and N/2 (sin = 0)."""
+        if nd == 0:
+            return self.P + self.S, None
+        angle = nd * pitch
+        if abs(math.sin(angle)) < 1e-12:         # k = N/2: cos = -1
+            return self.P - self.S, None
+        return self.P + math.cos(angle) * self.S, math.sin(angle) * self.D
 
 
 @dataclass(frozen=True)
@@ -202,9 +259,10 @@ def _sector(spec: DiskSpec, material: Material, disk_E_factor: float) -> Sector:
     M = _csr(assemble_matrix(forms["m"], model.bcs, 0.0))
     K_e = _csr(assemble_matrix(forms["k_e"], model.bcs, 1.0))
     f_c1 = assemble_vector(forms["f_c"], model.bcs).getArray().copy()
-    T0 = transformation(M.shape[0], clamped, low, high, spec.pitch, 0).real    # the prestress: the k = 0 state
+    T_I, T_H = transformation_parts(M.shape[0], clamped, low, high, spec.pitch)
+    T0 = (T_I + T_H).tocsr()                  # the prestress: the k = 0 state
     u0 = fem.Function(V, name="prestatic_displacement_1rad_s")
-    prestress = _Factor(_reduced(T0, K_e), copies=1)
+    prestress = _Factor((T0.T @ (K_e @ T0)).tocsr(), None)
     u0.x.array[:] = (T0 @ prestress.solve(T0.T @ f_c1)).real.ravel()
     prestress.destroy()
     G1 = _csr(assemble_matrix(forms["g"], model.bcs, 0.0))
@@ -246,37 +304,71 @@ def _petsc(A: sp.spmatrix):
                                                     A.data), comm=MPI.COMM_SELF)
 
 
-def real_form(A: sp.spmatrix, copies: int) -> sp.csr_matrix:
-    """The real operator of the complex A on (Re q, Im q): A itself (``copies`` 1: A real, k = 0 or N/2)
-    or [[Re A, -Im A], [Im A, Re A]] (2), symmetric when A is Hermitian, each eigenvalue twice."""
-    if copies == 1:
-        return sp.csr_matrix(A.real)
-    return sp.bmat([[A.real, -A.imag], [A.imag, A.real]], format="csr")
+def real_form(re: sp.spmatrix, im: sp.spmatrix | None) -> sp.csr_matrix:
+    """The real operator of the complex re + i im on (Re q, Im q): ``re`` itself (``im`` None: k = 0 or
+    N/2) or [[re, -im], [im, re]], symmetric when re + i im is Hermitian, each eigenvalue twice."""
+    if im is None:
+        return sp.csr_matrix(re)
+    return sp.bmat([[re, -im], [im, re]], format="csr")
+
+
+def _complex(re: sp.spmatrix, im: sp.spmatrix | None) -> sp.csr_matrix:
+    return sp.csr_matrix(re) if im is None else (re + 1j * im).tocsr()
 
 
 class _Factor:
-    """A MUMPS L D L^T of the real form of the Hermitian K_k, solving K_k x = b for complex columns b."""
+    """A MUMPS L D L^T of the real form of the Hermitian K_k = re + i im, solving K_k x = b for complex b.
 
-    def __init__(self, K: sp.spmatrix, copies: int):
-        self.copies, self.n = copies, K.shape[0]
-        self.K = _petsc(real_form(K, copies))
+    :meth:`update` refactors it for another nodal diameter: the real forms of every 0 < k < N/2 share one
+    sparsity pattern (CyclicParts), so MUMPS keeps its ordering and symbolic analysis (a third of a factor's
+    cost on the 24-blade sector) and redoes the numbers only."""
+
+    def __init__(self, re: sp.spmatrix, im: sp.spmatrix | None):
+        self.copies, self.n = (1 if im is None else 2), re.shape[0]
+        self.A = _sorted(real_form(re, im))
+        self.K = _petsc(self.A)
         self.ksp = lu_solver(self.K, MPI.COMM_SELF, "shroud_cyclic_k_", symmetric=True)
         self.ksp.setUp()
         self.F = self.ksp.getPC().getFactorMatrix()     # held apart: the eigen-solver resets the KSP
 
+    def update(self, re: sp.spmatrix, im: sp.spmatrix | None) -> "_Factor":
+        """This factor refactored for re + i im if its real form has this one's pattern, else a new one."""
+        A = _sorted(real_form(re, im))
+        if (1 if im is None else 2) != self.copies or not (np.array_equal(A.indptr, self.A.indptr)
+                                                          and np.array_equal(A.indices, self.A.indices)):
+            self.destroy()
+            return _Factor(re, im)
+        self.A = A
+        self.K.setValuesCSR(A.indptr.astype(PETSc.IntType), A.indices.astype(PETSc.IntType), A.data)
+        self.K.assemble()
+        self.ksp.setOperators(self.K)
+        self.ksp.setUp()
+        self.F = self.ksp.getPC().getFactorMatrix()
+        return self
+
     def solve(self, B: np.ndarray) -> np.ndarray:
+        """K_k^-1 B for the complex columns of B (n, m): one multi-column MUMPS solve (the factor read once)."""
         B = np.asarray(B, dtype=complex).reshape(self.n, -1)
-        rhs = [np.concatenate([b.real, b.imag]) for b in B.T] if self.copies == 2 else \
-            [part for b in B.T for part in (b.real, b.imag)]
-        x, y = self.K.createVecs()
-        out = []
-        for r in rhs:
-            y.setArray(r)
-            self.F.solve(y, x)
-            out.append(x.getArray().copy())
         if self.copies == 2:
-            return np.column_stack([u[:self.n] + 1j * u[self.n:] for u in out])
-        return np.column_stack([out[2 * j] + 1j * out[2 * j + 1] for j in range(B.shape[1])])
+            rhs = np.vstack([B.real, B.imag])
+        else:
+            rhs = np.column_stack([B.real, B.imag])
+        if rhs.shape[1] == 1:
+            x, y = self.K.createVecs()
+            y.setArray(rhs[:, 0])
+            self.F.solve(y, x)
+            out = x.getArray().copy()[:, None]
+        else:
+            Y, X = (PETSc.Mat().createDense(rhs.shape, array=np.asfortranarray(a), comm=MPI.COMM_SELF)
+                    for a in (rhs, np.zeros_like(rhs)))
+            self.F.matSolve(Y, X)
+            out = X.getDenseArray().copy()
+            Y.destroy()
+            X.destroy()
+        if self.copies == 2:
+            return out[:self.n] + 1j * out[self.n:]
+        m = B.shape[1]
+        return out[:, :m] + 1j * out[:, m:]
 
     def destroy(self) -> None:
         self.ksp.destroy()
@@ -284,34 +376,63 @@ class _Factor:
         self.K.destroy()
 
 
+def _sorted(A: sp.csr_matrix) -> sp.csr_matrix:
+    A.sort_indices()
+    return A
+
+
+def _hermitian_modes(factor: _Factor, M: sp.csr_matrix, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """(f Hz, M-normalized complex shapes) of the ``count`` lowest modes of the Hermitian pencil (K_k, M_k),
+    by ARPACK (shift-invert about 0; K_k^-1 from ``factor``, one real solve of the 2-copy form per complex
+    vector). Each frequency comes once: SLEPc on the real 2-copy form finds each twice, with twice the
+    Krylov basis and solves (and twice the columns in the Coriolis basis after it)."""
+    n = M.shape[0]
+    inverse = spla.LinearOperator((n, n), matvec=lambda b: factor.solve(b).ravel(), dtype=complex)
+    lam, X = spla.eigsh(M, k=count, M=M, sigma=0.0, which="LM", OPinv=inverse, tol=1e-10,
+                        v0=np.full(n, 1.0 + 1.0j))      # M in place of K: unused by shift-invert with OPinv
+    keep = lowest_vibration_modes(lam, count, "ARPACK")
+    X = X[:, keep]
+    X = X / np.sqrt(np.real(np.einsum("ij,ij->j", X.conj(), M @ X)))
+    return np.sqrt(lam[keep]) / (2 * np.pi), X
+
+
 def diameter_modes(sec: Sector, rpm: float, nd: int, n_modes: int, coriolis: bool,
-                   stuck: tuple[float, float] | None = None) -> DiameterModes:
+                   stuck: tuple[float, float] | None = None, factors: dict | None = None) -> DiameterModes:
     """The ``n_modes`` lowest modes of nodal diameter ``nd`` at ``rpm`` (with Coriolis if asked and spinning);
     ``stuck`` (kn, kt), N/m: the shroud interfaces joined by those springs (ShroudPairs.springs), else free.
+    ``factors``: {copies: _Factor} kept across the calls of one sweep over k (the caller destroys them),
+    refactored in place where the pattern allows (:meth:`_Factor.update`); None: one factor, destroyed here.
 
-    SLEPc (Krylov-Schur, shift-invert about 0, MUMPS) on the real form of
-    (K_k, M_k): for 0 < k < N/2 each frequency comes twice, its two
-    eigenvectors (Re x, Im x) and (-Im x, Re x) being x and i x of one
-    complex shape x = Re x + i Im x.
+    The operators of nodal diameter k from the sector's once-reduced parts
+    (Sector.reduced, CyclicParts); K_k factored once (MUMPS L D L^T of its
+    real form); its modes by SLEPc (Krylov-Schur, shift-invert about 0) for
+    the real k = 0 and N/2, by ARPACK on the complex Hermitian pencil
+    (:func:`_hermitian_modes`) for the others.
     """
     omega = 2.0 * math.pi * rpm / 60.0
+    parts, pitch = sec.reduced, sec.pitch
+    K_re, K_im = sec.stiffness_parts(omega**2).at(nd, pitch)
+    M_re, M_im = parts["M"].at(nd, pitch)
     T = sec.transformation(nd)
-    copies = 1 if nd == 0 or 2 * nd == sec.model.spec.blades else 2
-    K_all = sec.K_e + omega**2 * sec.K_rot1
-    if stuck is not None:
-        K_all = K_all + sec.contact.springs(K_all.shape[0], nd, sec.pitch, *stuck)
-    K = _reduced(T, K_all)
-    M = _reduced(T, sec.M)
-    factor = _Factor(K, copies)
+    if stuck is not None:         # the springs on the contact faces' DOFs only: reduced by T_k itself
+        Z = _reduced(T, sec.contact.springs(T.shape[0], nd, pitch, *stuck))
+        K_re = K_re + sp.csr_matrix(Z.real)
+        K_im = None if K_im is None else K_im + sp.csr_matrix(Z.imag)
+    copies = 1 if K_im is None else 2
+    held = factors if factors is not None else {}
+    factor = held[copies] = held[copies].update(K_re, K_im) if copies in held else _Factor(K_re, K_im)
     gyroscopic = coriolis and omega > 0
     count = n_modes + (GYROSCOPIC_EXTRA if gyroscopic else 0)
-    Mr = _petsc(real_form(M, copies))
-    f_all, vectors = undamped_modes(factor.K, Mr, MPI.COMM_SELF, copies * count, factor.ksp)
-    n = K.shape[0]
-    X = np.column_stack([v.getArray()[:n] + (1j * v.getArray()[n:] if copies == 2 else 0.0) for v in vectors])
-    Mr.destroy()
+    if K_im is None:              # real: SLEPc on (K_k, M_k) themselves
+        Mr = _petsc(M_re)
+        f_hz, vectors = undamped_modes(factor.K, Mr, MPI.COMM_SELF, count, factor.ksp)
+        X = np.column_stack([v.getArray().astype(complex) for v in vectors])
+        Mr.destroy()
+    else:
+        f_hz, X = _hermitian_modes(factor, _complex(M_re, M_im), count)
     if gyroscopic:
-        G = _reduced(T, omega * sec.G1)
+        K, M = _complex(K_re, K_im), _complex(M_re, M_im)
+        G = omega * _complex(*parts["G1"].at(nd, pitch))
         V = np.hstack([X, factor.solve(G @ X)])
         Mb, Kb, Gb = (V.conj().T @ (A @ V) for A in (M, K, G))
         w, U = np.linalg.eigh(0.5 * (Mb + Mb.conj().T))
@@ -320,12 +441,13 @@ def diameter_modes(sec: Sector, rpm: float, nd: int, n_modes: int, coriolis: boo
         found = gyroscopic_modes(np.eye(Kr.shape[0]), 0.5 * (Kr + Kr.conj().T), n_modes, 0.5 * (Gr - Gr.conj().T))
         f_hz, shapes = found.f_hz, V @ (basis @ found.shapes)
     else:
-        f_hz, shapes = f_all[::copies][:n_modes], X[:, ::copies][:, :n_modes]
-    factor.destroy()
+        f_hz, shapes = f_hz[:n_modes], X[:, :n_modes]
+    if factors is None:
+        factor.destroy()
     full = T @ shapes
     tip = np.array([np.abs(_tip(sec, full[:, j])) for j in range(full.shape[1])])
-    labels, parts = label_modes(tip)
-    return DiameterModes(nd=nd, f_hz=np.asarray(f_hz), labels=tuple(labels), participation=tuple(parts),
+    labels, participation = label_modes(tip)
+    return DiameterModes(nd=nd, f_hz=np.asarray(f_hz), labels=tuple(labels), participation=tuple(participation),
                          coriolis=coriolis, shapes=full)
 
 
@@ -345,11 +467,13 @@ def sector_modal(params: Parameters, rpm: float, n_modes: int, coriolis: bool,
     stuck = (c.kn, c.kt) if interface == "stuck" and sec.contact is not None and c.enabled else None
     diameters = nodal_diameters(params.ring.blades)
     progress = Progress(f"disk sector modes at {rpm:g} r/min", len(diameters))
-    out = []
+    out, factors = [], {}
     for nd in diameters:
-        found = diameter_modes(sec, rpm, nd, n_modes, coriolis, stuck)
+        found = diameter_modes(sec, rpm, nd, n_modes, coriolis, stuck, factors)
         out.append((nd, found.result(rpm, sec.model.global_dofs, time.perf_counter() - t0)))
         progress.update(nd + 1)
         info(f"nd {nd} done at {time.perf_counter() - t0:.2f} s: " + ", ".join(f"{l} {f:.2f} Hz" for l, f in zip(found.labels, found.f_hz)))
     progress.done()
+    for factor in factors.values():
+        factor.destroy()
     return out
