@@ -8,7 +8,9 @@ marked; each model's time-domain sweep is overlaid as dots and its points
 are named by the branch they landed on. Where the from-rest sweeps of the
 two models differ near a jump, the branches show whether they sit on two
 coexisting states of one curve (the coexistence restarts of the fig4
-study, read off the curves here) or whether the models differ.
+study, read off the curves here) or whether the models differ. Each
+resonance is measured again at twice the harmonics, located on its branch
+(comparisons._peaks.converged_peak), and the two models' are compared there.
 
 The study is compute (:func:`compute` -> :class:`HBFig4Result`) -> plot -> report.
 """
@@ -21,8 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-from comparisons._hb import named_points, notes_line, on_stable, resonance_of, same_resonance, states_at, verdict_text
+from comparisons._hb import named_points, notes_line, on_stable, resonance_of, states_at, verdict_text
 from comparisons._in_time import bifurcations_in_time, in_time_line
+from comparisons._peaks import converged_peak, same_peak
 from comparisons._study import study
 from shroud.analysis.hb import run_hb
 from shroud.analysis.sweep import run_sweeps
@@ -51,6 +54,7 @@ class HBFig4Result:
     sweeps: dict[str, list[SweepResult]]       # model -> time-domain sweep per case
     points: list[dict]                         # every sweep point with its branch (comparisons._hb.named_points)
     in_time: dict[str, list[list[dict]]]       # model -> per case: bifurcations checked in time (_in_time)
+    peaks: dict[str, list[dict]]               # model -> per case: its resonance at 2 H (_peaks.converged_peak)
 
     def rows(self) -> list[dict]:
         """Per case and model: resonance, folds, branch points and completeness, costs, sweep points on a
@@ -72,12 +76,14 @@ class HBFig4Result:
 
     def conclusions(self) -> dict:
         """Per case: each model's resonance (on points not shown unstable, with its errors and stability;
-        comparisons._hb.resonance_of) and whether the two are the same (a Verdict: the paper's "good
-        agreement" of the reduced and full beams, Fig. 4)."""
+        comparisons._hb.resonance_of), the same measured at twice the harmonics (``peaks``:
+        comparisons._peaks.converged_peak) and whether the two models' are the same (a Verdict on the
+        peaks: the paper's "good agreement" of the reduced and full beams, Fig. 4)."""
         out = {}
         for i, label in enumerate(self.labels):
-            res = {m: resonance_of(self.branches[m][i]) for m in MODELS}
-            out[label] = {**res, "same_resonance": same_resonance(res["reduced"], res["full"], MODELS).to_json()}
+            peaks = {m: self.peaks[m][i] for m in MODELS}
+            out[label] = {**{m: resonance_of(self.branches[m][i]) for m in MODELS}, "peaks": peaks,
+                          "same_resonance": same_peak(peaks["reduced"], peaks["full"], MODELS).to_json()}
         return out
 
     def cost_s(self) -> dict:
@@ -107,8 +113,9 @@ def compute(scene) -> HBFig4Result:
               for pt in named_points(sweeps[m][i], partial(states_at, branches[m][i], p, m), opts["match"],
                                      case=label, model=m)]
     in_time = {m: [bifurcations_in_time(branches[m][i], p, m) for i, (_, p) in enumerate(cases)] for m in MODELS}
+    peaks = {m: [converged_peak(branches[m][i], p, m) for i, (_, p) in enumerate(cases)] for m in MODELS}
     return HBFig4Result(labels=[label for label, _ in cases], branches=branches, sweeps=sweeps, points=points,
-                        in_time=in_time)
+                        in_time=in_time, peaks=peaks)
 
 
 def plot(result: HBFig4Result, scene, out: Path) -> list[str]:

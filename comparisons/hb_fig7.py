@@ -20,6 +20,13 @@ the reduced solid's basis and on one twice as large:
 shroud.analysis.hb.projected_multipliers; filled diamonds stable, open
 unstable) and their cost.
 
+Each resonance is measured again at twice the harmonics, located on its
+branch (comparisons._peaks.converged_peak), and the two models' are compared
+there (``same_resonance``); every bifurcation of both models' branches is
+started in the project's integrator: does the state stay or leave
+(comparisons._in_time; the reduced solid, beyond the period map's states, is
+started in time all the same).
+
 The study is compute (:func:`compute` -> :class:`HBFig7Result`) -> plot -> report.
 """
 
@@ -33,7 +40,9 @@ from pathlib import Path
 import numpy as np
 
 from comparisons import _families as fam
-from comparisons._hb import named_points, notes_line, on_stable, resonance_of, same_resonance, starts_at, states_at
+from comparisons._hb import named_points, notes_line, on_stable, resonance_of, starts_at, states_at, verdict_text
+from comparisons._in_time import bifurcations_in_time, in_time_line
+from comparisons._peaks import converged_peak, same_peak
 from comparisons._study import study
 from shroud.analysis.hb import Checkpoint, checkpoint, run_hb
 from shroud.base.errors import InputError
@@ -88,16 +97,18 @@ def _rounded(row: dict, cp: Checkpoint) -> dict:
                               "twice the tolerance", difference=2.0 * cp.tolerance)
 
 
-def conclusions(cases, branches: dict, checks: list[dict]) -> dict:
+def conclusions(cases, branches: dict, peaks: dict, checks: list[dict]) -> dict:
     """Per case: the beam's and the reduced solid's resonance (on points not shown unstable, with errors and
-    stability: comparisons._hb.resonance_of) and whether they are the same (a Verdict: the paper's "good
-    agreement" of its beam and FE model, Fig. 7); per full-solid checkpoint its stability next to the reduced
-    solid's branch there (True, False, None: undecided or not computed)."""
+    stability: comparisons._hb.resonance_of), the same measured at twice the harmonics (``peaks``:
+    comparisons._peaks.converged_peak) and whether the two are the same (a Verdict on the peaks: the paper's
+    "good agreement" of its beam and FE model, Fig. 7); per full-solid checkpoint its stability next to the
+    reduced solid's branch there (True, False, None: undecided or not computed)."""
     out = {}
     for k, c in enumerate(cases):
         beam, solid = resonance_of(branches[LINE][k]), resonance_of(branches[POINTS][k])
-        out[c.label] = {"beam": beam, "solid": solid,
-                        "same_resonance": same_resonance(beam, solid, ("beam", "reduced solid")).to_json(),
+        pair = {"beam": peaks[LINE][k], "solid": peaks[POINTS][k]}
+        out[c.label] = {"beam": beam, "solid": solid, "peaks": pair,
+                        "same_resonance": same_peak(pair["beam"], pair["solid"], ("beam", "reduced solid")).to_json(),
                         "checkpoints": [{"rpm": p["rpm"], "stable": p["stable"],
                                          "reduced_branch_stable": p["reduced_branch_stable"]}
                                         for p in checks if p["case"] == c.label]}
@@ -114,8 +125,12 @@ class HBFig7Result:
     sweeps: list[SweepResult]                  # the reduced solid's time-domain sweep per case
     points: list[dict]                         # the sweep points named (comparisons._hb.named_points)
     checks: list[dict]                         # :func:`full_solid_checkpoints`
+    peaks: dict[str, list[dict]]               # LINE / POINTS -> resonance at 2 H per case (_peaks.converged_peak)
+    in_time: dict[str, list[list[dict]]]       # LINE / POINTS -> per case: bifurcations checked in time (_in_time)
     basis_error: list[dict]                    # reference_fe.frequency.basis_error
     per_speed_bases_s: float                   # building the time domain's per-speed bases
+    peaks_s: float                             # locating the resonances at 2 H
+    in_time_s: float                           # the bifurcations' checks in time
 
     def rows(self) -> list[dict]:
         """Per case: both resonances and their difference, folds, sweep points on a stable branch, costs."""
@@ -139,17 +154,20 @@ class HBFig7Result:
                 "solid_td_cpu_s": sum(r["solid_td_cpu_s"] for r in rows), "per_speed_bases_s": self.per_speed_bases_s,
                 "full_solid_condensation_s": sum(p["linear_s"] for p in checks),
                 "full_solid_newton_s": sum(p["start_s"] + p["newton_s"] for p in checks),
-                "full_solid_stability_s": sum(p["stability_s"] for p in checks)}
+                "full_solid_stability_s": sum(p["stability_s"] for p in checks),
+                "peaks_s": self.peaks_s, "in_time_s": self.in_time_s}
 
     def conclusions(self) -> dict:
-        return conclusions(self.cases, self.branches, self.checks)
+        return conclusions(self.cases, self.branches, self.peaks, self.checks)
 
     def to_json(self) -> dict:
         return {"conclusions": self.conclusions(), "cases": self.rows(),
                 "branches": {c.label: {LINE: self.branches[LINE][k].to_json(),
                                        POINTS: self.branches[POINTS][k].to_json()} for k, c in enumerate(self.cases)},
                 "time_domain_points": self.points, "basis_error": self.basis_error, "cost_s": self.cost_s(),
-                "full_solid_checkpoints": self.checks}
+                "full_solid_checkpoints": self.checks,
+                "bifurcations_in_time": {c.label: {m: self.in_time[m][k] for m in (LINE, POINTS)}
+                                         for k, c in enumerate(self.cases)}}
 
 
 def compute(scene) -> HBFig7Result:
@@ -172,8 +190,13 @@ def compute(scene) -> HBFig7Result:
     points = [pt for c, solid, sw in zip(cases, branches[POINTS], sweeps)
               for pt in named_points(sw, partial(states_at, solid, c.params, POINTS, multipliers=False), o["match"],
                                      case=c.label)]
+    t0 = time.perf_counter()
+    peaks = {m: [converged_peak(b, c.params, m) for c, b in zip(cases, branches[m])] for m in (LINE, POINTS)}
+    peaks_s = time.perf_counter() - t0
+    in_time = {m: [bifurcations_in_time(b, c.params, m) for c, b in zip(cases, branches[m])] for m in (LINE, POINTS)}
     return HBFig7Result(cases=cases, branches=branches, sweeps=sweeps, points=points, checks=checks,
-                        basis_error=errors, per_speed_bases_s=build_s)
+                        peaks=peaks, in_time=in_time, basis_error=errors, per_speed_bases_s=build_s,
+                        peaks_s=peaks_s, in_time_s=time.perf_counter() - t0 - peaks_s)
 
 
 def plot(result: HBFig7Result, scene, out: Path) -> list[str]:
@@ -219,7 +242,8 @@ def report(result: HBFig7Result, scene, files: list[str]) -> str:
              f"{max(e['response_error'] for e in errors):.2e} (at {', '.join(f'{e['rpm']:.0f}' for e in errors)} r/min).\n",
              f"Cost: HB beam {seconds(cost['beam_hb_s'])}, HB solid {seconds(cost['solid_hb_s'])}; the solid's time "
              f"domain {seconds(cost['solid_td_cpu_s'])} CPU for {int(o['td_rpm_count'])} speeds per curve (plus "
-             f"{seconds(cost['per_speed_bases_s'])} for its per-speed bases).\n",
+             f"{seconds(cost['per_speed_bases_s'])} for its per-speed bases); the resonances at twice the harmonics "
+             f"{seconds(cost['peaks_s'])}, the bifurcations checked in time {seconds(cost['in_time_s'])}.\n",
              markdown_table(["case", "beam resonance (r/min, um)", "solid resonance (r/min, um)", "difference (%)",
                              "beam folds (r/min)", "solid folds (r/min)", "solid TD points on a stable solid branch"],
                             [(r["case"], f"{r['beam_resonance']['rpm']:.0f}, {r['beam_resonance']['amplitude'] * 1e6:.2f}",
@@ -228,10 +252,13 @@ def report(result: HBFig7Result, scene, files: list[str]) -> str:
                               ", ".join(f"{x:.0f}" for x in r["beam_folds_rpm"]) or "none",
                               ", ".join(f"{x:.0f}" for x in r["solid_folds_rpm"]) or "none",
                               f"{r['td_on_stable']}/{r['td_points']}") for r in rows]),
-             "", "Same resonance (beam against reduced solid): " + "; ".join(
-                 f"{label}: {c['same_resonance']['answer']}" for label, c in concl.items()) + ". "
+             "", "Same resonance (beam against reduced solid, relative amplitude difference of the resonances "
+                 "at twice the harmonics): " + "; ".join(
+                 f"{label}: {verdict_text(c['same_resonance'], 100, ' %')}" for label, c in concl.items()) + ". "
              + notes_line([(f"{m} {c.label}", result.branches[m][k]) for m in (LINE, POINTS)
                            for k, c in enumerate(result.cases)]),
+             "", in_time_line([(f"{m} {c.label}", result.in_time[m][k]) for m in (LINE, POINTS)
+                               for k, c in enumerate(result.cases)]),
              "", *[f"![{f}]({f})" for f in files], "", *checkpoint_report(result.checks, cost)]
     return "\n".join(lines) + "\n"
 
