@@ -64,8 +64,6 @@ def test_hb_fig4_quick_agrees_with_full(tmp_path, held):
         assert held.same(got[case]["same_resonance"], full[case]["same_resonance"]), case
 
 
-@pytest.mark.holds_no_decided_verdict("issue 33: the full scene decides same_resonance at N0 0 N only, which the "
-                                      "quick scene (gap 100 um, gap 600 um, N0 10 N) does not run")
 @pytest.mark.fe
 @pytest.mark.slow
 def test_hb_fig7_quick_agrees_with_full(tmp_path, held):
