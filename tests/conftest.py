@@ -21,3 +21,14 @@ def held(request):
     else:
         print(f"holds no decided verdict: {known.args[0]}")
         assert pairs.decided == 0, f"{pairs.summary()}: remove its holds_no_decided_verdict mark"
+
+
+@pytest.fixture(scope="module")
+def ccx():
+    """The CalculiX executable (tests/test_calculix.py, test_disk_calculix.py: a second FE code on the same
+    mesh); the test skipped, saying why, where it is not installed."""
+    from reference_fe.calculix import ccx
+    path = ccx()
+    if path is None:
+        pytest.skip("CalculiX (ccx) is not installed: bash scripts/install_calculix.sh, or see the README")
+    return path

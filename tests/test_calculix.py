@@ -26,15 +26,6 @@ from shroud.params import Parameters
 pytestmark = [pytest.mark.fe, pytest.mark.slow]
 
 
-@pytest.fixture(scope="module")
-def ccx():
-    from reference_fe.calculix import ccx
-    path = ccx()
-    if path is None:
-        pytest.skip("CalculiX (ccx) is not installed: bash scripts/install_calculix.sh, or see the README")
-    return path
-
-
 SHORT = {"blade.length": 0.06, "blade.twist_deg": 4.0}       # a short blade: a cheap deck
 
 

@@ -24,15 +24,6 @@ COARSE = {"ring.blades": 24, "disk.thickness": 0.04, "fe.cell": "tet", "fe.mesh_
           "blade.length": 0.06, "blade.twist_deg": 4.0}
 
 
-@pytest.fixture(scope="module")
-def ccx():
-    from reference_fe.calculix import ccx
-    path = ccx()
-    if path is None:
-        pytest.skip("CalculiX (ccx) is not installed: bash scripts/install_calculix.sh, or see the README")
-    return path
-
-
 @pytest.mark.parametrize("rpm, runs, n_modes", [
     (0.0, ((0, 1),), 3),                                                   # CI: one ccx run, k = 0 and 1
     pytest.param(10000.0, ((0, 1), (12, 12)), 6, marks=pytest.mark.slow),
