@@ -1,4 +1,4 @@
-"""Pseudo-arclength continuation (shroud.core.continuation) through corners of more than 90 degrees.
+"""Pseudo-arclength continuation (shroud.core.continuation) through corners at which the branch folds.
 
 Each residual below has an exact, piecewise analytic branch with one corner at which dp/ds changes sign
 (a fold at the corner). With the orientation rule before issue 32 (the new tangent oriented along the
@@ -6,7 +6,7 @@ previous one, t . previous > 0, and no restart past a corner) each of these test
 corrector finds no point past the corner at any step (it stops incomplete at the corner, "the corrector
 did not converge", checked on commit fd23feb), and with the restart past the corner but that orientation
 the branch walks back from the far arm onto the near one (checked by patching the secant's orientation
-back to the previous tangent's).
+back to the previous tangent's); the one of 82 degrees fails with the rule its docstring names.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ def scalar(R, dR_dx, dR_dp):
     return lambda x, p: (np.array([R(x[0], p)]), np.array([[dR_dx(x[0], p)]]), lambda: np.array([dR_dp(x[0], p)]))
 
 
-def passed_forward(branch, near, far, corner_p, p0, p_end):
+def passed_forward(branch, near, far, corner_p, p0, p_end, min_turn=math.pi / 2):
     """Every point on the exact branch: the near arm up to the corner, then the far arm beyond it (x past the
     corner's and never back), the corner's fold recorded where it lies, the branch leaving the range below p0
     (the far arm turns back there), no point twice."""
@@ -46,7 +46,7 @@ def passed_forward(branch, near, far, corner_p, p0, p_end):
     assert [f["kind"] for f in branch.folds] == ["corner"]
     assert branch.folds[0]["p"] == pytest.approx(corner_p, abs=1e-6)
     assert len(branch.kinks) == 1 and branch.kinks[0]["p"] == pytest.approx(corner_p, abs=1e-6)
-    assert branch.kinks[0]["turn_rad"] > math.pi / 2
+    assert branch.kinks[0]["turn_rad"] > min_turn
 
 
 def test_a_v_shaped_fold_is_passed_forward_down_its_far_arm():
@@ -59,6 +59,23 @@ def test_a_v_shaped_fold_is_passed_forward_down_its_far_arm():
     branch = continue_branch(residual, np.array([-0.2]), 0.6, 1.2, 1.0, ds=0.05, ds_max=0.1, p_scale=1.0)
     exact = lambda x, p: abs(p - (c - a * abs(x))) < 1e-7
     passed_forward(branch, lambda x, p: x <= 0 and exact(x, p), lambda x, p: x > 0 and exact(x, p), c, 0.6, 1.2)
+    assert branch.kinks[0]["turn_rad"] == pytest.approx(math.acos((1 - a * a) / (1 + a * a)), abs=1e-6)
+
+
+def test_a_fold_at_a_corner_of_less_than_90_degrees_is_passed_where_the_far_arm_lands_far_off_the_predictor():
+    """The V of the test above with a = 0.87: the corner turns by acos((1 - a^2) / (1 + a^2)) = 82 degrees (as
+    the 1 um gap's beam branch at H 7 at 7669 r/min, scenes/hb_fig7.toml). A step past the corner lands on the
+    far arm tan(82 deg) = 7 times further off the predictor than the corner lies short of it: a corrector
+    moving further than its step, once taken only from the predictor's side (a jump to a neighbouring arm,
+    else), so no step short enough for it came before the smallest and the branch stopped at the apex ("the
+    corrector did not converge beyond p = 0.999995", checked with the rule before). The corner lies within
+    the step, so the point is the far arm's and the branch goes down it."""
+    a, c = 0.87, 1.0
+    residual = scalar(lambda x, p: p - c + a * abs(x), lambda x, p: a * np.sign(x), lambda x, p: 1.0)
+    branch = continue_branch(residual, np.array([-0.2]), c - 0.2 * a, 1.2, 1.0, ds=0.05, ds_max=0.1, p_scale=1.0)
+    exact = lambda x, p: abs(p - (c - a * abs(x))) < 1e-7
+    passed_forward(branch, lambda x, p: x <= 0 and exact(x, p), lambda x, p: x > 0 and exact(x, p), c,
+                   c - 0.2 * a, 1.2, min_turn=0.0)
     assert branch.kinks[0]["turn_rad"] == pytest.approx(math.acos((1 - a * a) / (1 + a * a)), abs=1e-6)
 
 

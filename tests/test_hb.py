@@ -368,6 +368,23 @@ def test_the_continuation_records_the_kink_it_steps_over():
     assert branch.kinks[0]["turn_rad"] > 0.5
 
 
+def test_the_1um_gap_beam_branch_passes_its_folds_at_corners_and_never_walks_back_down_its_path():
+    """The beam of scenes/hb_fig7.toml (kn = kt = 1e7 N/m, alpha 15 deg, mu 0.3), 1 um gap, H 7, 256 samples:
+    its branch folds back at a corner near 7755 r/min and forward again at an 82-degree corner near
+    7669 r/min. It stopped there ("the corrector did not converge beyond p = 7668.69": its one point past
+    the corner, 4.7 to 6.2 steps off the predictor, was taken for a jump to a neighbouring arm), and, passed
+    there, it went on to a crowd of corners between 9119 and 9136 r/min, where a restart past one of them
+    landed back on its own path and walked it down below 6000 r/min. Now both folds are passed and recorded
+    and the branch, once beyond 9000 r/min, never comes back below the 7669 r/min fold."""
+    p = Parameters().updated({"contact.kn": 1e7, "contact.kt": 1e7, "contact.alpha_deg": 15.0, "contact.mu": 0.3,
+                              "contact.gap": 1e-6})
+    br = run_hb(p, "reduced", 6000.0, 14000.0, harmonics=7, samples=256, stability=False)
+    folds = [f["rpm"] for f in br.folds]
+    assert any(abs(f - 7755) < 5 for f in folds) and any(abs(f - 7669) < 5 for f in folds)
+    beyond = int(np.argmax(br.rpm > 9000.0))
+    assert beyond > 0 and br.rpm[beyond:].min() > 7669.0, br.stopped
+
+
 def test_a_tail_target_never_met_is_flagged_in_the_result_and_its_json():
     """A tail of 1e-9 of the contact forces' spectrum is beyond H = 2 and 4 (the most allowed): the branch at
     H = 4 comes back with tail_met False, its tail above the target, and a note saying so."""

@@ -183,13 +183,17 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
         if ok:
             t_new = _tangent(J * x_scale, Rp() * p_scale, t, factorize)
             corner = math.acos(min(1.0, max(-1.0, float(t_new @ t)))) > max_turn
-            # a corner is taken within ds_kink, and only from the predictor's side: a corrector that moved
-            # further from the predictor than the step (a secant more than 45 degrees off t) may have jumped to
-            # a neighbouring arm (24 blades, 9336 r/min: from the fold's upper arm onto the middle one)
-            near = forward or np.linalg.norm(u_new - u - ds * t) <= ds
+            # a corner is taken within ds_kink, and only from the predictor's side or across a corner that lies
+            # within the step: a corrector that moved further from the predictor than the step (a secant more
+            # than 45 degrees off t) may have jumped to a neighbouring arm (24 blades, 9336 r/min: from the
+            # fold's upper arm onto the middle one), unless the corner explains it (past a corner of turn
+            # theta the far arm meets the corrector's plane tan(theta) times further off than the corner's
+            # distance from it: the 1 um gap's beam at H 7, a 82-degree fold at 7669 r/min, 4.7 to 6.2 steps)
+            near = (forward or np.linalg.norm(u_new - u - ds * t) <= ds
+                    or _corner_within(u, t, u_new, t_new, ds))
             ok = not corner or (ds <= ds_kink and near)
         elif 0.5 * ds < ds_min and not forward:   # the last resort before stopping: the corner lies within this step
-            past = _past_corner(residual, u, t, ds, x_scale, p_scale, factorize)
+            past = _past_corner(residual, u, t, ds, x_scale, p_scale, factorize, path[:count])
             if past is not None:
                 (u_new, it, R, J, Rp), ok, corner = past, True, True
         if not ok:
@@ -253,12 +257,31 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
     return branch
 
 
+def _tangent_lines(u: np.ndarray, t: np.ndarray, u_new: np.ndarray, t_new: np.ndarray):
+    """Where the tangent lines at two points come closest (least squares: u + a t = u_new - b t_new):
+    (a, b, the lines' distance there, the chord's length h)."""
+    (a, b), *_ = np.linalg.lstsq(np.column_stack([t, t_new]), u_new - u, rcond=None)
+    gap = float(np.linalg.norm(u + a * t - (u_new - b * t_new)))
+    return float(a), float(b), gap, float(np.linalg.norm(u_new - u))
+
+
+def _corner_within(u: np.ndarray, t: np.ndarray, u_new: np.ndarray, t_new: np.ndarray, ds: float) -> bool:
+    """Whether the corrector's point ``u_new`` from ``u`` (step ``ds`` along ``t``) lies on the far arm of a
+    corner within the step: the tangent lines meet (within RETRACE of the chord), the corner no further
+    along t than the step, and ``u_new`` beyond it on its arm (``t_new`` taken along the secant). A jump to
+    a neighbouring arm is not so explained: on the 24-blade ring at 9328 r/min its lines met 2.4 steps
+    ahead, behind the new point."""
+    t_new = t_new if t_new @ (u_new - u) >= 0 else -t_new
+    a, b, gap, h = _tangent_lines(u, t, u_new, t_new)
+    slack = RETRACE * h
+    return gap <= slack and -slack <= a <= ds + slack and b >= 0.0
+
+
 def _corner_point(u: np.ndarray, t: np.ndarray, u_new: np.ndarray, t_new: np.ndarray) -> np.ndarray:
     """The corner between two points either side of it: where the tangent lines at them come closest
-    (least squares: u + a t = u_new - b t_new), each within 10 steps behind its point (else ``u_new``: lines
-    so near parallel that they place no corner)."""
-    (a, b), *_ = np.linalg.lstsq(np.column_stack([t, t_new]), u_new - u, rcond=None)
-    h = float(np.linalg.norm(u_new - u))
+    (:func:`_tangent_lines`), each within 10 steps behind its point (else ``u_new``: lines so near parallel
+    that they place no corner)."""
+    a, b, _, h = _tangent_lines(u, t, u_new, t_new)
     if not (-0.01 * h <= a <= 10 * h and -0.01 * h <= b <= 10 * h):
         return u_new
     return 0.5 * (u + a * t + u_new - b * t_new)
@@ -275,7 +298,7 @@ def _fold_point(u: np.ndarray, t: np.ndarray, u_new: np.ndarray, t_new: np.ndarr
 
 
 def _past_corner(residual: Residual, u: np.ndarray, t: np.ndarray, h: float, x_scale: float, p_scale: float,
-                 factorize: Factorize | None):
+                 factorize: Factorize | None, path: np.ndarray):
     """A point of the branch a step ``h`` past a corner the corrector could not pass from ``u`` (tangent
     ``t``): (u, iterations, R, J, R_p) there, or None.
 
@@ -287,7 +310,11 @@ def _past_corner(residual: Residual, u: np.ndarray, t: np.ndarray, h: float, x_s
     normal to d is run (and from PAST_CORNER times further where neither gives one); the point found
     farthest off the line the branch came along (u, t), by more than RETRACE of its distance from u, is
     the far arm's (one back on the near arm, or ahead where no corner
-    lies and the corrector failed otherwise, lies on that line: None).
+    lies and the corrector failed otherwise, lies on that line: None), unless it lies on the ``path``
+    continued so far (scaled points), either way (:func:`_on_path`): where corners crowd, the line
+    (u, t) is not the path, and the beam's 1 um gap branch at H 7 (scenes/hb_fig7.toml), restarted past
+    a dozen corners between 9119 and 9136 r/min, was restarted at 9119.66 r/min back onto its own path and
+    walked it down below 6000 r/min (to 5638).
     """
     v = u + h * t
     R, J, Rp = residual(v[:-1] * x_scale, v[-1] * p_scale)
@@ -305,7 +332,8 @@ def _past_corner(residual: Residual, u: np.ndarray, t: np.ndarray, h: float, x_s
                 continue
             r = found[0] - u
             off = float(np.linalg.norm(r - (r @ t) * t))
-            if off > max(off_best, RETRACE * float(np.linalg.norm(r))):
+            if (off > max(off_best, RETRACE * float(np.linalg.norm(r)))
+                    and not _on_path(path, found[0], float(np.linalg.norm(r)))):
                 best, off_best = found, off
         if best is not None:
             return best[0], best[1], *best[3:]
@@ -318,6 +346,15 @@ PAST_CORNER = (1, 4, 16)     # the far arm is sought this many steps from v (whe
 
 RETRACE = 0.1    # a new point this close to an earlier chord (share of its length): above the sag of a chord
                  # whose tangent turns by max_turn = 0.5 rad (0.06 of its length)
+
+
+def _on_path(path: np.ndarray, v: np.ndarray, r: float) -> bool:
+    """Whether ``v`` lies on the path already continued (scaled points, in order), either way along it:
+    within RETRACE of ``r`` (its distance from the point restarted from) of one of its chords."""
+    seg = path[1:] - path[:-1]
+    s = np.einsum("ij,ij->i", v - path[:-1], seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300)
+    dist = np.linalg.norm(v - (path[:-1] + np.clip(s, 0.0, 1.0)[:, None] * seg), axis=1)
+    return bool(dist.size and dist.min() <= RETRACE * r)
 
 
 def _retraced(path: np.ndarray, u: np.ndarray, step: np.ndarray) -> int | None:
