@@ -14,6 +14,17 @@ Conclusion: where the engine order's nodal diameter puts the stuck ring's
 flap family against the blade stuck to fixed neighbours, which has
 relative motion factor 1 against the ring's 2 |sin(pi n / N)|.
 
+With ``disk.thickness`` > 0 (the full scene) the cyclic FE sector of blade
+and flexible disk (reference_fe.cyclic, docs/disk.md) gives the same
+diagram, free and stuck, at the scene's speed, drawn beside the beams' ring
+(which keeps the rigid disk), and the clamped solid blade on the same mesh
+(the rigid disk) measures the beam's own difference from the solid. Per
+nodal diameter k the disk's effect on the flap family is the beams' ring
+against the sector, d_k = f_ring(k) / f_sector(k) - 1, taken relative to
+that rigid-disk difference: (1 + d_k) / (1 + d_clamped) - 1. Where it
+exceeds |d_clamped|, the disk moves flap1 more than the beam misses the
+solid by, and the rigid disk stops holding (docs/ring.md, docs/disk.md).
+
 The study is compute (:func:`compute` -> :class:`InterferenceComparison`) -> plot -> report.
 """
 
@@ -27,16 +38,23 @@ from pathlib import Path
 import numpy as np
 
 from comparisons._study import study
-from shroud.analysis.limits import interface_modal
+from shroud.analysis.api import modal
+from shroud.analysis.limits import INTERFACES, interface_modal
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
 from shroud.base.outputs import open_replacing
 from shroud.core.plotting import figure, save
-from shroud.core.verdict import Verdict
+from shroud.core.verdict import NOT_DECIDED, Verdict
 
 RING = True          # solves the ring of ring.blades (workbench.runner refuses a ring elsewhere)
+DISK = True          # disk.thickness > 0: the FE sector of blade and disk (workbench.scene lets the disk through)
 EIGEN_TOLERANCE = 1e-8   # relative accuracy of the eigen-solves' frequencies (shroud.analysis.limits)
 IDENTITY = 1e-6          # an identity of the stuck ring holds to this relative difference (well above 1e-8)
+# The FE sector's own error on the disk's effect: its 3.5 mm P2 tetrahedra lie 0.07-0.41 % above the extrapolated
+# sector (docs/disk.md, "Our own mesh convergence"), and with the disk made rigid (E x 1000) every k lies 0.11-0.39 %
+# from the clamped blade (docs/disk.md, (b)): a departure within the larger, 0.41 %, cannot be told from the mesh.
+SECTOR_ERROR = 0.0041
+SECTOR_MESH = {"fe.cell": "tet", "fe.mesh_size": 0.0035, "fe.order": 2}   # the mesh SECTOR_ERROR was measured on
 OPTIONS = {"rpm_from": 2000.0, "rpm_to": 16000.0, "speeds": 29, "n_modes": 3, "engine_orders": 12,
            "model": "reduced"}
 
@@ -49,6 +67,11 @@ def check(scene) -> None:
         raise InputError("ring.mistuning", "nodal diameters belong to a tuned ring; allowed: all d_j = 0")
     if not 0 < o["rpm_from"] < o["rpm_to"] or o["speeds"] < 2:
         raise InputError("options.rpm_from", "allowed: 0 < rpm_from < rpm_to and speeds >= 2")
+    fe = scene.params.fe
+    if scene.params.disk.thickness > 0 and (fe.cell, fe.mesh_size, fe.order) != tuple(SECTOR_MESH.values()):
+        raise InputError("fe.mesh_size", f"the FE sector's error {SECTOR_ERROR:.2%} was measured on "
+                                         f"{SECTOR_MESH['fe.mesh_size']} m P2 tetrahedra; allowed with a disk: "
+                                         + ", ".join(f"{k} = {v!r}" for k, v in SECTOR_MESH.items()))
 
 
 def folded(k: int, N: int) -> int:
@@ -105,6 +128,46 @@ class InterferenceComparison:
     ring_nd: np.ndarray           # the stuck ring's flap1 at the engine order's nodal diameter (Hz)
     blade_fixed: np.ndarray       # the blade stuck to fixed neighbours (Hz)
     blade_free: np.ndarray        # the free blade (Hz)
+    disk_thickness: float = 0.0   # disk.thickness (m); > 0: the FE sector below was solved
+    sector: dict[str, dict[int, list[float]]] | None = None   # the FE sector of blade and disk, as ``diagram``
+    solid_clamped_hz: float | None = None    # flap1 of the clamped solid blade (the rigid disk), same mesh (Hz)
+
+    @property
+    def clamped_difference(self) -> float:
+        """d_clamped = f_beam / f_solid - 1 of the free clamped blade's flap1: the beam's own difference."""
+        return self.blade_free_hz[0] / self.solid_clamped_hz - 1.0
+
+    def disk_effect(self, interface: str) -> dict[int, float]:
+        """Per nodal diameter k the flap family's (1 + d_k) / (1 + d_clamped) - 1, d_k = f_ring(k) / f_sector(k)
+        - 1: the beams' ring (rigid disk) against the FE sector, the beam's own difference taken out."""
+        ring, sector = self.diagram[interface], self.sector[interface]
+        return {n: ring[n][0] / sector[n][0] / (1.0 + self.clamped_difference) - 1.0 for n in sorted(sector)}
+
+    def disk_bending(self, interface: str) -> dict[int, float]:
+        """The disk's effect at k beyond the one at nd N/2 (the stiffest disk), (1 + e_k) / (1 + e_N/2) - 1: what
+        the disk's bending adds to the compliance under the root that every k shares."""
+        effect = self.disk_effect(interface)
+        top = effect[max(effect)]
+        return {n: (1.0 + e) / (1.0 + top) - 1.0 for n, e in effect.items()}
+
+    def rigid_disk(self, interface: str, n: int) -> Verdict:
+        """Whether the rigid disk holds for flap1 at nodal diameter n: the disk's effect against the beam's own
+        difference from the clamped solid, margin the sector's error (within both, the disk is not seen)."""
+        d = self.clamped_difference
+        return Verdict.of(abs(self.disk_effect(interface)[n]), threshold=abs(d), margin=SECTOR_ERROR, below=True,
+                          above=False,
+                          reason=f"|disk effect| on the {interface} flap1 at nd {n}: the beams' ring (rigid disk) over "
+                                 f"the FE sector (disk {self.disk_thickness:g} m), the beam's own difference from the "
+                                 f"clamped solid (d_clamped {d:+.3%}) taken out, against |d_clamped|; margin the "
+                                 f"sector's error {SECTOR_ERROR:.2%} (its mesh, its rigid-disk limit; docs/disk.md)")
+
+    def rigid_disk_answers(self, interface: str) -> dict[str, list[int]]:
+        """The nodal diameters by answer of :meth:`rigid_disk` ("holds", "disk matters", "not decided")."""
+        out: dict[str, list[int]] = {"holds": [], "disk matters": [], NOT_DECIDED: []}
+        for n in sorted(self.sector[interface]):
+            a = self.rigid_disk(interface, n).answer
+            out["holds" if a is True else "disk matters" if a is False else NOT_DECIDED].append(n)
+        return out
 
     @property
     def nd_ke(self) -> int:
@@ -150,6 +213,9 @@ class InterferenceComparison:
         for name, f_hz, what in (("engine_order_meets_stuck_ring", self.ring_nd, f"the stuck ring's flap1 at nd {nd}"),
                                  ("engine_order_meets_free_blade", self.blade_free, "the free blade's flap1")):
             out[name] = meets(self.rpms, f_hz, self.ke, what)
+        for iface in INTERFACES if self.sector is not None else ():   # where the disk moves flap1 most
+            effect = self.disk_effect(iface)
+            out[f"rigid_disk_holds_{iface}"] = self.rigid_disk(iface, max(effect, key=lambda m: abs(effect[m])))
         return out
 
     def conclusions(self) -> dict:
@@ -164,7 +230,20 @@ class InterferenceComparison:
                              "fixed_neighbours_stuck": self.fixed_stuck_hz, "free": self.blade_free_hz[0]},
                 "crossing_rpm": self.crossings, "ratio_on_grid": float(self.ring_nd[i] / self.blade_fixed[i]),
                 "nodal_diameters": {iface: {str(n): self.diagram[iface][n] for n in nds}
-                                    for iface in ("free", "stuck")}}
+                                    for iface in INTERFACES}, **self._sector_json()}
+
+    def _sector_json(self) -> dict:
+        if self.sector is None:
+            return {}
+        return {"fe_sector": {"disk_thickness_m": self.disk_thickness, "solid_clamped_flap1_hz": self.solid_clamped_hz,
+                              "clamped_difference": self.clamped_difference,
+                              "nodal_diameters": {iface: {str(n): f for n, f in self.sector[iface].items()}
+                                                  for iface in INTERFACES},
+                              "disk_effect": {iface: {str(n): e for n, e in self.disk_effect(iface).items()}
+                                              for iface in INTERFACES},
+                              "disk_bending": {iface: {str(n): e for n, e in self.disk_bending(iface).items()}
+                                               for iface in INTERFACES},
+                              "rigid_disk_nd": {iface: self.rigid_disk_answers(iface) for iface in INTERFACES}}}
 
 
 def compute(scene) -> InterferenceComparison:
@@ -172,7 +251,12 @@ def compute(scene) -> InterferenceComparison:
     params, o = scene.params, scene.options
     N, ke, model, k = params.ring.blades, params.load.ke, o["model"], o["n_modes"]
     nd_ke = folded(ke, N)
-    rpm0 = params.speed.rpm
+    rpm0, disk = params.speed.rpm, params.disk.thickness
+    sector = solid_clamped = None
+    if disk > 0:      # the FE sector of blade and disk (without Coriolis, as the beams' ring); the clamped solid
+        sector = {iface: _flap(params, "fe", rpm0, k, iface)[1] for iface in INTERFACES}
+        params = params.updated({"disk.thickness": 0.0})     # the beams' ring and the clamped solid: rigid disk
+        solid_clamped = modal(params.updated({"ring.blades": 0}), "fe", rpm0, 1, coriolis=False).modes[0].f_hz
     fixed_params = params.updated({"ring.blades": 0})
     free, diagram_free = _flap(params, model, rpm0, k, "free")
     _, diagram_stuck = _flap(params, model, rpm0, k, "stuck")
@@ -190,13 +274,14 @@ def compute(scene) -> InterferenceComparison:
                                   diagram={"free": diagram_free, "stuck": diagram_stuck}, blade_free_hz=free,
                                   fixed_stuck_hz=fixed_stuck.blade.modes[0].f_hz, rpms=rpms,
                                   ring_nd=np.array(ring_nd), blade_free=np.array(blade_free),
-                                  blade_fixed=np.array(blade_fixed))
+                                  blade_fixed=np.array(blade_fixed), disk_thickness=disk, sector=sector,
+                                  solid_clamped_hz=solid_clamped)
 
 
 def plot(result: InterferenceComparison, scene, out: Path) -> list[str]:
     """(a) the interference diagram, (b) the flap family over speed (interference.png); the diagram as CSV."""
     N, ke, k, rpm0, rpms, nd_ke = result.N, result.ke, result.n_modes, result.rpm, result.rpms, result.nd_ke
-    fig, axes = figure(1, 2, width=9.0, height=3.6)
+    fig, axes = figure(1, 2, width=9.0, height=3.6 if result.sector is None else 4.6)
     ax = axes[0][0]
     nds = sorted(result.diagram["stuck"])
     for iface, style in (("free", ":"), ("stuck", "-")):
@@ -204,13 +289,22 @@ def plot(result: InterferenceComparison, scene, out: Path) -> list[str]:
         for i in range(k):
             ax.plot(nds, [per_nd[n][i] for n in nds], style + "o", ms=3, color=f"C{i}",
                     label=f"mode {i + 1}, {iface}")
+    if result.sector is not None:     # the FE sector of blade and disk beside the beams' ring (rigid disk)
+        for iface, marker in (("free", "x"), ("stuck", "+")):
+            per_nd = result.sector[iface]
+            for i in range(k):
+                ax.plot(nds, [per_nd[n][i] for n in nds], "-" + marker, lw=0.5, ms=4, color=f"C{i}", alpha=0.7,
+                        label=f"FE sector, disk {result.disk_thickness:g} m, {iface}" if i == 0 else None)
     orders = np.arange(0, result.engine_orders + 1)
     ax.plot([folded(int(q), N) for q in orders], orders * rpm0 / 60.0, "k--", lw=0.8, label="engine orders")
     ax.plot([nd_ke], [ke * rpm0 / 60.0], "ks", ms=6, mfc="none", label=f"k_e = {ke}")
     ax.set_xlabel("nodal diameter")
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(f"(a) interference diagram, {N} blades, {rpm0:g} r/min")
-    ax.legend(fontsize=6, ncol=2)
+    if result.sector is None:
+        ax.legend(fontsize=6, ncol=2)
+    else:         # the sector's curves fill the upper left: the legend goes below the panel
+        ax.legend(fontsize=6, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.16))
     ax = axes[0][1]
     ax.plot(rpms, result.ring_nd, "-", label=f"ring stuck, nd {nd_ke}")
     ax.plot(rpms, result.blade_fixed, "--", label="blade stuck to fixed neighbours")
@@ -224,9 +318,10 @@ def plot(result: InterferenceComparison, scene, out: Path) -> list[str]:
     with open_replacing(out / "interference.csv") as fh:
         w = csv.writer(fh)
         w.writerow(["interface", "nd"] + [f"f{i + 1}_hz" for i in range(k)])
-        for iface in ("free", "stuck"):
-            for n in nds:
-                w.writerow([iface, n, *result.diagram[iface][n]])
+        for source, diagram in (("beams", result.diagram), ("fe_sector", result.sector)):
+            for iface in INTERFACES if diagram is not None else ():
+                for n in nds:
+                    w.writerow([iface if source == "beams" else f"{iface} {source}", n, *diagram[iface][n]])
     return ["interference.png"]
 
 
@@ -240,10 +335,38 @@ def report(result: InterferenceComparison, scene, files: list[str]) -> str:
              f"At {rpm0:g} r/min the stuck ring's flap1 at nd {nd_ke} is "
              f"{result.diagram['stuck'][nd_ke][0]:.1f} Hz against {result.fixed_stuck_hz:.1f} Hz for the "
              f"blade stuck to fixed neighbours and {result.blade_free_hz[0]:.1f} Hz free.\n",
-             markdown_table(["flap1 meets k_e x rotation", "r/min"], rows), "", "## Verdicts\n"]
+             markdown_table(["flap1 meets k_e x rotation", "r/min"], rows), ""]
+    if result.sector is not None:
+        lines += _sector_report(result)
+    lines += ["## Verdicts\n"]
     lines += [f"- `{name}`: {v.sentence()}" for name, v in verdicts.items()] + [""]
     lines += [f"![{f}]({f})" for f in files]
     return "\n".join(lines) + "\n"
+
+
+def _sector_report(result: InterferenceComparison) -> list[str]:
+    """The beams' ring (rigid disk) against the FE sector of blade and disk, flap1 per nodal diameter."""
+    d, ring, sector = result.clamped_difference, result.diagram, result.sector
+    effect = {iface: result.disk_effect(iface) for iface in INTERFACES}
+    bending = {iface: result.disk_bending(iface) for iface in INTERFACES}
+    rows = [(n, *(f"{ring[i][n][0]:.2f} / {sector[i][n][0]:.2f} ({effect[i][n]:+.2%}; {bending[i][n]:+.2%})"
+                  for i in INTERFACES)) for n in sorted(sector["free"])]
+    lines = [f"## Beside the FE sector of blade and disk (disk {result.disk_thickness:g} m)\n",
+             f"Flap1 at {result.rpm:g} r/min, the beams' ring ({result.model}, rigid disk) / the FE sector (Hz), "
+             "and in brackets the disk's effect (1 + d_k) / (1 + d_clamped) - 1, d_k the ring over the sector "
+             f"less 1, d_clamped = {d:+.3%} the free beam ({result.blade_free_hz[0]:.2f} Hz) over the clamped "
+             f"solid on the sector's mesh ({result.solid_clamped_hz:.2f} Hz) less 1. The rigid disk stops holding "
+             f"where the effect exceeds |d_clamped| + {SECTOR_ERROR:.2%} = {abs(d) + SECTOR_ERROR:.2%} (the "
+             "sector's own error: mesh and rigid limit, docs/disk.md). After the semicolon, the effect beyond "
+             f"nd {result.N // 2}'s, (1 + e_k) / (1 + e_{result.N // 2}) - 1: what the disk's bending adds to the "
+             "compliance under the root that every nodal diameter shares (the stuck column also holds the two "
+             "models' stuck interfaces, which d_clamped, a free blade's, does not take out).\n",
+             markdown_table(["nd"] + [f"flap1 {i}" for i in INTERFACES], rows), ""]
+    for iface in INTERFACES:
+        answers = result.rigid_disk_answers(iface)
+        lines.append(f"- {iface}: " + "; ".join(f"{answer} at nd {', '.join(map(str, nds))}"
+                                                for answer, nds in answers.items() if nds))
+    return lines + [""]
 
 
 run = study(compute, plot, report)
