@@ -17,13 +17,14 @@ relative motion factor 1 against the ring's 2 |sin(pi n / N)|.
 With ``disk.thickness`` > 0 (the full scene) the cyclic FE sector of blade
 and flexible disk (reference_fe.cyclic, docs/disk.md) gives the same
 diagram, free and stuck, at the scene's speed, drawn beside the beams' ring
-(which keeps the rigid disk), and the clamped solid blade on the same mesh
-(the rigid disk) measures the beam's own difference from the solid. Per
-nodal diameter k the disk's effect on the flap family is the beams' ring
-against the sector, d_k = f_ring(k) / f_sector(k) - 1, taken relative to
-that rigid-disk difference: (1 + d_k) / (1 + d_clamped) - 1. Where it
-exceeds |d_clamped|, the disk moves flap1 more than the beam misses the
-solid by, and the rigid disk stops holding (docs/ring.md, docs/disk.md).
+(which keeps the rigid disk), and the same sector with the disk made rigid
+(``disk.E_factor`` = RIGID, within 0.11-0.39 % of the clamped blade,
+docs/disk.md) splits the beams' ring's difference from it per nodal
+diameter k into the beam's own difference from the solid on the rigid disk,
+f_ring(k) / f_rigid(k) - 1, and the disk's effect, f_rigid(k) / f_sector(k)
+- 1. Where the disk's effect on flap1 exceeds the beam's own difference,
+the disk moves the ring more than the beam misses the solid by: the rigid
+disk stops holding there (docs/ring.md, docs/disk.md).
 
 The study is compute (:func:`compute` -> :class:`InterferenceComparison`) -> plot -> report.
 """
@@ -38,7 +39,6 @@ from pathlib import Path
 import numpy as np
 
 from comparisons._study import study
-from shroud.analysis.api import modal
 from shroud.analysis.limits import INTERFACES, interface_modal
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table
@@ -54,6 +54,7 @@ IDENTITY = 1e-6          # an identity of the stuck ring holds to this relative 
 # sector (docs/disk.md, "Our own mesh convergence"), and with the disk made rigid (E x 1000) every k lies 0.11-0.39 %
 # from the clamped blade (docs/disk.md, (b)): a departure within the larger, 0.41 %, cannot be told from the mesh.
 SECTOR_ERROR = 0.0041
+RIGID = 1000.0       # disk.E_factor of the rigid-disk sector (docs/disk.md, (b): the rigid-disk limit)
 SECTOR_MESH = {"fe.cell": "tet", "fe.mesh_size": 0.0035, "fe.order": 2}   # the mesh SECTOR_ERROR was measured on
 OPTIONS = {"rpm_from": 2000.0, "rpm_to": 16000.0, "speeds": 29, "n_modes": 3, "engine_orders": 12,
            "model": "reduced"}
@@ -130,36 +131,30 @@ class InterferenceComparison:
     blade_free: np.ndarray        # the free blade (Hz)
     disk_thickness: float = 0.0   # disk.thickness (m); > 0: the FE sector below was solved
     sector: dict[str, dict[int, list[float]]] | None = None   # the FE sector of blade and disk, as ``diagram``
-    solid_clamped_hz: float | None = None    # flap1 of the clamped solid blade (the rigid disk), same mesh (Hz)
+    rigid: dict[str, dict[int, list[float]]] | None = None    # the same sector, its disk's E x RIGID
 
-    @property
-    def clamped_difference(self) -> float:
-        """d_clamped = f_beam / f_solid - 1 of the free clamped blade's flap1: the beam's own difference."""
-        return self.blade_free_hz[0] / self.solid_clamped_hz - 1.0
+    def beam_difference(self, interface: str) -> dict[int, float]:
+        """Per nodal diameter the beams' ring's flap1 over the rigid-disk sector's, less 1: the beam's own
+        difference from the solid with the disk the beams have."""
+        ring, rigid = self.diagram[interface], self.rigid[interface]
+        return {n: ring[n][0] / rigid[n][0] - 1.0 for n in sorted(rigid)}
 
     def disk_effect(self, interface: str) -> dict[int, float]:
-        """Per nodal diameter k the flap family's (1 + d_k) / (1 + d_clamped) - 1, d_k = f_ring(k) / f_sector(k)
-        - 1: the beams' ring (rigid disk) against the FE sector, the beam's own difference taken out."""
-        ring, sector = self.diagram[interface], self.sector[interface]
-        return {n: ring[n][0] / sector[n][0] / (1.0 + self.clamped_difference) - 1.0 for n in sorted(sector)}
-
-    def disk_bending(self, interface: str) -> dict[int, float]:
-        """The disk's effect at k beyond the one at nd N/2 (the stiffest disk), (1 + e_k) / (1 + e_N/2) - 1: what
-        the disk's bending adds to the compliance under the root that every k shares."""
-        effect = self.disk_effect(interface)
-        top = effect[max(effect)]
-        return {n: (1.0 + e) / (1.0 + top) - 1.0 for n, e in effect.items()}
+        """Per nodal diameter the rigid-disk sector's flap1 over the flexible one's, less 1: the disk's effect."""
+        rigid, sector = self.rigid[interface], self.sector[interface]
+        return {n: rigid[n][0] / sector[n][0] - 1.0 for n in sorted(sector)}
 
     def rigid_disk(self, interface: str, n: int) -> Verdict:
         """Whether the rigid disk holds for flap1 at nodal diameter n: the disk's effect against the beam's own
-        difference from the clamped solid, margin the sector's error (within both, the disk is not seen)."""
-        d = self.clamped_difference
+        difference from the solid there, margin the sector's error (within both, the disk is not seen)."""
+        d = self.beam_difference(interface)[n]
         return Verdict.of(abs(self.disk_effect(interface)[n]), threshold=abs(d), margin=SECTOR_ERROR, below=True,
                           above=False,
-                          reason=f"|disk effect| on the {interface} flap1 at nd {n}: the beams' ring (rigid disk) over "
-                                 f"the FE sector (disk {self.disk_thickness:g} m), the beam's own difference from the "
-                                 f"clamped solid (d_clamped {d:+.3%}) taken out, against |d_clamped|; margin the "
-                                 f"sector's error {SECTOR_ERROR:.2%} (its mesh, its rigid-disk limit; docs/disk.md)")
+                          reason=f"|disk effect| on the {interface} flap1 at nd {n} (the FE sector with its disk's E x "
+                                 f"{RIGID:g} over the sector with the {self.disk_thickness:g} m disk, less 1) against "
+                                 f"the beams' ring's own difference from the rigid-disk sector there ({d:+.3%}); "
+                                 f"margin the sector's error {SECTOR_ERROR:.2%} (its mesh, its rigid-disk limit; "
+                                 "docs/disk.md)")
 
     def rigid_disk_answers(self, interface: str) -> dict[str, list[int]]:
         """The nodal diameters by answer of :meth:`rigid_disk` ("holds", "disk matters", "not decided")."""
@@ -235,14 +230,13 @@ class InterferenceComparison:
     def _sector_json(self) -> dict:
         if self.sector is None:
             return {}
-        return {"fe_sector": {"disk_thickness_m": self.disk_thickness, "solid_clamped_flap1_hz": self.solid_clamped_hz,
-                              "clamped_difference": self.clamped_difference,
-                              "nodal_diameters": {iface: {str(n): f for n, f in self.sector[iface].items()}
-                                                  for iface in INTERFACES},
-                              "disk_effect": {iface: {str(n): e for n, e in self.disk_effect(iface).items()}
-                                              for iface in INTERFACES},
-                              "disk_bending": {iface: {str(n): e for n, e in self.disk_bending(iface).items()}
-                                               for iface in INTERFACES},
+        per_nd = {"nodal_diameters": self.sector, "rigid_disk_nodal_diameters": self.rigid}
+        return {"fe_sector": {"disk_thickness_m": self.disk_thickness, "rigid_E_factor": RIGID,
+                              **{key: {iface: {str(n): f for n, f in d[iface].items()} for iface in INTERFACES}
+                                 for key, d in per_nd.items()},
+                              **{key: {iface: {str(n): e for n, e in f(iface).items()} for iface in INTERFACES}
+                                 for key, f in (("beam_difference", self.beam_difference),
+                                                ("disk_effect", self.disk_effect))},
                               "rigid_disk_nd": {iface: self.rigid_disk_answers(iface) for iface in INTERFACES}}}
 
 
@@ -252,11 +246,11 @@ def compute(scene) -> InterferenceComparison:
     N, ke, model, k = params.ring.blades, params.load.ke, o["model"], o["n_modes"]
     nd_ke = folded(ke, N)
     rpm0, disk = params.speed.rpm, params.disk.thickness
-    sector = solid_clamped = None
-    if disk > 0:      # the FE sector of blade and disk (without Coriolis, as the beams' ring); the clamped solid
-        sector = {iface: _flap(params, "fe", rpm0, k, iface)[1] for iface in INTERFACES}
-        params = params.updated({"disk.thickness": 0.0})     # the beams' ring and the clamped solid: rigid disk
-        solid_clamped = modal(params.updated({"ring.blades": 0}), "fe", rpm0, 1, coriolis=False).modes[0].f_hz
+    sector = rigid = None
+    if disk > 0:      # the FE sector of blade and disk, flexible and rigid (without Coriolis, as the beams' ring)
+        sector, rigid = ({iface: _flap(p, "fe", rpm0, k, iface)[1] for iface in INTERFACES}
+                         for p in (params, params.updated({"disk.E_factor": RIGID * params.disk.E_factor})))
+        params = params.updated({"disk.thickness": 0.0})     # the beams' ring: the rigid disk
     fixed_params = params.updated({"ring.blades": 0})
     free, diagram_free = _flap(params, model, rpm0, k, "free")
     _, diagram_stuck = _flap(params, model, rpm0, k, "stuck")
@@ -275,7 +269,7 @@ def compute(scene) -> InterferenceComparison:
                                   fixed_stuck_hz=fixed_stuck.blade.modes[0].f_hz, rpms=rpms,
                                   ring_nd=np.array(ring_nd), blade_free=np.array(blade_free),
                                   blade_fixed=np.array(blade_fixed), disk_thickness=disk, sector=sector,
-                                  solid_clamped_hz=solid_clamped)
+                                  rigid=rigid)
 
 
 def plot(result: InterferenceComparison, scene, out: Path) -> list[str]:
@@ -346,21 +340,18 @@ def report(result: InterferenceComparison, scene, files: list[str]) -> str:
 
 def _sector_report(result: InterferenceComparison) -> list[str]:
     """The beams' ring (rigid disk) against the FE sector of blade and disk, flap1 per nodal diameter."""
-    d, ring, sector = result.clamped_difference, result.diagram, result.sector
-    effect = {iface: result.disk_effect(iface) for iface in INTERFACES}
-    bending = {iface: result.disk_bending(iface) for iface in INTERFACES}
-    rows = [(n, *(f"{ring[i][n][0]:.2f} / {sector[i][n][0]:.2f} ({effect[i][n]:+.2%}; {bending[i][n]:+.2%})"
-                  for i in INTERFACES)) for n in sorted(sector["free"])]
+    ring, rigid, sector = result.diagram, result.rigid, result.sector
+    beam = {iface: result.beam_difference(iface) for iface in INTERFACES}
+    disk = {iface: result.disk_effect(iface) for iface in INTERFACES}
+    rows = [(n, *(f"{ring[i][n][0]:.2f} / {rigid[i][n][0]:.2f} / {sector[i][n][0]:.2f} ({beam[i][n]:+.2%}; "
+                  f"{disk[i][n]:+.2%})" for i in INTERFACES)) for n in sorted(sector["free"])]
     lines = [f"## Beside the FE sector of blade and disk (disk {result.disk_thickness:g} m)\n",
-             f"Flap1 at {result.rpm:g} r/min, the beams' ring ({result.model}, rigid disk) / the FE sector (Hz), "
-             "and in brackets the disk's effect (1 + d_k) / (1 + d_clamped) - 1, d_k the ring over the sector "
-             f"less 1, d_clamped = {d:+.3%} the free beam ({result.blade_free_hz[0]:.2f} Hz) over the clamped "
-             f"solid on the sector's mesh ({result.solid_clamped_hz:.2f} Hz) less 1. The rigid disk stops holding "
-             f"where the effect exceeds |d_clamped| + {SECTOR_ERROR:.2%} = {abs(d) + SECTOR_ERROR:.2%} (the "
-             "sector's own error: mesh and rigid limit, docs/disk.md). After the semicolon, the effect beyond "
-             f"nd {result.N // 2}'s, (1 + e_k) / (1 + e_{result.N // 2}) - 1: what the disk's bending adds to the "
-             "compliance under the root that every nodal diameter shares (the stuck column also holds the two "
-             "models' stuck interfaces, which d_clamped, a free blade's, does not take out).\n",
+             f"Flap1 at {result.rpm:g} r/min (Hz): the beams' ring ({result.model}, rigid disk) / the FE sector "
+             f"with its disk's E x {RIGID:g} (the rigid disk) / the FE sector; in brackets the beam's own "
+             "difference (the ring over the rigid-disk sector, less 1) and the disk's effect (the rigid-disk "
+             "sector over the flexible one, less 1). The rigid disk stops holding for the beams' ring where the "
+             f"disk's effect exceeds the beam's own difference by more than the sector's error {SECTOR_ERROR:.2%} "
+             "(its mesh and its rigid-disk limit, docs/disk.md).\n",
              markdown_table(["nd"] + [f"flap1 {i}" for i in INTERFACES], rows), ""]
     for iface in INTERFACES:
         answers = result.rigid_disk_answers(iface)
