@@ -282,7 +282,7 @@ def plot(result: InterferenceComparison, scene, out: Path) -> list[str]:
         per_nd = result.diagram[iface]
         for i in range(k):
             ax.plot(nds, [per_nd[n][i] for n in nds], style + "o", ms=3, color=f"C{i}",
-                    label=f"mode {i + 1}, {iface}")
+                    label=f"{'' if result.sector is None else 'beams, '}mode {i + 1}, {iface}")
     if result.sector is not None:     # the FE sector of blade and disk beside the beams' ring (rigid disk)
         for iface, marker in (("free", "x"), ("stuck", "+")):
             per_nd = result.sector[iface]
@@ -351,7 +351,8 @@ def _sector_report(result: InterferenceComparison) -> list[str]:
              "difference (the ring over the rigid-disk sector, less 1) and the disk's effect (the rigid-disk "
              "sector over the flexible one, less 1). The rigid disk stops holding for the beams' ring where the "
              f"disk's effect exceeds the beam's own difference by more than the sector's error {SECTOR_ERROR:.2%} "
-             "(its mesh and its rigid-disk limit, docs/disk.md).\n",
+             "(its mesh and its rigid-disk limit, docs/disk.md); \"holds\" says the disk moves flap1 less than the "
+             "beams' ring already misses the solid by there, not that the ring is near the sector.\n",
              markdown_table(["nd"] + [f"flap1 {i}" for i in INTERFACES], rows), ""]
     for iface in INTERFACES:
         answers = result.rigid_disk_answers(iface)
