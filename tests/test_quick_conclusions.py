@@ -349,10 +349,12 @@ def test_calculix_quick_agrees_with_full(tmp_path, held):
 
 def test_interference_quick_agrees_with_full(tmp_path, held):
     """The ring's stuck flap family at the engine order's nodal diameter against fixed neighbours: the
-    eigenvalues at the scene's speed do not depend on the Campbell grid the quick version thins."""
+    eigenvalues at the scene's speed do not depend on the Campbell grid the quick version thins. The FE
+    sector of blade and disk (its rigid-disk verdicts) is the full scene's only: the quick one keeps the
+    rigid disk."""
     got, _ = quick("interference", tmp_path)
     full = full_conclusions("interference")
-    assert got.keys() == full.keys()
+    assert full.keys() - got.keys() == {"rigid_disk_holds_free", "rigid_disk_holds_stuck"}
     assert all(held.agrees(got[k], full[k]) for k in got)
     assert held.decided >= 3
 

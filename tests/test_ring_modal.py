@@ -158,3 +158,15 @@ def test_interference_study_quick(tmp_path):
     assert results["conclusions"]["ring_against_fixed_neighbours"]["answer"] == "ring softer"
     assert results["nd_engine_order"] == 2
     assert results["relative_motion_factor"] == pytest.approx(2 * math.sin(math.pi / 12))
+
+
+def test_interference_disk_refusals(tmp_path, capsys):
+    """The FE sector beside the beams' ring only on the mesh its error was measured on, and a flexible disk
+    only in the study that builds it: one line, exit 2, before anything is written."""
+    scenes = Path(__file__).resolve().parents[1] / "scenes"
+    assert main(["run", str(scenes / "interference.toml"), "--out", str(tmp_path / "i"),
+                 "--set", "fe.mesh_size=0.005"]) == 2
+    assert "fe.mesh_size" in capsys.readouterr().err and not (tmp_path / "i" / "results.json").exists()
+    assert main(["run", str(scenes / "ring_mistuning.toml"), "--quick", "--out", str(tmp_path / "m"),
+                 "--set", "disk.thickness=0.04"]) == 2
+    assert "disk.thickness" in capsys.readouterr().err

@@ -164,7 +164,8 @@ def load_scene(path: str | Path | None, overrides: list[str] = (), quick: bool =
     params = params.with_overrides(param_sets)
     # a study that declares PROFILE = True runs every model on the airfoil (comparisons.airfoil)
     params.blade.check_modelled(profile or bool(name and getattr(study_module(name), "PROFILE", False)), step)
-    if not disk:
+    # a study that declares DISK = True builds the flexible disk's FE sector itself (comparisons.interference)
+    if not (disk or bool(name and getattr(study_module(name), "DISK", False))):
         params.disk.check_rigid()
     options: dict[str, Any] = {}
     if name:
