@@ -4,7 +4,6 @@ A record (workbench.records) names the clean commit that made it and the SHA-256
 study's conclusions depend on directly; ``shroud record SCENE`` makes it again.
 """
 
-import copy
 import json
 import shutil
 import subprocess

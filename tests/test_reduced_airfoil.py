@@ -189,7 +189,6 @@ def test_the_pretwist_helix_couples_bending_and_twist_as_the_fibres_stretch():
     eta = eta - weight @ eta / weight.sum()                                 # about the centroid
     params = Parameters.from_mapping({"reduced": {"N": 4}})
     blade, mat, L = params.blade, params.material, params.blade.length
-    kappa = math.radians(blade.twist_deg) / L
     r2 = np.sum(eta**2, axis=1)
     third = {key: np.sum(weight * r2 * eta[:, k]) for k, key in enumerate(("I_rrv", "I_rrw"))}
 
