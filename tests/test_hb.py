@@ -383,6 +383,11 @@ def test_the_1um_gap_beam_branch_passes_its_folds_at_corners_and_never_walks_bac
     assert any(abs(f - 7755) < 5 for f in folds) and any(abs(f - 7669) < 5 for f in folds)
     beyond = int(np.argmax(br.rpm > 9000.0))
     assert beyond > 0 and br.rpm[beyond:].min() > 7669.0, br.stopped
+    # at 256 samples it stops among the saw-tooth's corners at 9119-9136 r/min, and says what passes them
+    assert br.complete or "more samples (--samples)" in br.stopped
+    # the default 512 samples of H 7 (hb.default_samples, scenes/hb_fig7.toml): the whole range, through folds
+    fine = run_hb(p, "reduced", 6000.0, 14000.0, harmonics=7, samples=512, stability=False)
+    assert fine.complete and fine.rpm[-1] == 14000.0 and len(fine.folds) >= 2, fine.stopped
 
 
 def test_a_tail_target_never_met_is_flagged_in_the_result_and_its_json():

@@ -376,6 +376,12 @@ def run_hb(params: Parameters, model: str, rpm_from: float, rpm_to: float, harmo
         residual, X0, rpm_from, rpm_to, x_scale, speed_step(rpm_from, rpm_to, min_points), f"HB branch {model}",
         lambda X, rpm, previous: point_details(speeds, law, basis, X, rpm, residual.last, previous, stability),
         factorize)
+    if not branch.complete and n < hb.default_samples(harmonics) and "corrector" in (branch.stopped or ""):
+        # a coarse sampling turns a smooth fold into a saw-tooth of corners (hb.default_samples): the beam's
+        # 1 um gap branch at H 7 stops at 9119.66 r/min among a dozen of them at 256 samples, passes at 512
+        branch.stopped += (f"; {n} samples a period, below the default {hb.default_samples(harmonics)}: "
+                           "corners crowd where contact switches cross samples, more samples (--samples) "
+                           "smooth them")
     return branch_result(branch, details, model=model, harmonics=harmonics, samples=n, dofs=system.dofs,
                          condensed=lin.condensed, elapsed_s=time.perf_counter() - t0)
 
