@@ -656,7 +656,7 @@ def report_hb(result: PeriodicityResult, scene) -> list[str]:
                      f"{sum(r['verdict'] == 'agree' for r in readings if r['case'] == case.label)}/{len(sw.rpm)}",
                      seconds(case.branch_s), seconds(case.states_s), seconds(sw.cpu_s)))
     pct = (lambda a, b: f"{a}/{b} ({100 * a / b:.0f} %)" if b else "none")
-    lines = [f"\n## Prediction by harmonic balance: where P1 loses stability, and how\n",
+    lines = ["\n## Prediction by harmonic balance: where P1 loses stability, and how\n",
              f"For every case of the map, the P1 branch (reduced beam, H = {opts['harmonics']}, {opts['samples']} "
              f"samples per period, this scene's contact) is continued from {opts['hb_rpm_from']:g} r/min (below "
              f"the band, where the start is easy) to {hi:g} r/min with the Floquet multipliers of every point "

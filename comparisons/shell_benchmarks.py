@@ -37,7 +37,7 @@ its margin, and the Richardson value (fine + (fine - coarse)/3) is reported.
 The thin beam (a/h = 3750) is ill-conditioned enough that rounding sets its
 deflection's 5th digit: MUMPS's fill-reducing ordering, which changes with
 the rank count, moves it by up to 6.3e-5 (docs/reproducibility.md). Each
-case declares that round-off (``ROUNDING``) on its numbers and verdict
+case declares that round-off (``CASE_ROUNDING``) on its numbers and verdict
 (``shroud.core.verdict.with_rounding``), so ``shroud compare`` holds them to
 it, and the verdicts' margins include it.
 """
@@ -84,7 +84,7 @@ MACNEAL_HARDER_TOLERANCE = 0.015
 _ORDERINGS = ("the tip deflection's spread over MUMPS's fill-reducing orderings on one process (ICNTL(7) = "
               "0, 2-7 and the default; the rank count changes the ordering), on the quick and full meshes: "
               "thin beam (a/h 3750) up to 6.3e-5, thick 3.2e-9; declared {:.0e} of each value")
-ROUNDING = {"thin": (1e-4, _ORDERINGS.format(1e-4)), "thick": (1e-8, _ORDERINGS.format(1e-8)),
+CASE_ROUNDING = {"thin": (1e-4, _ORDERINGS.format(1e-4)), "thick": (1e-8, _ORDERINGS.format(1e-8)),
             "fv16": (1e-8, "the frequencies' round-off: mpirun -n 2 and 3 moved them by up to 2.5e-9 relative "
                            "(mode 1's margin by 7.4e-10); declared 1e-08 of each value")}
 FV16 = {**STRIP, "blade.length": 10.0, "blade.width": 10.0, "blade.thickness": 0.05, "blade.twist_deg": 0.0,
@@ -115,10 +115,10 @@ def _within(error: float, change: float, tolerance: float, rounding: float, what
 
 def _rounded(row: dict, group: str, value: str, coarse: str, extrapolated: str, errors: dict[str, str]) -> dict:
     """The row and its verdict with the round-off of each number drawn from the two meshes declared:
-    ``ROUNDING[group]`` relative for the values, carried through each error (``errors``: its key -> its
+    ``CASE_ROUNDING[group]`` relative for the values, carried through each error (``errors``: its key -> its
     reference's key, value / reference - 1; the first is the verdict's) and the margin (a third of
     value / coarse - 1, both rounded) as absolute spreads."""
-    rounding, reason = ROUNDING[group]
+    rounding, reason = CASE_ROUNDING[group]
     fine, rough = abs(row[value]), abs(row[coarse])
     error_spreads = {error: rounding * fine / abs(row[reference]) for error, reference in errors.items()}
     margin_spread = LEFT * 2.0 * rounding * fine / rough
@@ -140,7 +140,7 @@ def macneal_harder(size: float) -> list[dict]:
         error = fine / published - 1.0
         group = case.partition(",")[0]                  # thin or thick
         verdict = _within(error, fine / coarse - 1.0, MACNEAL_HARDER_TOLERANCE,
-                          ROUNDING[group][0] * abs(fine / published), "MacNeal-Harder tip deflection")
+                          CASE_ROUNDING[group][0] * abs(fine / published), "MacNeal-Harder tip deflection")
         row = {"case": case, "thickness": h, "size": 0.5 * size * factor, "dofs": values[1].dofs,
                "published": published, "shell": fine, "shell_coarse": coarse, "error": error,
                "extrapolated": fine + LEFT * (fine - coarse),
@@ -198,7 +198,7 @@ def fv16(size: float) -> dict:
         runs[s] = (result.dofs, [m.f_hz for m in result.modes])
     (_, coarse), (dofs, fine) = runs[size], runs[0.5 * size]
     reference, left = fv16_reference_hz(len(FV16_HZ))
-    share = ROUNDING["fv16"][0]
+    share = CASE_ROUNDING["fv16"][0]
     against = (f"the error left in the converged thin plate (Ritz on {RITZ_TERMS} Legendre terms per direction: "
                f"its change from {RITZ_TERMS // 2}), ")
     modes = [_rounded({"mode": i + 1, "published_hz": p, "reference_hz": float(r), "reference_left": float(e),

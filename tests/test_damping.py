@@ -2,7 +2,6 @@
 
 import math
 
-import numpy as np
 import pytest
 
 from reduced_model.reduction import undamped_modes

@@ -95,7 +95,7 @@ def test_two_concurrent_runs_into_one_folder(tmp_path):
 def test_a_killed_run_leaves_no_lock_behind(tmp_path, capsys):
     out = tmp_path / "out"
     holder = subprocess.Popen([sys.executable, "-c", "import signal, sys; from shroud.base.outputs import "
-                               f"FolderLock; lock = FolderLock(sys.argv[1]); lock.acquire(); print('held', flush=True); "
+                               "FolderLock; lock = FolderLock(sys.argv[1]); lock.acquire(); print('held', flush=True); "
                                "signal.pause()", str(out)], env=_env(), stdout=subprocess.PIPE, text=True)
     assert holder.stdout.readline().strip() == "held"
     assert main(["run", str(ROOT / "scenes/fig3.toml"), "--quick", "--out", str(out)]) == 2

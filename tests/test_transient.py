@@ -1,6 +1,5 @@
 """The transient command and driver: bad input through `shroud`, outputs, linear limits."""
 
-import csv
 import json
 import subprocess
 import sys

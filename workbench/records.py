@@ -275,12 +275,22 @@ def record(scenes: list[str] | None = None, stale_only: bool = False, jobs: int 
     if stale_only:
         todo = [s for s in todo if not (RECORDS / f"{s}.json").is_file() or not check(load(s)).current]
     from concurrent.futures import ThreadPoolExecutor      # each scene is its own process: threads only wait
+    # longest first (by the last record's run time), so that side by side the last to finish is not a long
+    # scene started late: hb_fig7, 40 min, is fourteenth of 28 in name order
+    order = sorted(range(len(todo)), key=lambda i: -_last_elapsed(todo[i]))
     with ThreadPoolExecutor(max(jobs, 1)) as pool:
-        outcomes = list(pool.map(lambda s: _made(s, commit), todo))
+        ran = dict(zip(order, pool.map(lambda i: _made(todo[i], commit), order)))
+    outcomes = [ran[i] for i in range(len(todo))]
     failed = [f"{scene}: {o}" for scene, o in zip(todo, outcomes) if isinstance(o, Exception)]
     if failed:                     # every other scene's record is made all the same
         raise RuntimeError("records not made:\n" + "\n".join(failed))
     return outcomes
+
+
+def _last_elapsed(scene: str) -> float:
+    """The run time (s) of the scene's last record, 0 where it has none."""
+    path = RECORDS / f"{scene}.json"
+    return float(json.loads(path.read_text()).get("elapsed_s") or 0.0) if path.is_file() else 0.0
 
 
 def _made(scene: str, commit: str) -> Path | Exception:

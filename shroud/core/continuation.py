@@ -195,7 +195,7 @@ def continue_branch(residual: Residual, x0: np.ndarray, p0: float, p_end: float,
         elif 0.5 * ds < ds_min and not forward:   # the last resort before stopping: the corner lies within this step
             past = _past_corner(residual, u, t, ds, x_scale, p_scale, factorize, path[:count])
             if past is not None:
-                (u_new, it, R, J, Rp), ok, corner = past, True, True
+                (u_new, it, _, J, Rp), ok, corner = past, True, True
         if not ok:
             ds, shortened = 0.5 * ds, True
             if ds < ds_min:
