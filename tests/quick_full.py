@@ -13,9 +13,27 @@ test when it held none, and prints how many it held (``pytest -rA`` shows it).
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
 from typing import Any
 
 from shroud.core.verdict import NOT_DECIDED, answer_of, contradicts, is_cost_record, is_verdict
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+_QUICK_RUNS: dict[str, Path] = {}      # study -> the folder its quick run wrote, this test session
+
+
+def quick_run(study: str, tmp_path: Path) -> tuple[dict, Path]:
+    """The results.json of the quick version of scenes/<study>.toml run as a user would
+    (workbench.runner.run_scene), and the folder it wrote: run once a test session, by the first test that
+    asks (into its ``tmp_path``), and read by the others (hb_gap_preload, table1, interference and
+    ring_mistuning each serve two tests)."""
+    if study not in _QUICK_RUNS:
+        from workbench.runner import run_scene
+        run_scene(SCENES / f"{study}.toml", tmp_path / study, quick=True)
+        _QUICK_RUNS[study] = tmp_path / study
+    folder = _QUICK_RUNS[study]
+    return json.loads((folder / "results.json").read_text()), folder
 
 
 class Held:

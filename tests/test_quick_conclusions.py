@@ -14,16 +14,13 @@ says how many it held. Verdicts drawn from run times are never held: timing deci
 assert.
 """
 
-import json
 from pathlib import Path
 
 import pytest
 
 from shroud.core.verdict import NOT_DECIDED, answer_of, is_cost_record, is_verdict
+from quick_full import quick_run
 from workbench import records
-from workbench.runner import run_scene
-
-SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
 
 def full_conclusions(scene: str) -> dict:
@@ -33,8 +30,7 @@ def full_conclusions(scene: str) -> dict:
 
 def quick(study: str, tmp_path: Path) -> tuple[dict, dict]:
     """(conclusions, options) of the quick version of scenes/<study>.toml."""
-    run_scene(SCENES / f"{study}.toml", tmp_path / study, quick=True)
-    record = json.loads((tmp_path / study / "results.json").read_text())
+    record, _ = quick_run(study, tmp_path)
     assert record["status"] == "complete" and record["quick"]
     return record["results"]["conclusions"], record["options"]
 

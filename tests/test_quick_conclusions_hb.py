@@ -9,22 +9,18 @@ plus the rise between points), their stability and every verdict's answer exactl
 sides included, though only a pair decided on both sides counts as held: tests/quick_full.py).
 """
 
-import json
 from pathlib import Path
 
 import pytest
 
 from shroud.core.harmonic_balance import ACCEPT
+from quick_full import quick_run
 from workbench import records
-from workbench.runner import run_scene
-
-SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
 
 def quick(study: str, tmp_path: Path) -> dict:
     """The conclusions of the quick version of scenes/<study>.toml."""
-    run_scene(SCENES / f"{study}.toml", tmp_path / study, quick=True)
-    record = json.loads((tmp_path / study / "results.json").read_text())
+    record, _ = quick_run(study, tmp_path)
     assert record["status"] == "complete" and record["quick"]
     return record["results"]["conclusions"]
 

@@ -36,10 +36,10 @@ def test_convergence_from_N4_to_N7_decreases_as_the_papers():
 
 
 def test_table1_scene_writes_its_outputs(tmp_path):
-    from workbench.runner import run_scene
-    run_scene(Path(__file__).parents[1] / "scenes" / "table1.toml", out=tmp_path, quick=True)
+    from quick_full import quick_run
+    _, folder = quick_run("table1", tmp_path)
     for name in ("table1.csv", "report.md", "table1_convergence.png", "results.json"):
-        assert (tmp_path / name).stat().st_size > 0
+        assert (folder / name).stat().st_size > 0
 
 
 def test_fe_halved_without_both_fe_models_is_refused(tmp_path):

@@ -150,11 +150,9 @@ def test_interference_study_quick(tmp_path):
     at k_e = 2 of 24 blades (factor 2 sin(pi/12) = 0.518 < 1) the stuck ring is softer than the blade
     stuck to fixed neighbours."""
     from comparisons.interference import folded
-    from workbench.runner import run_scene
+    from quick_full import quick_run
     assert [folded(k, 24) for k in (0, 2, 12, 13, 24, 26)] == [0, 2, 12, 11, 0, 2]
-    run_scene(Path(__file__).resolve().parents[1] / "scenes" / "interference.toml", tmp_path / "i", quick=True)
-    record = json.loads((tmp_path / "i" / "results.json").read_text())
-    results = record["results"]
+    results = quick_run("interference", tmp_path)[0]["results"]
     assert results["conclusions"]["ring_against_fixed_neighbours"]["answer"] == "ring softer"
     assert results["nd_engine_order"] == 2
     assert results["relative_motion_factor"] == pytest.approx(2 * math.sin(math.pi / 12))
