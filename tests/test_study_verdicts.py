@@ -17,6 +17,7 @@ import pytest
 from comparisons import (_bands, _families, calculix, convergence, default, error_vs_time, fig3, fig7, fig8, friction,
                          gap_preload, stability, table1)
 from shroud.analysis import coexistence
+from shroud.analysis.agreement import agreement
 from comparisons.paper import TABLE1_FE, TABLE1_LABELS, TABLE1_REDUCED
 from shroud.core.results import SweepResult
 from shroud.core.verdict import KEYS, NOT_DECIDED, TIME_RATIO, contradicts, is_verdict
@@ -178,15 +179,95 @@ def test_default_frequency_against_the_solid(percent, answer):
 
 # --- error_vs_time: errors and costs -------------------------------------------------
 
-@pytest.mark.parametrize("ratio, answer", [(0.5, "smaller"), (0.9, NOT_DECIDED), (1.2, NOT_DECIDED),
-                                           (2.0, "larger")])
-def test_error_ordering_is_not_decided_within_the_reference_error(ratio, answer):
-    assert error_vs_time.ordering(0.1, 0.1 * ratio).answer == answer
+STEP_ERROR = error_vs_time.StepError("fe-reduced", 256, (64, 128, 256), (0.004, 0.001))   # q 1/4: e = 0.001
+LADDER = STEP_ERROR.resolution(128, 256)        # a step ladder: each error within e = 0.001 of its true one
 
 
-@pytest.mark.parametrize("ratio, answer", [(0.5, True), (0.9, NOT_DECIDED), (2.0, False)])
-def test_beats_every_beam(ratio, answer):
-    assert error_vs_time.beats(0.1 * ratio, 0.1).answer == answer
+@pytest.mark.parametrize("changes, error", [((0.02, 0.002), 0.002),        # q 0.1: at least the last change
+                                            ((0.004, 0.003), 0.009),       # q 3/4: 0.003 x 3/4 / (1 - 3/4)
+                                            ((0.001, 0.002), math.inf),    # growing: not converging
+                                            ((0.001,), math.inf)])         # two rungs: no rate
+def test_reference_step_error_sums_the_changes_still_to_come(changes, error):
+    assert error_vs_time.StepError("fe-reduced", 256, (), changes).error == pytest.approx(error)
+
+
+def test_runs_at_the_references_step_are_compared_exactly():
+    """Runs that all share the reference's step are judged against the solid at that step: margin 0; a run at
+    another step brings the reference's own step error in."""
+    assert STEP_ERROR.resolution(256, 256)[0] == 0.0
+    assert STEP_ERROR.resolution(256, 128) == (0.001, STEP_ERROR.reason)
+    assert error_vs_time.ordering(0.12, 0.1199, STEP_ERROR.resolution(256, 256)).answer == "the same"
+    assert error_vs_time.ordering(0.12, 0.0799, STEP_ERROR.resolution(256, 256)).answer == "smaller"
+
+
+@pytest.mark.parametrize("a, b, spread, answer", [
+    (0.12, 0.1199, 0.001, "the same"),      # a converged ladder: the runs differ by far less than their error
+    (0.12, 0.1199, math.inf, "the same"),   # ... and, e = 0.001 on an error of 0.12, by the errors alone
+    (0.1, 0.05, math.inf, "smaller"),
+    (0.1, 0.2, math.inf, "larger"),
+    (0.01, 0.0069, math.inf, NOT_DECIDED),  # true ratio in [0.54, 0.88]: either side of 1 / 1.5
+    (0.01, 0.001, math.inf, "smaller"),     # true b may vanish: [0, 0.22], below 1 / 1.5 all the same
+    (0.001, 0.0009, 1e-5, NOT_DECIDED)])    # an error no larger than the reference's own: unbounded
+def test_error_ordering_reads_the_true_errors_ratio(a, b, spread, answer):
+    """Within x1.5 the same, decided where the ratio of the true errors (each within e = 0.001 of the measured
+    one, the two within the runs' own difference) lies on one side of an edge. The old margin x1.5 around a
+    band of width 1 left the first two not decided."""
+    verdict = error_vs_time.ordering(a, b, LADDER, spread)
+    assert verdict.answer == answer
+    assert ("to decide:" in verdict.reason) == (answer == NOT_DECIDED)
+
+
+def test_error_margin_bounds_the_true_ratio():
+    """Every pair of true errors the bounds allow (each within e of its measured one, the two within the runs'
+    difference of each other) has its ratio inside the margin around the measured ratio."""
+    a, b, e, d = 0.05, 0.04, 0.005, 0.02
+    noise = error_vs_time.error_margin(a, b, e, 1.5, d)
+    grid = np.linspace(-e, e, 41)
+    ratios = [(b + y) / (a + x) for x in grid for y in grid if abs((b + y) - (a + x)) <= d]
+    assert min(ratios) >= b / a / noise * (1 - 1e-12) and max(ratios) <= b / a * noise * (1 + 1e-12)
+    assert min(ratios) == pytest.approx(b / a / noise) or max(ratios) == pytest.approx(b / a * noise)
+    # two runs 0.001 apart with errors 0.05 and 0.049: the true ratio in [0.978, 1.022] instead of [0.8, 1.2]
+    assert error_vs_time.error_margin(0.05, 0.049, 0.005, 1.5) == pytest.approx(0.98 / (0.044 / 0.055))
+    assert error_vs_time.error_margin(0.05, 0.049, 0.005, 1.5, 0.001) == pytest.approx((1 + 0.001 / 0.045) / 0.98)
+
+
+def test_distance_is_agreements_worst_nrmse_and_a_norm():
+    """The verdicts' norm on the reference's window is shroud.analysis.agreement's worst NRMSE (a second
+    implementation) for runs on other time grids, and obeys the triangle inequality the margins rest on."""
+    period, t_ref = 0.01, np.linspace(0.0, 0.3, 3001)
+    t_run = np.linspace(0.0, 0.3, 1201)
+
+    def wave(t, k, phase):
+        return {name: (1 + j) * np.sin(2 * np.pi * t / period + phase + j) + 0.1 * k * np.cos(6 * np.pi * t / period)
+                for j, name in enumerate(error_vs_time.SIGNALS)}
+    ref, a, b = wave(t_ref, 0, 0.0), wave(t_run, 1, 0.05), wave(t_run, 2, -0.1)
+    window = error_vs_time.on_window(t_ref, ref, t_ref, period, 10)
+    ranges = error_vs_time.spans(window)
+    on = {k: error_vs_time.on_window(t_run, s, t_ref, period, 10) for k, s in (("a", a), ("b", b))}
+    for k, s in (("a", a), ("b", b)):
+        assert error_vs_time.distance(on[k], window, ranges) == pytest.approx(
+            agreement(t_run, s, t_ref, ref, period, 10).worst_nrmse, rel=1e-12)
+    d_a, d_b = (error_vs_time.distance(on[k], window, ranges) for k in "ab")
+    assert abs(d_a - d_b) <= error_vs_time.distance(on["a"], on["b"], ranges)
+
+
+@pytest.mark.parametrize("error, best, answer", [(0.13, 0.12, False), (0.006, 0.12, True), (0.1205, 0.12, NOT_DECIDED)])
+def test_beats_every_beam(error, best, answer):
+    """The P1 solid's 0.13 against the best beam's 0.12 (ratio 1.08: not decided under the old x1.5) is
+    decided when the reference's own error is 0.001."""
+    assert error_vs_time.beats(error, best, LADDER).answer == answer
+
+
+@pytest.mark.parametrize("hb, spreads, answer", [(3.28, (1.02, 1.03), "costlier"),     # x2 left it undecided
+                                                 (3.28, (1.1, 1.1), NOT_DECIDED),
+                                                 (0.1, (1.2, 1.2), "cheaper"), (1.3, (1.2, 1.2), "comparable")])
+def test_cost_verdict_margin_is_the_repeats_spread(hb, spreads, answer):
+    verdict = error_vs_time.cost_verdict(hb, spreads[0], 1.0, spreads[1])
+    assert verdict.answer == answer and verdict.unit == TIME_RATIO
+
+
+def test_spread_of_repeats():
+    assert error_vs_time.spread([1.0, 1.1, 1.3]) == pytest.approx(1.3 / 1.1)
 
 
 @pytest.mark.parametrize("a, answer", [(1.0, "comparable"), (0.1, "cheaper"), (0.25, NOT_DECIDED)])
