@@ -11,7 +11,8 @@ the three finest sizes (q fitted per mode; with fewer sizes the P3 values
 stand for it); ``--p3 SIZE`` adds cubic
 displacements (P3 on the P2 geometry of the mesh of that size: the order
 raised instead of the size lowered, no element size in common with the
-sequence's error); ``--ccx SIZE`` CalculiX's C3D10 frequencies on the mesh of
+sequence's error; comparisons.convergence.cubic_modes, the convergence
+scene's reference); ``--ccx SIZE`` CalculiX's C3D10 frequencies on the mesh of
 that size (a second code on the same cells).
 
     python benchmarks/bench_airfoil_convergence.py --sizes 0.002 0.0016 0.0013 0.0011 --p3 0.002 --ccx 0.0013
@@ -47,30 +48,14 @@ print(json.dumps(out))
 """
 
 P3 = """
-import dataclasses, json, time
-import dolfinx_solver  # noqa: F401  (before dolfinx, as reference_fe.solid)
-import numpy as np
-from dolfinx import fem
-from petsc4py import PETSc
-from meshes.spec import MeshSpec
-from reference_fe.modal import _stiffness_factor, _undamped
-from reference_fe.solid import ROOT, RotatingOperators, _solid_model, _unit_operators
-from shroud.params import Parameters
+import json, time
 t0 = time.perf_counter()
+from comparisons.convergence import cubic_modes
+from shroud.params import Parameters
 p = Parameters().with_overrides(%r + ["fe.mesh_size=%r"])
-quadratic = _solid_model(MeshSpec.from_params(p), p.material, False)
-msh = quadratic.mesh
-V = fem.functionspace(msh, ("Lagrange", 3, (3,)))
-root = fem.locate_dofs_topological(V, 2, quadratic.facet_tags.find(ROOT))
-bc = fem.dirichletbc(np.zeros(3, dtype=PETSc.ScalarType), root, V)
-cubic = dataclasses.replace(quadratic, V=V, bcs=(bc,), clamped_dofs=np.sort((3 * root[:, None] + np.arange(3)).ravel()))
-unit = _unit_operators(cubic)
-out = {"size": %r, "dofs": V.dofmap.index_map.size_global * 3}
-for rpm in %r:
-    ops = RotatingOperators.at(cubic, unit, rpm)
-    ksp, factor = _stiffness_factor(ops)
-    out[str(rpm)] = _undamped(ops, %d, ksp)[0].tolist()
-    ksp.destroy(); factor.destroy()
+speeds = %r
+row = cubic_modes(p, speeds, %d)
+out = {"size": p.fe.mesh_size, "dofs": row["dofs"], **{str(rpm): f.tolist() for rpm, f in zip(speeds, row["f"])}}
 out["wall_s"] = time.perf_counter() - t0
 print(json.dumps(out))
 """
@@ -127,7 +112,7 @@ def main() -> None:
     for size in sorted(args.sizes, reverse=True):
         rows.append(_run(WORK % (sets, size, size, SPEEDS, args.modes)))
         print(json.dumps(rows[-1]), flush=True)
-    cubic = _run(P3 % (sets, args.p3, args.p3, SPEEDS, args.modes)) if args.p3 else None
+    cubic = _run(P3 % (sets, args.p3, SPEEDS, args.modes)) if args.p3 else None
     if cubic:
         print(json.dumps({"p3": cubic}), flush=True)
     ccx = _run(CCX % (sets, args.ccx, args.ccx, SPEEDS, args.modes)) if args.ccx else None

@@ -2,11 +2,16 @@
 
 The prestressed blade (default geometry, no Coriolis) is solved at each
 speed of ``rpms`` on a series of tetrahedral (P2) and hexahedral (27-node
-Q2, meshes.hexa) meshes. Per cell kind, a Richardson extrapolation of the
-three finest meshes gives a converged estimate and the observed order; the
-effective element size is h = DOF^(-1/3) (refinement is not nested). The
-converged values are those of the ``reference`` kind (the other kind's
-estimate is reported beside them: two discretizations of one solid).
+Q2, meshes.hexa) meshes, and on a reference series of cubic displacements
+(P3, :func:`cubic_modes`) on the P2 tetrahedra of ``p3_sizes``. Per series,
+a Richardson extrapolation of the three finest meshes gives a converged
+estimate and the observed order; the effective element size is
+h = DOF^(-1/3) (refinement is not nested). The converged values are those
+of the ``reference`` series (the others' estimates are reported beside
+them). For the P3 reference, how well they are known is measured from its
+finest step (:func:`reference_uncertainty`): the limit of a sequence
+converging at any order from ORDER_FLOOR up lies between its finest value
+and that value extrapolated at ORDER_FLOOR.
 
 The default mesh is the cheapest (fewest DOF: the measured solve times are
 noisy on a shared machine and the first mesh also pays the forms' JIT
@@ -46,7 +51,10 @@ OPTIONS = {
     "rpms": [8500.0, 10000.0],
     "n_modes": 5,
     "tolerance_pct": 0.15,
-    "reference": "hex",     # whose Richardson estimate is the converged value
+    # fe.mesh_size of the P2 tetrahedra that carry cubic displacements (the reference series, coarse to fine):
+    # three or more: Richardson on the three finest; one: its values stand, how well they are known unmeasured
+    "p3_sizes": [0.0035, 0.0028, 0.0022],
+    "reference": "p3",      # whose estimate is the converged value: "p3", "hex" or "tet"
     "pictures": True,       # mesh and mode-shape PNGs, and the modes as VTK, of the chosen mesh
     # The shell model's own sequence (shell.mesh_size, coarse to fine; [] = none): Richardson on its three
     # finest (h = the size: structured triangles), the cheapest size within shell_tolerance_pct of that
@@ -55,11 +63,19 @@ OPTIONS = {
     "shell_sizes": [0.008, 0.004, 0.002],
     "shell_tolerance_pct": 0.5,
 }
-KINDS = ("tet", "hex")
-# Quadratic elements: eigenfrequency errors fall as h^4 (twice the energy-norm order 2); an observed
-# order within ASYMPTOTIC of it marks a sequence in its asymptotic range.
-ELEMENT_ORDER = 4.0
-ASYMPTOTIC = (3.0, 5.0)
+KINDS = ("tet", "hex")          # the project's cells (fe.cell, fe.order 2): the candidates for the default
+SERIES = KINDS + ("p3",)        # ... and the cubic reference (fe.order is 1 or 2: a study's own model)
+CELL = {"tet": "tet", "hex": "hex", "p3": "tet"}     # each series' fe.cell
+# Eigenfrequency errors of a smooth solution fall as h^(2k) for elements of degree k (twice the energy-norm
+# order): h^4 for the quadratic cells, h^6 for the cubic ones; an observed order within ASYMPTOTIC (1) of it
+# marks a sequence in its asymptotic range.
+ELEMENT_ORDER = {"tet": 4.0, "hex": 4.0, "p3": 6.0}
+ASYMPTOTIC = 1.0
+# The slowest the blade's eigenfrequency errors can fall, h^(2 lambda) (any element degree) with lambda the
+# smallest edge-singularity exponent of its corners (Williams): 0.5445 at the blade/shroud junction's
+# re-entrant 270 deg edges (traction-free), 0.71 at the clamped root's 90 deg edges (nu = 0.3); 2 lambda =
+# 1.09, floored to 1 (vertex singularities of a polyhedron cost less; any edge's lambda >= 1/2, a crack's).
+ORDER_FLOOR = 1.0
 
 # The frequencies' round-off, relative: the eigen-solve's last digits (SLEPc Krylov-Schur, shift-invert on
 # MUMPS's factor) are set by rounding that the rank count changes (the partition, the factor's ordering
@@ -136,21 +152,51 @@ def _extrapolated(h: np.ndarray, f: np.ndarray, extrapolate=richardson) -> tuple
             spread[..., 0], spread[..., 1])
 
 
+def reference_uncertainty(h: np.ndarray, f: np.ndarray, converged: np.ndarray) -> np.ndarray:
+    """How well ``converged`` is known, relative, per entry, from a series' two finest meshes (h (2,)
+    decreasing, f (2, ...)): the limit of a sequence converging monotonically as C h^q, at any order q from
+    ORDER_FLOOR up, lies between its finest value (q infinite) and that value extrapolated from the finest
+    step at q = ORDER_FLOOR, f2 - (f1 - f2) / ((h1 / h2)^ORDER_FLOOR - 1); the farther of the two from
+    ``converged``. (At the observed order the Richardson estimate lies between them.)
+
+    >>> float(reference_uncertainty(np.array([2.0, 1.0]), np.array([102.0, 101.0]), np.array(100.5)))
+    0.004975124378109453
+    """
+    finest, step = f[1], f[0] - f[1]
+    slowest = finest - step / ((h[0] / h[1]) ** ORDER_FLOOR - 1.0)
+    return np.maximum(np.abs(converged - finest), np.abs(converged - slowest)) / np.abs(converged)
+
+
+def uncertainty_rounding(h: np.ndarray, f: np.ndarray, converged: np.ndarray, converged_spread: np.ndarray,
+                         eps: float = FREQUENCY_ROUNDING) -> np.ndarray:
+    """The round-off of :func:`reference_uncertainty` per entry (relative, absolute as it is): each of the two
+    meshes' frequencies moved by ``eps`` of itself, moves summed, and ``converged`` known to
+    ``converged_spread`` of itself (first order)."""
+    known = reference_uncertainty(h, f, converged)
+    moved = 0.0
+    for i in range(2):
+        g = np.array(f, dtype=float)
+        g[i] *= 1.0 + eps
+        moved = moved + np.abs(reference_uncertainty(h, g, converged) - known)
+    return moved + converged_spread
+
+
 def _check(params, opts) -> None:
     from meshes.blade import MeshSpec, check_geometry
     shell = opts["shell_sizes"]
     if shell and (len(shell) < 3 or any(b >= a for a, b in zip(shell, shell[1:]))):
         raise InputError("options.shell_sizes", f"{shell}; allowed: [] or at least 3 sizes, decreasing")
-    if opts["reference"] not in KINDS:
-        raise InputError("options.reference", f"{opts['reference']!r}; allowed: \"tet\" or \"hex\"")
-    for kind in KINDS:
-        sizes = opts[f"{kind}_sizes"]
-        if len(sizes) < 3 and kind == opts["reference"]:
-            raise InputError(f"options.{kind}_sizes", "the reference kind needs at least 3 sizes (Richardson)")
+    if opts["reference"] not in SERIES:
+        raise InputError("options.reference", f"{opts['reference']!r}; allowed: \"p3\", \"hex\" or \"tet\"")
+    for kind in SERIES:
+        sizes, least = opts[f"{kind}_sizes"], 1 if kind == "p3" else 3
+        if len(sizes) < least and kind == opts["reference"]:
+            raise InputError(f"options.{kind}_sizes", f"{sizes}; allowed: the reference series needs at least "
+                             + ("one size" if kind == "p3" else "3 sizes (Richardson)"))
         if any(b >= a for a, b in zip(sizes, sizes[1:])):
             raise InputError(f"options.{kind}_sizes", f"{sizes}; allowed: sizes decreasing (coarse to fine)")
         for size in sizes:
-            check_geometry(MeshSpec.from_params(params.updated({"fe.cell": kind, "fe.mesh_size": size})))
+            check_geometry(MeshSpec.from_params(params.updated({"fe.cell": CELL[kind], "fe.mesh_size": size})))
 
 
 def factor_bytes(params) -> float:
@@ -167,6 +213,43 @@ def factor_bytes(params) -> float:
     return 8.0 * float(entries)
 
 
+def cubic_modes(params, rpms: list[float], n_modes: int) -> dict:
+    """The prestressed solid's ``n_modes`` lowest undamped frequencies (no Coriolis) at each of ``rpms`` with
+    cubic displacements (Lagrange P3) on the P2 tetrahedra of ``params``' mesh: the order raised, the mesh and
+    its quadratic geometry kept. fe.order is 1 or 2 (shroud.params): the space is built here on the cached
+    mesh, with reference_fe.solid's clamp, tip nodes and operators (as solve_modes). Returns a row of
+    :func:`compute`'s table: DOF, the modes' labels per speed, frequencies (speeds, modes), the time of
+    operators and eigen-solves, and the bytes of the MUMPS factor of K (K + M has its pattern)."""
+    import dataclasses
+    from reference_fe.solid import ROOT, RotatingOperators, _tip_dofs, _unit_operators, solid_model  # before dolfinx
+    from dolfinx import fem
+    from petsc4py import PETSc
+    from meshes.spec import tip_points
+    from reference_fe.modal import _stiffness_factor, _undamped, tip_components
+    from shroud.core.modes import label_modes
+    t0 = time.perf_counter()
+    quadratic = solid_model(params)
+    V = fem.functionspace(quadratic.mesh, ("Lagrange", 3, (3,)))
+    root = fem.locate_dofs_topological(V, 2, quadratic.facet_tags.find(ROOT))
+    cubic = dataclasses.replace(quadratic, V=V, bcs=(fem.dirichletbc(np.zeros(3, dtype=PETSc.ScalarType), root, V),),
+                                clamped_dofs=np.sort((3 * root[:, None] + np.arange(3)).ravel()),
+                                tip_dofs=_tip_dofs(V, tip_points(quadratic.spec), quadratic.spec.size))
+    # uncached (lru_cache's __wrapped__): the finest mesh's cubic operators hold GBs, dropped on return
+    unit = _unit_operators.__wrapped__(cubic)
+    f, labels = [], []
+    for rpm in rpms:
+        ops = RotatingOperators.at(cubic, unit, rpm)
+        ksp, factor = _stiffness_factor(ops)
+        entries = factor.getMumpsInfog(29)
+        freqs, shapes = _undamped(ops, n_modes + 2, ksp)
+        ksp.destroy()
+        factor.destroy()
+        labels.append(label_modes(np.array([tip_components(cubic, x) for x in shapes[:n_modes]]).real)[0])
+        f.append(freqs[:n_modes])
+    return {"dofs": cubic.global_dofs, "labels": labels, "f": np.array(f), "solve_s": time.perf_counter() - t0,
+            "factor_bytes": 8.0 * float(entries)}
+
+
 def slope(dofs, values) -> float:
     """Exponent a of values ~ dofs^a (log-log least squares)."""
     return float(np.polyfit(np.log(dofs), np.log(values), 1)[0])
@@ -178,24 +261,28 @@ class ConvergenceResult:
 
     rpms: list[float]
     labels: list[str]              # the modes, by tip-kinematics label
-    rows: list[dict]               # per mesh: kind, size, DOF, solve time, factor bytes, f, errors, params
-    estimates: dict[str, tuple]    # cell kind -> (Richardson values (speeds, modes), observed orders)
-    round_off: dict[str, tuple]    # cell kind -> round-off of those values (relative) and orders (absolute)
-    reference: str                 # the cell kind whose estimates are the converged values
+    rows: list[dict]               # per mesh: kind (series), size, DOF, labels per speed, solve time, factor
+                                   # bytes, f, errors, params
+    estimates: dict[str, tuple]    # series -> (Richardson values (speeds, modes), observed orders)
+    round_off: dict[str, tuple]    # series -> round-off of those values (relative) and orders (absolute)
+    reference: str                 # the series whose estimate (or finest values) are the converged values
+    converged: np.ndarray          # the converged values (speeds, modes), Hz
+    converged_spread: np.ndarray   # their round-off, relative
     tolerance_pct: float
-    known: float | None            # how well the converged values are known (the other kind's estimate), %
+    known: float | None            # how well the converged values are known, % (None: not measured)
+    known_spread: float | None     # its round-off, %
     chosen: dict | None            # the row of the mesh with the fewest DOF within the tolerance
-    growth: dict[str, dict]        # cell kind -> time and factor-memory slopes over DOF (costs)
+    growth: dict[str, dict]        # series -> time and factor-memory slopes over DOF (costs)
     chosen_modes: object | None    # the chosen mesh's modes at the first speed (option pictures)
     shell: dict | None             # the shell model's own mesh sequence (shell_sequence; None: no shell_sizes)
 
     def to_json(self) -> dict:
         rows, chosen, estimates = self.rows, self.chosen, self.estimates
-        reference, reference_spread = estimates[self.reference][0], self.round_off[self.reference][0]
+        reference, reference_spread = self.converged, self.converged_spread
         results = {"labels": self.labels, "rpms": self.rpms, "tolerance_pct": self.tolerance_pct,
                    "converged_known_to_pct": self.known,
                    "meshes": [_mesh_json(r, error_rounding(r["f"], reference, reference_spread)) for r in rows],
-                   "converged_hz": estimates[self.reference][0].tolist(), "reference": self.reference,
+                   "converged_hz": reference.tolist(), "reference": self.reference,
                    "richardson_hz": {kind: e[0].tolist() for kind, e in estimates.items()},
                    "observed_order": {kind: e[1] for kind, e in estimates.items()},
                    # fits of run times and of factor memory: declared so (shroud compare skips them)
@@ -207,10 +294,7 @@ class ConvergenceResult:
                         "worst_error_pct": chosen["worst_pct"]}, ROUNDING_REASON,
                        worst_error_pct=error_rounding(chosen["f"], reference, reference_spread)),
                    "paper_fe_hz": list(PAPER_FE), "shell": self.shell}
-        # how well the converged values are known: the other kind's estimates against them, both rounded
-        known = {} if self.known is None else {"converged_known_to_pct": max(
-            error_rounding(e[0], reference, reference_spread, eps=self.round_off[kind][0])
-            for kind, e in estimates.items() if kind != self.reference)}
+        known = {} if self.known is None else {"converged_known_to_pct": self.known_spread}
         results = with_rounding(results, ROUNDING_REASON, observed_order=max(
             float(np.max(orders)) for _, orders in self.round_off.values()), **known)
         results["conclusions"] = conclusions(results)
@@ -221,7 +305,8 @@ def _mesh_json(row: dict, error_spread: float) -> dict:
     """One mesh's row of results.json, its errors' round-off declared. The factor's memory is a cost the rank
     count sets (a distributed factor has its own fill and buffers: 0.1-2.2 % more or less on 2 and 3 ranks),
     declared so, as its solve time is one the machine sets: shroud compare skips both."""
-    return with_rounding({"cell": row["kind"], "mesh_size_m": row["size"], "dofs": row["dofs"],
+    return with_rounding({"cell": CELL[row["kind"]], "order": 3 if row["kind"] == "p3" else 2,
+                          "mesh_size_m": row["size"], "dofs": row["dofs"],
                           "solve_s": row["solve_s"], "factor_MB": cost(row["factor_bytes"] / 1e6, MEMORY_MB),
                           "frequencies_hz": row["f"].tolist(), "error_pct": row["error_pct"].tolist(),
                           "worst_error_pct": row["worst_pct"]}, ROUNDING_REASON,
@@ -234,54 +319,83 @@ def compute(scene) -> ConvergenceResult:
     opts = scene.options
     _check(scene.params, opts)
     k, rpms = int(opts["n_modes"]), [float(r) for r in opts["rpms"]]
+    # the cubic series first: its finest operators (GBs) are dropped before the quadratic ones fill the caches
+    cubic = [{"kind": "p3", "size": float(size),
+              **cubic_modes(scene.params.updated({"fe.cell": "tet", "fe.mesh_size": float(size)}), rpms, k)}
+             for size in opts["p3_sizes"]]
     rows = []
     for kind in KINDS:
         for size in opts[f"{kind}_sizes"]:
             params = scene.params.updated({"fe.cell": kind, "fe.mesh_size": float(size)})
-            f, labels, t0 = [], None, time.perf_counter()
+            f, labels, t0 = [], [], time.perf_counter()
             for rpm in rpms:
                 modes = solve_modes(params, rpm, k + 2, coriolis=False)
-                labels = labels or list(modes.labels[:k])
-                if list(modes.labels[:k]) != labels:
-                    raise RuntimeError(f"{kind} {size}: modes change order between speeds ({modes.labels})")
+                labels.append(list(modes.labels[:k]))
                 f.append(modes.f_undamped[:k])
             rows.append({"kind": kind, "size": float(size), "dofs": modes.dofs, "labels": labels,
                          "solve_s": time.perf_counter() - t0, "f": np.array(f),
                          "factor_bytes": factor_bytes(params.updated({"speed.rpm": rpms[-1]})),
                          "params": params})
+    rows += cubic
     estimates, round_off = {}, {}
-    for kind in KINDS:
+    for kind in SERIES:
         mine = [r for r in rows if r["kind"] == kind]
         if len(mine) < 3:
             continue
-        h = np.array([r["dofs"] for r in mine[-3:]], dtype=float) ** (-1.0 / 3.0)
-        values, orders, value_spread, order_spread = _extrapolated(h, np.array([r["f"] for r in mine[-3:]]))
+        values, orders, value_spread, order_spread = _extrapolated(_size(mine[-3:]),
+                                                                   np.array([r["f"] for r in mine[-3:]]))
         estimates[kind], round_off[kind] = (values, orders), (value_spread, order_spread)
-    reference = estimates[opts["reference"]][0]
-    labels = rows[0]["labels"]
+    reference, reference_spread, known, known_spread = _converged(rows, estimates, round_off, opts["reference"])
+    labels = rows[0]["labels"][0]
     for r in rows:
-        if r["labels"] != labels:
-            raise RuntimeError(f"{r['kind']} {r['size']}: modes {r['labels']} differ from {labels}")
+        if any(found != labels for found in r["labels"]):
+            raise RuntimeError(f"{r['kind']} {r['size']}: modes {r['labels']} (per speed) differ from {labels}")
         r["error_pct"] = 100 * (r["f"] / reference - 1.0)
         r["worst_pct"] = float(np.max(np.abs(r["error_pct"])))
-    # how well the converged values are known: the other cell kind's estimate against them
-    known = max((100 * float(np.max(np.abs(e[0] / reference - 1.0))) for kind, e in estimates.items()
-                 if kind != opts["reference"]), default=None)
-    fit = [r for r in rows if within(r["worst_pct"], opts["tolerance_pct"], known).answer is True]
+    fit = [r for r in rows if r["kind"] in KINDS
+           and within(r["worst_pct"], opts["tolerance_pct"], known, opts["reference"]).answer is True]
     chosen = min(fit, key=lambda r: r["dofs"]) if fit else None
     growth = {kind: {"time_slope": slope([r["dofs"] for r in rows if r["kind"] == kind],
                                          [r["solve_s"] for r in rows if r["kind"] == kind]),
                      "memory_slope": slope([r["dofs"] for r in rows if r["kind"] == kind],
                                            [r["factor_bytes"] for r in rows if r["kind"] == kind])}
-              for kind in KINDS if sum(r["kind"] == kind for r in rows) >= 2}
-    shell = (shell_sequence(scene.params, opts, rpms, labels, reference, round_off[opts["reference"]][0])
+              for kind in SERIES if sum(r["kind"] == kind for r in rows) >= 2}
+    shell = (shell_sequence(scene.params, opts, rpms, labels, reference, reference_spread)
              if opts["shell_sizes"] else None)
     chosen_modes = (solve_modes(chosen["params"], rpms[0], k, coriolis=False)
                     if opts["pictures"] and chosen is not None else None)
     return ConvergenceResult(rpms=rpms, labels=labels, rows=rows, estimates=estimates, round_off=round_off,
-                             reference=opts["reference"],
-                             tolerance_pct=opts["tolerance_pct"], known=known, chosen=chosen, growth=growth,
-                             chosen_modes=chosen_modes, shell=shell)
+                             reference=opts["reference"], converged=reference, converged_spread=reference_spread,
+                             tolerance_pct=opts["tolerance_pct"], known=known, known_spread=known_spread,
+                             chosen=chosen, growth=growth, chosen_modes=chosen_modes, shell=shell)
+
+
+def _size(rows: list[dict]) -> np.ndarray:
+    """The effective element sizes h = DOF^(-1/3) of ``rows`` (refinement is not nested)."""
+    return np.array([r["dofs"] for r in rows], dtype=float) ** (-1.0 / 3.0)
+
+
+def _converged(rows: list[dict], estimates: dict, round_off: dict, reference: str) -> tuple:
+    """The converged values (speeds, modes) and their round-off (relative), how well they are known and its
+    round-off (%; None: not measured). The ``reference`` series' Richardson estimate, or with fewer than three
+    meshes its finest values. The cubic series is known to :func:`reference_uncertainty` of its two finest
+    meshes; a quadratic one to the other series' estimates against it (two discretizations of one solid)."""
+    mine = [r for r in rows if r["kind"] == reference]
+    if reference in estimates:
+        values, spread = estimates[reference][0], round_off[reference][0]
+    else:
+        values, spread = mine[-1]["f"], np.full(mine[-1]["f"].shape, FREQUENCY_ROUNDING)
+    if reference == "p3":
+        if len(mine) < 2:
+            return values, spread, None, None
+        h, f = _size(mine[-2:]), np.array([r["f"] for r in mine[-2:]])
+        return (values, spread, 100 * float(np.max(reference_uncertainty(h, f, values))),
+                100 * float(np.max(uncertainty_rounding(h, f, values, spread))))
+    others = [kind for kind in estimates if kind != reference]
+    if not others:
+        return values, spread, None, None
+    return (values, spread, max(100 * float(np.max(np.abs(estimates[kind][0] / values - 1.0))) for kind in others),
+            max(error_rounding(estimates[kind][0], values, spread, eps=round_off[kind][0]) for kind in others))
 
 
 def plot(result: ConvergenceResult, scene, out: Path) -> list[str]:
@@ -302,8 +416,7 @@ def plot(result: ConvergenceResult, scene, out: Path) -> list[str]:
 
 
 def report(result: ConvergenceResult, scene, files: list[str]) -> str:
-    return (_report(scene, result.rows, result.labels, result.rpms, result.estimates, result.growth, result.chosen,
-                    result.to_json()["conclusions"])
+    return (_report(scene, result, result.to_json()["conclusions"])
             + ("" if result.shell is None else _shell_report(result.shell, result.labels, result.rpms)))
 
 
@@ -430,34 +543,44 @@ def mesh_name(cell: str, size_m: float) -> str:
     return f"{cell} {1e3 * size_m:g} mm"
 
 
-def within(worst_pct: float, tolerance_pct: float, known_pct: float | None) -> Verdict:
+# How each reference's converged values are known (:func:`_converged`), the reason of :func:`within`'s margin.
+KNOWN_BY = {"p3": "the converged values (the cubic tetrahedra's Richardson estimate) known to the interval their "
+                  "finest step allows: from the finest P3 value to its extrapolation at order "
+                  f"{ORDER_FLOOR:g}, the slowest the blade's re-entrant edges allow",
+            "hex": "the converged values known to the other series' Richardson estimates",
+            "tet": "the converged values known to the other series' Richardson estimates"}
+
+
+def within(worst_pct: float, tolerance_pct: float, known_pct: float | None, reference: str) -> Verdict:
     """Whether a mesh's worst frequency error lies within the tolerance; the margin is how well the
-    converged values are known (the other cell kind's Richardson estimate against them; None when this
-    run has no second estimate, and then the margin is 0 and the reason says it is unmeasured)."""
+    converged values of the ``reference`` series are known (:data:`KNOWN_BY`; None when this run does not
+    measure it, and then the margin is 0 and the reason says it is unmeasured)."""
     if known_pct is None:
         return Verdict.of(worst_pct, tolerance_pct, 0.0, below=True, above=False, unit="%",
-                          reason="no second cell kind's estimate in this run: how well the converged values "
-                                 "are known is not measured (margin 0)")
+                          reason="how well the converged values are known is not measured in this run (one "
+                                 "mesh of the cubic series, or no second estimate): margin 0")
     return Verdict.of(worst_pct, tolerance_pct, known_pct, below=True, above=False, unit="%",
-                      reason="the converged values known to the other cell kind's Richardson estimate")
+                      reason=KNOWN_BY[reference])
 
 
 def conclusions(results: dict) -> dict:
     """What the report concludes, as data, from the numbers ``run`` returns (a results.json gives them):
 
-    * meets_tolerance: per mesh, its first n_modes frequencies within tolerance_pct of the converged
+    * meets_tolerance: per mesh of the project's cells (order 2; the cubic series is the reference, not a
+      candidate: fe.order is 1 or 2), its first n_modes frequencies within tolerance_pct of the converged
       values at every speed (a verdict, :func:`within`: not decided within how well the converged values
       are known); chosen: the mesh with the fewest DOF that does (None if none);
       default_mesh_meets_tolerance: whether the project's default (shroud.params.FE) does (None when
       it is not among the meshes);
-    * observed_order: per cell kind, the Richardson order of each mode at each speed, and asymptotic:
-      whether every one lies within ASYMPTOTIC (the element's order ELEMENT_ORDER, give or take 1);
+    * observed_order: per series, the Richardson order of each mode at each speed, and asymptotic:
+      whether every one lies within ASYMPTOTIC of the element's order ELEMENT_ORDER (its smooth rate);
     * cheaper_at_equal_error: the cell kind that meets the tolerance with fewer DOF ("hex", "tet"),
       or None when the meshes run cannot tell (the other kind's meshes all fail below that DOF).
     """
     tol, known = results["tolerance_pct"], results.get("converged_known_to_pct")
-    meshes = results["meshes"]
-    meets = {mesh_name(m["cell"], m["mesh_size_m"]): within(m["worst_error_pct"], tol, known) for m in meshes}
+    meshes = [m for m in results["meshes"] if m.get("order", 2) == 2]
+    meets = {mesh_name(m["cell"], m["mesh_size_m"]): within(m["worst_error_pct"], tol, known, results["reference"])
+             for m in meshes}
     default = mesh_name(FE().cell, FE().mesh_size)
     orders = {kind: {f"{lab} at {rpm:g} r/min": p for rpm, row in zip(results["rpms"], per_speed)
                      for lab, p in zip(results["labels"], row)}
@@ -467,8 +590,8 @@ def conclusions(results: dict) -> dict:
              mesh_name(results["chosen"]["cell"], results["chosen"]["mesh_size_m"]),
              "default_mesh_meets_tolerance": meets.get(default),
              "observed_order": orders,
-             "asymptotic": {kind: all(p is not None and ASYMPTOTIC[0] <= p <= ASYMPTOTIC[1] for p in o.values())
-                            for kind, o in orders.items()},
+             "asymptotic": {kind: all(p is not None and abs(p - ELEMENT_ORDER[kind]) <= ASYMPTOTIC
+                                      for p in o.values()) for kind, o in orders.items()},
              "cheaper_at_equal_error": _cheaper(meshes, {n for n, v in meets.items() if v.answer is True})}
     spread = declared_rounding(results).get("observed_order")     # the orders' round-off, as results declare it
     return found if spread is None else with_rounding(found, ROUNDING_REASON, observed_order=spread)
@@ -492,18 +615,22 @@ def _cheaper(meshes: list[dict], within_tolerance: set[str]) -> str | None:
     return None
 
 
+SERIES_NAMES = {"tet": "P2 tetrahedra", "hex": "27-node hexahedra", "p3": "P3 tetrahedra"}
+TABLE_NAMES = {"tet": "tet", "hex": "hex", "p3": "tet P3"}
+
+
 def _figure(rows, growth, opts, path: Path) -> Path:
     fig, axes = figure(1, 3, width=13.0, height=4.0)
-    marks = {"tet": "o", "hex": "s"}
-    for kind in KINDS:
+    marks = {"tet": "o", "hex": "s", "p3": "^"}
+    colours = {"tet": MODEL_COLOURS["full"], "hex": MODEL_COLOURS["fe"], "p3": MODEL_COLOURS["extended"]}
+    for kind in SERIES:
         mine = [r for r in rows if r["kind"] == kind]
         if not mine:
             continue
         dofs = np.array([r["dofs"] for r in mine])
         worst = np.maximum([r["worst_pct"] for r in mine], 1e-4)
         secs = np.array([r["solve_s"] for r in mine])
-        colour = MODEL_COLOURS["fe"] if kind == "hex" else MODEL_COLOURS["full"]
-        name = "27-node hexahedra" if kind == "hex" else "P2 tetrahedra"
+        colour, name = colours[kind], SERIES_NAMES[kind]
         axes[0, 0].loglog(dofs, worst, marks[kind] + "-", color=colour, label=name)
         axes[0, 1].loglog(secs, worst, marks[kind] + "-", color=colour, label=name)
         if kind in growth:
@@ -539,32 +666,41 @@ def _pictures(modes, out: Path) -> list[Path]:
     return pictures
 
 
-def _report(scene, rows, labels, rpms, estimates, growth, chosen, found: dict) -> str:
+def _report(scene, result: ConvergenceResult, found: dict) -> str:
     opts = scene.options
-    ref = estimates[opts["reference"]][0]
+    rows, labels, rpms, estimates, growth, chosen = (result.rows, result.labels, result.rpms, result.estimates,
+                                                    result.growth, result.chosen)
+    ref, reference = result.converged, opts["reference"]
     lines = [f"# {scene.title}", "",
              "Prestressed solid blade, no Coriolis, at " + ", ".join(f"{r:g}" for r in rpms) + " r/min; "
-             "effective size h = DOF^(-1/3); Richardson on the three finest meshes of each cell kind. "
-             f"Converged values: the {opts['reference']} estimate. Time: the modal solve of every speed "
-             "(operators and eigen-solves, mesh cached) on this machine; memory: the MUMPS Cholesky factor "
-             "of K + M.", ""]
+             "effective size h = DOF^(-1/3); Richardson on the three finest meshes of each series (P2 "
+             "tetrahedra, 27-node hexahedra, and cubic displacements on the P2 tetrahedra: tet P3). Converged "
+             "values: the " + ("Richardson estimate" if reference in estimates else "finest values")
+             + f" of the {SERIES_NAMES[reference]}. Time: the modal solve of every "
+             "speed (operators and eigen-solves, mesh cached) on this machine; memory: the MUMPS Cholesky factor "
+             "of K + M (of K for P3: the same pattern).", ""]
     table = []
     for r in rows:
         for i, rpm in enumerate(rpms):
-            table.append([r["kind"], f"{1e3 * r['size']:g}", r["dofs"], f"{r['solve_s']:.1f}",
+            table.append([TABLE_NAMES[r["kind"]], f"{1e3 * r['size']:g}", r["dofs"], f"{r['solve_s']:.1f}",
                           f"{r['factor_bytes'] / 1e6:.0f}", f"{rpm:g}"] + [f"{x:.2f}" for x in r["f"][i]]
                          + [f"{x:+.3f}" for x in r["error_pct"][i]])
     for kind, (est, orders) in estimates.items():
         for i, rpm in enumerate(rpms):
-            table.append([f"Richardson {kind}", "", "", "", "", f"{rpm:g}"] + [f"{x:.2f}" for x in est[i]]
+            table.append([f"Richardson {TABLE_NAMES[kind]}", "", "", "", "", f"{rpm:g}"] + [f"{x:.2f}" for x in est[i]]
                          + ["" if p is None else f"p = {p:.1f}" for p in orders[i]])
     lines.append(markdown_table(["cell", "size (mm)", "DOF", "solve (s)", "factor (MB)", "r/min"]
                                 + [f"{lab} (Hz)" for lab in labels] + [f"{lab} err (%)" for lab in labels], table))
-    other = [k for k in estimates if k != opts["reference"]]
-    for kind in other:
+    for kind in (k for k in estimates if k != reference):
         diff = 100 * np.max(np.abs(estimates[kind][0] / ref - 1.0))
-        lines.append(f"The {kind} estimate differs from the converged values by at most {diff:.3f} %: "
-                     "how well the converged values are known.")
+        lines.append(f"The {TABLE_NAMES[kind]} estimate differs from the converged values by at most {diff:.3f} %"
+                     + (": how well the converged values are known." if reference != "p3" else "."))
+    if reference == "p3":
+        lines.append("How well the converged values are known: " + (
+            f"{result.known:.4f} %: converging at any order from {ORDER_FLOOR:g} up (2 lambda = 1.09 at the blade/"
+            "shroud junction's 270 deg edges), the P3 series' limit lies between its finest values and their "
+            f"extrapolation from the finest step at order {ORDER_FLOOR:g}; the farther of the two from the estimate."
+            if result.known is not None else "not measured (one mesh of the cubic series)."))
     lines += ["", "FE cost growth (log-log fit over each kind's meshes): "
               + "; ".join(f"{kind}: time ~ DOF^{g['time_slope']:.2f}, factor memory ~ DOF^{g['memory_slope']:.2f}"
                           for kind, g in growth.items()) + ".", ""]
@@ -573,9 +709,9 @@ def _report(scene, rows, labels, rpms, estimates, growth, chosen, found: dict) -
         lines.append(f"Observed order, {kind}: " + (f"{min(known):.1f} to {max(known):.1f}" if known else "none")
                      + (f" ({len(orders) - len(known)} of {len(orders)} non-monotone)" if len(known) < len(orders)
                         else "") + ": " + ("in the asymptotic range" if found["asymptotic"][kind] else
-                                           f"not in the asymptotic range ({ASYMPTOTIC[0]:g}-{ASYMPTOTIC[1]:g} "
-                                           f"about the element's {ELEMENT_ORDER:g}): its estimate carries more "
-                                           "than the extrapolation error") + ".")
+                                           f"not in the asymptotic range ({ELEMENT_ORDER[kind]:g} +- "
+                                           f"{ASYMPTOTIC:g}, the element's smooth rate): its estimate carries "
+                                           "more than the extrapolation error") + ".")
     cheaper = found["cheaper_at_equal_error"]
     lines += ["", f"At equal error (within {opts['tolerance_pct']:g} %) the "
               + (f"{cheaper} cells need fewer DOF." if cheaper else "meshes run cannot tell which cell kind "

@@ -342,10 +342,32 @@ def test_a_quick_not_decided_contradicts_no_full_side():
 # --- convergence and stability -----------------------------------------------------------
 
 @pytest.mark.parametrize("worst, answer", [(0.10, True), (0.14, NOT_DECIDED), (0.20, False)])
-def test_convergence_mesh_within_tolerance_is_not_decided_within_how_well_the_values_are_known(worst, answer):
-    """Tolerance 0.15 %; the converged values known to 0.02 % (the other cell kind's estimate)."""
-    assert convergence.within(worst, 0.15, 0.02).answer == answer
-    assert convergence.within(worst, 0.15, None).margin == 0.0
+@pytest.mark.parametrize("reference", ["p3", "hex"])
+def test_convergence_mesh_within_tolerance_is_not_decided_within_how_well_the_values_are_known(worst, answer,
+                                                                                             reference):
+    """Tolerance 0.15 %; the converged values known to 0.02 % (the cubic series' finest step, or the other
+    series' estimates), the reason saying which."""
+    verdict = convergence.within(worst, 0.15, 0.02, reference)
+    assert verdict.answer == answer
+    assert ("cubic" in verdict.reason) == (reference == "p3")
+    assert convergence.within(worst, 0.15, None, reference).margin == 0.0
+
+
+@pytest.mark.parametrize("order, holds", [(1.0, True), (1.09, True), (2.0, True), (4.0, True), (0.5, False)])
+def test_cubic_reference_uncertainty_holds_the_limit_of_sequences_converging_at_the_floor_order_or_faster(order,
+                                                                                                        holds):
+    """f_k = 300 Hz + 2 h_k^q + 0.5 h_k^6 (a slow singular term and the smooth P3 one) on three meshes
+    (h = 1, 0.8, 0.62): from q = ORDER_FLOOR (1) up the exact limit 300 Hz lies within reference_uncertainty
+    of the Richardson estimate (whose observed order lies between q and 6) and of the finest value (fewer than
+    three meshes); below the floor (q = 0.5) not of the finest value: the floor is what carries the bound."""
+    h = np.array([1.0, 0.8, 0.62])
+    f = 300.0 + 2.0 * h ** order + 0.5 * h ** 6
+    value, found = convergence.richardson(h, f)
+    finest = f[-1]
+    assert (abs(finest / 300.0 - 1.0) <= convergence.reference_uncertainty(h[1:], f[1:], np.array(finest))) == holds
+    if holds:
+        assert min(order, 6.0) <= found <= 6.0
+        assert abs(value / 300.0 - 1.0) <= convergence.reference_uncertainty(h[1:], f[1:], np.array(value))
 
 
 @pytest.mark.parametrize("order, amplified", [(4.0, False), (0.6, True)])
