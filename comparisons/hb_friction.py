@@ -34,11 +34,13 @@ from comparisons import hb_optimal_preload as peak
 from comparisons._hb import named_points, notes_line, on_stable, rises, states_at, verdict_text
 from comparisons._study import study
 from comparisons.hb_gap_preload import cases as fig11_cases
-from shroud.analysis.hb import run_hb
+from shroud.analysis.hb import SpeedModel, model_at_speed, run_hb
+from shroud.analysis.transient import contact_law_for
 from shroud.analysis.sweep import run_sweeps
 from shroud.base.errors import InputError
 from shroud.base.markdown import markdown_table, seconds
 from shroud.base.tables import write_records
+from shroud.core import harmonic_balance as hb
 from shroud.core.plotting import figure, save
 from shroud.core.results import HBResult, SweepResult
 from shroud.core.verdict import NOT_DECIDED, Verdict
@@ -60,9 +62,13 @@ OPTIONS = {
 NO_EFFECT = 0.05        # resonances spread by less than this share across the variants: (almost) no effect
 NEARLY_SAME = 0.10      # optimal preloads or smallest resonant amplitudes spread by less than this share: the same
 LARGE_GAP_UM = 100.0
+STARTS = 3              # branch points before a top tried as the 2 H branch's start (measured_resonance)
 NO_EFFECT_REASON = ("5 %: 'hardly affects' as the paper reads it off its curves (Sect. 3.2); margin: the spread's "
                     "own error, from the two extreme resonances' errors (amplitude: its change at twice the "
-                    "harmonics plus its rise between branch points; speed: half the branch steps around the peak)")
+                    "harmonics plus its rise between branch points, and where Newton at twice the harmonics "
+                    "failed at the top's own speed (a fold just past it) the top's change against the top of the "
+                    "branch followed at twice the harmonics around it plus both tops' rises between their "
+                    "points; speed: half the branch steps around the peak)")
 NEARLY_SAME_REASON = ("10 %: 'nearly the same' / 'unaffected' as the paper reads them (Sects. 3.2-3.3); margin: "
                       "the spread's own error, from the two extremes' errors (optimal preload: half its bracket of "
                       "tracked points; amplitude: its change at twice the harmonics)")
@@ -99,17 +105,17 @@ class Variant:
     name: str
     cases: list[tuple[str, str, float, object]]      # (label, kind, value, params) as comparisons.hb_gap_preload
     branches: list[HBResult]
+    resonances: list[dict]      # per case its branch's resonance (HBResult.resonance; gaps: :func:`measured_resonance`)
     preload: peak.PreloadResonance
     sweeps: list[SweepResult] | None
 
     def gap_rows(self) -> list[dict]:
         """Resonance of every gap branch (Fig. 13a-b): largest P1 amplitude on its points not shown unstable
-        (HBResult.resonance), with its errors and stability."""
-        return [{"variant": self.name, "case": label, "gap_um": value, "rpm": br.resonance["rpm"],
-                 "amplitude_m": br.resonance["amplitude"], "rpm_error": br.resonance["rpm_error"],
-                 "amplitude_error_m": br.resonance["amplitude_error"], "stable": br.resonance["stable"],
+        (HBResult.resonance), with its errors (:func:`measured_resonance`) and stability."""
+        return [{"variant": self.name, "case": label, "gap_um": value, "rpm": r["rpm"], "amplitude_m": r["amplitude"],
+                 "rpm_error": r["rpm_error"], "amplitude_error_m": r["amplitude_error"], "stable": r["stable"],
                  "covered": peak_covered(br), "hb_s": br.elapsed_s}
-                for (label, kind, value, _), br in zip(self.cases, self.branches) if kind == "gap"]
+                for (label, kind, value, _), br, r in zip(self.cases, self.branches, self.resonances) if kind == "gap"]
 
     def preload_rows(self) -> list[dict]:
         """Resonance at the small gap (its branch's peak; ``covered`` False when the branch stopped short of it)
@@ -140,10 +146,67 @@ def compute_variant(name: str, params, opts: dict) -> Variant:
     preload = peak.track(params, {**opts, "n0_from": 0.0},
                          {value: br for (_, kind, value, _), br in zip(cs, branches)
                           if kind == "preload" and value >= 0})
+    resonances = [measured_resonance(br, p, opts) if kind == "gap" else br.resonance
+                  for (_, kind, _, p), br in zip(cs, branches)]
     sweeps = (run_sweeps([p for _, _, _, p in cs], opts["model"],
                          np.linspace(opts["rpm_from"], opts["td_rpm_to"], int(opts["td_rpm_count"])))
               if opts["time_domain"] else None)
-    return Variant(name=name, cases=cs, branches=branches, preload=preload, sweeps=sweeps)
+    return Variant(name=name, cases=cs, branches=branches, resonances=resonances, preload=preload, sweeps=sweeps)
+
+
+def top_rise(amplitude: np.ndarray, i: int) -> float:
+    """How far the top of a branch may rise above its largest point ``i`` (m) between its two neighbours: a
+    quarter of its drop to the lower one (a parabolic top, HBResult.resonance); inf at the branch's end (the
+    top may lie beyond it)."""
+    if not 0 < i < len(amplitude) - 1:
+        return math.inf
+    return max(0.25 * (amplitude[i] - min(amplitude[i - 1], amplitude[i + 1])), 0.0)
+
+
+def top_change_error(coarse: np.ndarray, i: int, fine: np.ndarray) -> float:
+    """The error (m) of the resonant amplitude read at the top point ``i`` of a branch at H (amplitudes
+    ``coarse``) where its change at 2 H could not be taken at that speed, from ``fine``, the amplitudes of the
+    branch followed at 2 H around that top: the two tops' change, |max fine - coarse[i]|, plus how far either
+    top may rise between its points (:func:`top_rise`; inf where either lies at its branch's end). With the
+    resonance taken as the 2 H top (as the change at 2 H takes it everywhere), this bounds the H point's
+    distance to it: |coarse[i] - top_2H| <= |coarse[i] - max fine| + rise_2H; the H top's own rise is added as
+    the branch points' error elsewhere adds it."""
+    j = int(np.argmax(fine))
+    return float(abs(fine[j] - coarse[i]) + top_rise(coarse, i) + top_rise(fine, j))
+
+
+def measured_resonance(branch: HBResult, params, opts: dict) -> dict:
+    """``branch.resonance``, its amplitude error measured where the branch could not take it: where Newton at
+    2 H failed at the top point's own speed. Near a fold the 2 H branch folds at another speed, and no 2 H
+    state may lie at the top's (hb_stiffness_ratio, gap 300 um, xi 0.2: at H the top 400.67 um at 9517 r/min
+    and the fold at 9551; at 2 H the top 400.54 um at 9477 and the fold at 9508). There the branch is followed
+    at 2 H from the nearest of its STARTS points before the top (and below it in speed) where Newton at 2 H
+    converges, over the speeds of its points up to one past the top and as far again (the scene's
+    ``branch_points`` points over that window, no stability: the amplitudes only), and the error is
+    :func:`top_change_error`. A top at the branch's end, or one whose 2 H start or window finds no 2 H top
+    inside, keeps its infinite error."""
+    r = branch.resonance
+    kept = np.flatnonzero([s is not False for s in branch.stable])
+    if math.isfinite(r["amplitude_error"]) or kept.size == 0:
+        return r
+    i = int(kept[np.argmax(branch.amplitude_v_L[kept])])
+    rpm, H = branch.rpm, branch.harmonics
+    if not 0 < i < len(rpm) - 1 or math.isfinite(r["truncation_error"]):
+        return r
+    fine = SpeedModel(model_at_speed(params, opts["model"]), H).refined()
+    basis = hb.fourier(fine.H, max(branch.samples, 4 * fine.H + 1))
+    law = contact_law_for(fine.system(float(rpm[i])), params.contact)
+    nx = branch.X.shape[1] // (2 * H + 1)
+    for j in (j for j in range(i - 1, max(i - 1 - STARTS, -1), -1) if rpm[j] < rpm[i]):
+        X0 = np.zeros((basis.nh, nx))
+        X0[:2 * H + 1] = branch.X[j].reshape(-1, nx)
+        sol = hb.newton(X0.ravel(), fine.linear(float(rpm[j]))[0], law, basis)
+        if sol.converged:
+            top = float(rpm[j:i + 2].max())
+            twice = run_hb(params, opts["model"], float(rpm[j]), 2 * top - float(rpm[j]), harmonics=fine.H,
+                           samples=basis.samples, start=sol.X, stability=False, min_points=int(opts["branch_points"]))
+            return {**r, "amplitude_error": top_change_error(branch.amplitude_v_L, i, twice.amplitude_v_L)}
+    return r
 
 
 def spread(values: list[float]) -> float:
