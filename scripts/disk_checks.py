@@ -133,8 +133,9 @@ def calculix(out: str = "disk_calculix.json") -> None:
 
 
 # The P3 reference. The sector's P3 meshes: 3.5 mm (the coarsest the blade's thickness allows, 2 cells
-# through it) for every k; 3.0 and 2.7 mm at k = 0 and N/2 only (their 2-copy form, 0 < k < N/2, would not
-# fit in 9 GB: the 3.5 mm one peaked at 5.3 GB), which give the reference's own mesh error (Richardson).
+# through it) for every k; 3.0 and 2.7 mm at k = 0 and N/2 only (the 2-copy form of 0 < k < N/2 on 3.0 mm,
+# 1.4 times 3.5 mm's DOF, would pass 9 GB: 3.5 mm's held 8.2 GB for 7 k), which give the reference's own
+# mesh error (Richardson).
 P3_EVERY_K, P3_FINER = 0.0035, (0.003, 0.0027)
 K_PER_PROCESS = 7           # nodal diameters solved per process (memory, reference_mesh)
 P3_NODES_PER_CELL = 5.5     # measured on the sector's P3 meshes (153 396 DOF on 9218 cells at 3.5 mm)
@@ -185,8 +186,7 @@ def reference_mesh(order: str, h: str, rpm: str, diameters: str, out: str) -> No
         store["modes"][_key(order, h, rpm, k)] = {"labels": list(found.labels), "f_hz": found.f_hz.tolist(),
                                                   "cpu_s": time.process_time() - cpu,
                                                   "wall_s": time.perf_counter() - wall}
-        store["runs"][run]["peak_rss_gb"] = resource.getrusage(
-            resource.RUSAGE_SELF).ru_maxrss / 1e6
+        store["runs"][run]["peak_rss_gb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6   # kB
         path.write_text(json.dumps(store, indent=1))
         print(f"P{order} {h * 1000:g} mm {rpm:g} r/min nd {k:2d}: " + " ".join(
             f"{lab}={f:.3f}" for lab, f in zip(found.labels, found.f_hz))
@@ -207,8 +207,8 @@ def reference(out: str = "disk_reference.json") -> None:
     verdict per (speed, k, mode): |P2 / P3 - 1| (modes matched by label) within 0.5 % when below 0.5 % -
     margin; a (speed, k) holds when all six do, so its verdict is its mode with the largest error + margin.
     The P3 limits are set beside CalculiX's (CCX_LIMITS), an independent code's assembly and convergence.
-    Each mesh and speed is solved in its own process (:func:`reference_mesh`), results kept in ``out``
-    (JSON) after every k; a rerun resumes."""
+    Each mesh, speed and group of K_PER_PROCESS nodal diameters is solved in its own process
+    (:func:`reference_mesh`), results kept in ``out`` (JSON) after every k; a rerun resumes."""
     from shroud.core.verdict import Verdict
     path = Path(out)
     if not path.exists():
