@@ -84,6 +84,23 @@ def test_record_check_warns_of_a_record_a_physics_change_left_behind(tmp_path, m
     assert main(["record", "--check", "stability"]) == 3
 
 
+def test_record_check_counts_the_verdicts_left_undecided(tmp_path, monkeypatch, capsys):
+    """Issue 33: a record says how many of its verdicts stay not decided, those of run times apart, and
+    flags more than 10 %: here 3 of 5 nested verdicts, one of them a run time."""
+    from shroud.core.verdict import TIME_RATIO, Verdict
+    from workbench.cli import main
+    yes, open_ = Verdict.of(0.5, 1.0, 0.1, True, False, "r").to_json(), Verdict.of(1.0, 1.0, 0.1, True, False, "r")
+    cost = Verdict.of(1.0, 1.0, 0.1, "cheaper", "costlier", "timing", unit=TIME_RATIO).to_json()
+    rec = _fresh_record()
+    rec["conclusions"] = {"a": yes, "b": {"c": [open_.to_json(), yes]}, "d": open_.to_json(), "e": cost, "f": 1.0}
+    rec["digest"] = records.digest(rec)
+    assert records.decided(rec["conclusions"]) == records.Decided(5, 3, 1)
+    (tmp_path / "stability.json").write_text(json.dumps(rec))
+    monkeypatch.setattr(records, "RECORDS", tmp_path)
+    assert main(["record", "--check", "stability"]) == 0
+    assert "5 verdicts, 3 not decided, 1 of them run time or memory, over 10%" in capsys.readouterr().out
+
+
 def test_a_record_edited_by_hand_is_refused():
     rec = _fresh_record()
     rec["conclusions"]["implicit_bounded"] = False

@@ -396,7 +396,8 @@ def cmd_record(args) -> int:
         behind += [scene] if changed else []
         physics = ("physics not recorded (made before digests)" if changed is None else
                    f"physics changed since: {', '.join(changed)}" if changed else "physics as recorded")
-        print(f"{scene}: " + ("current" if not problems else "; ".join(problems)) + (f"; {physics}" if record else ""))
+        print(f"{scene}: " + ("current" if not problems else "; ".join(problems))
+              + (f"; {physics}; {records.decided(record['conclusions'])}" if record else ""))
     if behind:               # a warning: the quick tests hold the physics; the records are made again before it lands
         print(f"warning: records a physics change has left behind, to make again before it lands: "
               f"shroud record {' '.join(behind)}")

@@ -233,6 +233,48 @@ def physics_changes(record: dict) -> tuple[str, ...] | None:
     return tuple(sorted(p for p in now.keys() | then.keys() if now.get(p) != then.get(p)))
 
 
+UNDECIDED_SHARE = 0.10      # issue 33: a full scene decides what it asks, at most this share left not decided
+
+
+@dataclass(frozen=True)
+class Decided:
+    """How many verdicts a record's conclusions draw and how many of them stay not decided (those drawn
+    from run times or memory counted apart: the machine decides them, not the blade)."""
+
+    verdicts: int
+    undecided: int
+    undecided_costs: int
+
+    @property
+    def over(self) -> bool:
+        """More than UNDECIDED_SHARE of the verdicts not decided."""
+        return self.undecided > UNDECIDED_SHARE * self.verdicts
+
+    def __str__(self) -> str:
+        costs = f", {self.undecided_costs} of them run time or memory" if self.undecided_costs else ""
+        flag = f", over {UNDECIDED_SHARE:.0%}" if self.over else ""
+        return f"{self.verdicts} verdict{'' if self.verdicts == 1 else 's'}, {self.undecided} not decided{costs}{flag}"
+
+
+def decided(conclusions) -> Decided:
+    """The verdicts (shroud.core.verdict records) anywhere in ``conclusions`` and those not decided."""
+    from shroud.core.verdict import NOT_DECIDED, is_cost_record, is_verdict
+    found = []
+
+    def walk(node):
+        if is_verdict(node):
+            found.append(node)
+        elif isinstance(node, dict):
+            for v in node.values():
+                walk(v)
+        elif isinstance(node, list):
+            for v in node:
+                walk(v)
+    walk(conclusions)
+    open_ = [v for v in found if v["answer"] == NOT_DECIDED]
+    return Decided(len(found), len(open_), sum(map(is_cost_record, open_)))
+
+
 def load(scene: str, folder: Path | None = None) -> dict:
     return json.loads(((folder or RECORDS) / f"{scene}.json").read_text())
 
