@@ -259,18 +259,11 @@ class Decided:
 def decided(conclusions) -> Decided:
     """The verdicts (shroud.core.verdict records) anywhere in ``conclusions`` and those not decided."""
     from shroud.core.verdict import NOT_DECIDED, is_cost_record, is_verdict
-    found = []
+    from workbench.gates import children
 
-    def walk(node):
-        if is_verdict(node):
-            found.append(node)
-        elif isinstance(node, dict):
-            for v in node.values():
-                walk(v)
-        elif isinstance(node, list):
-            for v in node:
-                walk(v)
-    walk(conclusions)
+    def verdicts(node) -> list[dict]:
+        return [node] if is_verdict(node) else [v for _, child in children(node) for v in verdicts(child)]
+    found = verdicts(conclusions)
     open_ = [v for v in found if v["answer"] == NOT_DECIDED]
     return Decided(len(found), len(open_), sum(map(is_cost_record, open_)))
 
