@@ -32,7 +32,9 @@ travelling wave, U_{j+1,h} = exp(i h phi) U_{j,h}, phi = 2 pi ke / N
   (ring_hb.stability_verdict: the whole ring's monodromy at 2 H against 1,
   its margin the change from H, at least floquet's floor 0.02; the
   monodromy from g / N of the period by the wave's symmetry makes 48
-  blades a few seconds a point).
+  blades a few seconds a point); where it is not decided, the same verdict
+  THRESHOLD_STEP either side: decided and different there, the wave sits
+  at its stability threshold, which the report says.
 
 Each time point is named: on the travelling wave (blade 0 P1, settled, the
 blades' spread within ``wave_spread``), where the sector's HB must agree
@@ -87,6 +89,10 @@ OPTIONS = {
 }
 SETTLED = 1e-3       # relative change of every blade's amplitude between the last two windows of STEADY_PERIODS
 STEP_SPREAD = 1e-3   # the blades' spread the time step alone makes on a wave (0.075 % measured, 24 blades, docs/ring.md)
+# r/min either side of a wave whose stability is not decided, where its stability is computed again: decided
+# and different on the two sides, the wave sits at its stability threshold (1 um, 12 blades, 12000 r/min:
+# stable at 11800, unstable at 12200; docs/ring-tuned.md "At the threshold")
+THRESHOLD_STEP = 200.0
 
 
 def check(scene) -> None:
@@ -122,6 +128,25 @@ class RingPoint:
     stability_tried: bool              # the ring size is one of stability_blades
     branch_stable: object = None       # the sector branch's verdict at rpm on the stretch nearest the wave
                                        # (True, False, 'not decided'; None: no branch or no stretch there)
+    beside: dict = field(default_factory=dict)   # rpm -> the wave's stability (Verdict; None: not reached) at
+                                                 # rpm -+ THRESHOLD_STEP, where its own is not decided
+
+    def at_threshold(self) -> bool:
+        """Whether the wave's stability, not decided at rpm, is decided on both sides THRESHOLD_STEP away and
+        differs: the wave sits at its stability threshold (the physics', not the method's)."""
+        return {None if v is None else v.answer for v in self.beside.values()} == {True, False}
+
+    def threshold_words(self) -> str:
+        """What the stability beside rpm says of a wave whose own is not decided (empty where it is decided)."""
+        if not self.beside:
+            return ""
+        sides = ", ".join(f"{'not reached' if v is None else _stable_word(v)} at {r:g} r/min"
+                          for r, v in sorted(self.beside.items()))
+        if self.at_threshold():
+            return (f"; at the wave's stability threshold ({sides}): deciding it needs the multiplier known "
+                    f"within its own distance from 1, below floquet's floor {floquet.MULTIPLIER_FLOOR:g} and "
+                    "the monodromy's sampling of the contact states, or a time point off the threshold")
+        return f"; not shown at a threshold ({sides})"
 
     @property
     def spread(self) -> float:
@@ -176,7 +201,8 @@ class RingPoint:
             s = "not reached" if self.stability_tried else "not computed"
         if self.on is True:
             return {True: "stable wave", False: "on an unstable wave", "not reached": "stability not reached at 2 H",
-                    "not computed": "stability not computed"}.get(s, "stability not decided")
+                    "not computed": "stability not computed"}.get(
+                s, "at the stability threshold" if self.at_threshold() else "stability not decided")
         if s is False:
             return "wave unstable"
         if len(self.coexisting) > 1:
@@ -196,6 +222,7 @@ class RingPoint:
                 "on_wave": self.on if isinstance(self.on_wave(), bool) else self.on_wave().to_json(),
                 "wave_m": self.wave, "coexisting_waves_m": self.coexisting,
                 "stable": None if self.stability is None else self.stability.to_json(),
+                "stable_beside": {f"{r:g}": _json(v) for r, v in sorted(self.beside.items())},
                 "branch_stable": self.branch_stable,
                 "agreement": None if v is None else v.to_json(), "explanation": self.explanation()}
 
@@ -237,7 +264,8 @@ class RingTunedComparison:
 
     def stable_where_on_wave(self) -> Verdict | None:
         """The HB's stability of the waves the ring in time settled on, read at the least stable one (a decided
-        unstable before an undecided before a stable one; within each, the largest |multiplier|)."""
+        unstable before an undecided before a stable one; within each, the largest |multiplier|); one not
+        decided says whether its stability changes THRESHOLD_STEP either side (RingPoint.threshold_words)."""
         on = [(c, p) for c, p in self.points() if p.on is True and p.stability is not None]
         if not on:
             return None
@@ -246,7 +274,7 @@ class RingTunedComparison:
         v = p.stability
         return Verdict.of(v.value, threshold=v.threshold, margin=v.margin, below=True, above=False,
                           reason=f"the least stable of the {len(on)} waves the ring in time settled on ({c.label}, "
-                                 f"{p.key()}): {v.reason}")
+                                 f"{p.key()}): {v.reason}{p.threshold_words()}")
 
     def departures_explained(self) -> Verdict | None:
         """Whether the HB explains every departure from the wave (an unstable wave or a coexisting branch): the
@@ -396,9 +424,11 @@ def wave_at(p, model: str, rpm: float, H: int) -> float | None:
 
 def stability(p, model: str, rpm: float, H: int) -> Verdict | None:
     """ring_hb.stability_verdict with its margin at least floquet's floor on a multiplier's error (Hill
-    against the monodromy, 0.02: docs/hb-stability.md): a ring whose interfaces never slip has a multiplier
-    at 1 (the sliders' offset), which the change from H to 2 H alone (1e-6 here) would call unstable. None
-    where the wave is not reached at H or 2 H from the linear start."""
+    against the monodromy, 0.02: docs/hb-stability.md). The change from H to 2 H alone misses the error of
+    the contact states held over each of the monodromy's samples: where the switches stay on the same
+    samples it is nil (1 um, 12 blades, 12000 r/min: |mu| 1.0001 at H = 10, 20 and 40 on 516 samples,
+    0.994 to 1.005 on 1026 to 8196; docs/ring-tuned.md). None where the wave is not reached at H or 2 H
+    from the linear start."""
     try:
         v = stability_verdict(p, model, rpm, H)
     except RunDiverged:
@@ -416,13 +446,16 @@ def ring_point(p, model: str, rpm: float, o, branch) -> RingPoint:
     now = np.array([signals.amplitude(tip[:, j], spp) for j in range(tip.shape[1])])
     before = np.array([signals.amplitude(tip[:-window, j], spp) for j in range(tip.shape[1])])
     wave = wave_at(q, model, rpm, int(o["harmonics"]))
-    stable = (stability(q, model, rpm, int(o["stability_harmonics"]))
-              if q.ring.blades in o["stability_blades"] and wave is not None else None)
+    H = int(o["stability_harmonics"])
+    stable = stability(q, model, rpm, H) if q.ring.blades in o["stability_blades"] and wave is not None else None
+    beside = ({r: stability(q.updated({"speed.rpm": r}), model, r, H) if r > 0 else None
+               for r in (rpm - THRESHOLD_STEP, rpm + THRESHOLD_STEP)}
+              if stable is not None and stable.answer == NOT_DECIDED else {})
     return RingPoint(blades=q.ring.blades, rpm=rpm, amplitudes=[float(a) for a in now],
                      period=signals.detect_period(tip[:, 0], spp), drift=float(np.abs(before / now - 1).max()),
                      wave=wave, coexisting=[] if branch is None else waves_on(branch, rpm), stability=stable,
                      wave_spread=o["wave_spread"], stability_tried=q.ring.blades in o["stability_blades"],
-                     branch_stable=None if branch is None else branch_at(branch, rpm, wave))
+                     branch_stable=None if branch is None else branch_at(branch, rpm, wave), beside=beside)
 
 
 def waves_on(branch, rpm: float) -> list[float]:
@@ -560,6 +593,11 @@ OPEN_EXPLANATIONS = ("stability not decided", "stability not reached at 2 H", "s
 
 def _json(v: Verdict | None) -> dict | None:
     return None if v is None else v.to_json()
+
+
+def _stable_word(v: Verdict) -> str:
+    """A stability verdict in words with its |multiplier| and margin: 'stable (0.915 +- 0.02)'."""
+    return f"{LINE_WORDS[v.answer]} ({v.value:.4g} +- {v.margin:.2g})"
 
 
 def _branch_word(answer) -> str:

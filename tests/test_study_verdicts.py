@@ -416,15 +416,18 @@ def test_fig8_a_run_too_short_to_measure_its_settling_decides_nothing_from_its_w
 
 # --- ring_tuned: on the travelling wave, the HB's agreement, what explains a departure ----------------
 
-def ring_point(spread=0.0, period=1, drift=0.0, wave=1e-5, coexisting=(), stable=None, tried=True):
-    """A 12-blade time point whose blades spread by ``spread`` around 1e-5 m, its wave and stability."""
+def ring_point(spread=0.0, period=1, drift=0.0, wave=1e-5, coexisting=(), stable=None, tried=True, beside=None):
+    """A 12-blade time point at 10000 r/min whose blades spread by ``spread`` around 1e-5 m, its wave and
+    stability (largest |multiplier|, margin 0.02), ``beside`` {rpm: largest |multiplier| or None} there."""
     from comparisons.ring_tuned import RingPoint
     from shroud.core.verdict import Verdict
+
+    def verdict(mu):
+        return None if mu is None else Verdict.of(mu, threshold=1.0, margin=0.02, below=True, above=False, reason="")
     a = 1e-5 * (1 + spread * (np.arange(12) / 11 - 0.5))
-    verdict = None if stable is None else Verdict.of(stable, threshold=1.0, margin=0.02, below=True, above=False,
-                                                     reason="")
     return RingPoint(blades=12, rpm=10000.0, amplitudes=list(a), period=period, drift=drift, wave=wave,
-                     coexisting=list(coexisting), stability=verdict, wave_spread=0.005, stability_tried=tried)
+                     coexisting=list(coexisting), stability=verdict(stable), wave_spread=0.005, stability_tried=tried,
+                     beside={r: verdict(mu) for r, mu in (beside or {}).items()})
 
 
 @pytest.mark.parametrize("spread, answer", [(0.002, True), (0.0045, NOT_DECIDED), (0.0055, NOT_DECIDED),
@@ -455,6 +458,27 @@ def test_ring_hb_agrees_within_half_a_percent_of_the_nearest_wave(wave, answer):
     ({}, "stability not reached at 2 H")])
 def test_a_departure_from_the_wave_is_named_by_what_the_hb_shows(kwargs, named):
     assert ring_point(0.02, period=2, **kwargs).explanation() == named
+
+
+@pytest.mark.parametrize("beside, named", [
+    ({9800.0: 0.91, 10200.0: 1.17}, "at the stability threshold"),
+    ({9800.0: 1.17, 10200.0: 0.91}, "at the stability threshold"),
+    ({9800.0: 0.91, 10200.0: 0.95}, "stability not decided"),     # stable on both sides
+    ({9800.0: 1.01, 10200.0: 1.17}, "stability not decided"),     # not decided on one side
+    ({9800.0: None, 10200.0: 1.17}, "stability not decided"),     # no wave reached on one side
+    ({}, "stability not decided")])
+def test_a_settled_wave_not_decided_is_at_its_threshold_only_between_stable_and_unstable_beside(beside, named):
+    """A wave the ring settled on whose |multiplier| is within its margin of 1 (1.0001 +- 0.02) is at the
+    stability threshold where the same verdict THRESHOLD_STEP either side is decided stable on one side and
+    unstable on the other; the study's verdict over the settled waves stays not decided and says so."""
+    from comparisons.ring_tuned import RingCase, RingTunedComparison
+    p = ring_point(0.0, stable=1.0001, beside=beside)
+    assert p.explanation() == named
+    v = RingTunedComparison(cases=[RingCase(label="gap 1 um", gap_um=1.0, fixed=None, sectors={}, failures={},
+                                            points=[p])], agree=0.005).stable_where_on_wave()
+    assert v.answer == NOT_DECIDED
+    assert ("at the wave's stability threshold" in v.reason) == (named == "at the stability threshold")
+    assert ("not shown at a threshold" in v.reason) == (bool(beside) and named != "at the stability threshold")
 
 
 @pytest.mark.parametrize("gaps, preloads, refused", [([], [10.0], False), ([1.0], [-5.0], True), ([], [], True),
