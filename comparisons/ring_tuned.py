@@ -34,7 +34,10 @@ travelling wave, U_{j+1,h} = exp(i h phi) U_{j,h}, phi = 2 pi ke / N
   monodromy from g / N of the period by the wave's symmetry makes 48
   blades a few seconds a point); where it is not decided, the same verdict
   THRESHOLD_STEP either side: decided and different there, the wave sits
-  at its stability threshold, which the report says.
+  at its stability threshold. Such a wave is judged apart
+  (``stability_threshold_bracketed``: every undecided settled wave
+  bracketed?) and left out of ``hb_stable_where_on_wave``, whose reason
+  names it; an undecided wave not bracketed stays in both.
 
 Each time point is named: on the travelling wave (blade 0 P1, settled, the
 blades' spread within ``wave_spread``), where the sector's HB must agree
@@ -93,6 +96,7 @@ STEP_SPREAD = 1e-3   # the blades' spread the time step alone makes on a wave (0
 # and different on the two sides, the wave sits at its stability threshold (1 um, 12 blades, 12000 r/min:
 # stable at 11800, unstable at 12200; docs/ring-tuned.md "At the threshold")
 THRESHOLD_STEP = 200.0
+THRESHOLD_VERDICT = "stability_threshold_bracketed"    # the conclusion on the settled waves at a threshold
 
 
 def check(scene) -> None:
@@ -131,22 +135,38 @@ class RingPoint:
     beside: dict = field(default_factory=dict)   # rpm -> the wave's stability (Verdict; None: not reached) at
                                                  # rpm -+ THRESHOLD_STEP, where its own is not decided
 
+    def threshold_bracket(self) -> Verdict | None:
+        """Whether the wave, its stability not decided at rpm, sits at a stability threshold bracketed
+        THRESHOLD_STEP either side: each side's largest |multiplier| as x = (|mu| - 1) / its margin (beyond +-1:
+        decided), read as the smaller |x| of the two, signed + where the sides lie on opposite sides of 1
+        (stable on one, unstable on the other: the threshold between them) and - where on the same; against
+        0, margin 1 (a side within its own margin decides nothing; NaN where a side's wave is not reached or
+        the sides were not computed). None where the wave's stability is decided or not computed (nothing to
+        bracket)."""
+        if self.stability is None or self.stability.answer != NOT_DECIDED:
+            return None
+        sides = [v for _, v in sorted(self.beside.items())]
+        x = [math.nan if v is None else (v.value - v.threshold) / v.margin for v in sides]
+        b = (math.copysign(min(map(abs, x)), -x[0] * x[1]) if len(x) == 2 and not any(map(math.isnan, x))
+             else math.nan)
+        return Verdict.of(b, threshold=0.0, margin=1.0, below=False, above=True, unit="margins",
+                          reason=f"its stability {THRESHOLD_STEP:g} r/min either side "
+                                 f"({self.side_words()}) as (|mu| - 1) / margin, the smaller of the two signed + "
+                                 "where stable on one side and unstable on the other, - where alike; against 0, "
+                                 "margin 1: a side within its own margin decides nothing")
+
     def at_threshold(self) -> bool:
         """Whether the wave's stability, not decided at rpm, is decided on both sides THRESHOLD_STEP away and
-        differs: the wave sits at its stability threshold (the physics', not the method's)."""
-        return {None if v is None else v.answer for v in self.beside.values()} == {True, False}
+        differs (threshold_bracket yes): the wave sits at its stability threshold (the physics', not the
+        method's)."""
+        b = self.threshold_bracket()
+        return b is not None and b.answer is True
 
-    def threshold_words(self) -> str:
-        """What the stability beside rpm says of a wave whose own is not decided (empty where it is decided)."""
-        if not self.beside:
-            return ""
-        sides = ", ".join(f"{'not reached' if v is None else _stable_word(v)} at {r:g} r/min"
-                          for r, v in sorted(self.beside.items()))
-        if self.at_threshold():
-            return (f"; at the wave's stability threshold ({sides}): deciding it needs the multiplier known "
-                    f"within its own distance from 1, below floquet's floor {floquet.MULTIPLIER_FLOOR:g} and "
-                    "the monodromy's sampling of the contact states, or a time point off the threshold")
-        return f"; not shown at a threshold ({sides})"
+    def side_words(self) -> str:
+        """The wave's stability THRESHOLD_STEP either side in words ('stable (0.915 +- 0.02) at 11800 r/min,
+        ...'; 'not computed' where it was not)."""
+        return ", ".join(f"{'not reached' if v is None else _stable_word(v)} at {r:g} r/min"
+                         for r, v in sorted(self.beside.items())) or "not computed"
 
     @property
     def spread(self) -> float:
@@ -262,19 +282,49 @@ class RingTunedComparison:
                                  f"{at.key()}) against {self.agree:g}, the issue's 0.5 %; margin the Newmark "
                                  f"step's own spread of the blades on a wave ({STEP_SPREAD:g})")
 
+    def settled_waves(self) -> list:
+        """(case, point) of every wave the ring in time settled on whose stability was computed."""
+        return [(c, p) for c, p in self.points() if p.on is True and p.stability is not None]
+
     def stable_where_on_wave(self) -> Verdict | None:
-        """The HB's stability of the waves the ring in time settled on, read at the least stable one (a decided
-        unstable before an undecided before a stable one; within each, the largest |multiplier|); one not
-        decided says whether its stability changes THRESHOLD_STEP either side (RingPoint.threshold_words)."""
-        on = [(c, p) for c, p in self.points() if p.on is True and p.stability is not None]
+        """The HB's stability of the waves the ring in time settled on, except those at a bracketed stability
+        threshold (RingPoint.at_threshold: judged by :meth:`threshold_bracketed`, named in the reason), read at
+        the least stable one (a decided unstable before an undecided before a stable one; within each, the
+        largest |multiplier|); one not decided says what its stability THRESHOLD_STEP either side shows."""
+        at = [(c, p) for c, p in self.settled_waves() if p.at_threshold()]
+        on = [(c, p) for c, p in self.settled_waves() if not p.at_threshold()]
         if not on:
             return None
         rank = {False: 0, NOT_DECIDED: 1, True: 2}
         c, p = min(on, key=lambda cp: (rank[cp[1].stability.answer], -cp[1].stability.value))
         v = p.stability
+        beside = f"; not shown at a threshold ({p.side_words()})" if p.threshold_bracket() is not None else ""
+        left = (f"; {len(at)} left to `{THRESHOLD_VERDICT}`, at a bracketed stability threshold: "
+                + "; ".join(f"{a.label}, {q.key()}" for a, q in at)) if at else ""
         return Verdict.of(v.value, threshold=v.threshold, margin=v.margin, below=True, above=False,
-                          reason=f"the least stable of the {len(on)} waves the ring in time settled on ({c.label}, "
-                                 f"{p.key()}): {v.reason}{p.threshold_words()}")
+                          reason=f"the least stable of the {len(on)} waves the ring in time settled on whose "
+                                 f"stability is not at a bracketed threshold ({c.label}, {p.key()}): "
+                                 f"{v.reason}{beside}{left}")
+
+    def threshold_bracketed(self) -> Verdict | None:
+        """Whether every wave the ring in time settled on whose stability is not decided sits at a stability
+        threshold bracketed THRESHOLD_STEP either side (RingPoint.threshold_bracket), read at the least
+        bracketed one; None where no settled wave's stability is undecided (nothing to bracket)."""
+        open_ = [(c, p, p.threshold_bracket()) for c, p in self.settled_waves() if p.threshold_bracket() is not None]
+        if not open_:
+            return None
+        c, p, b = min(open_, key=lambda t: t[2].value if math.isfinite(t[2].value) else 0.0)
+        named = {True: [], False: []}
+        for a, q, w in open_:
+            named[w.answer is True].append(f"{a.label}, {q.key()}")
+        left = (f"; bracketed, at the wave's stability threshold and left out of `hb_stable_where_on_wave`: "
+                f"{'; '.join(named[True])} (deciding such a wave's own stability needs its multiplier known within "
+                f"its distance from 1, below floquet's floor {floquet.MULTIPLIER_FLOOR:g} and the monodromy's "
+                "sampling of the contact states, or a time point off the threshold)") if named[True] else ""
+        kept = f"; kept in `hb_stable_where_on_wave`: {'; '.join(named[False])}" if named[False] else ""
+        return Verdict.of(b.value, threshold=b.threshold, margin=b.margin, below=False, above=True, unit=b.unit,
+                          reason=f"the least bracketed of the {len(open_)} settled waves whose stability is not "
+                                 f"decided ({c.label}, {p.key()}): {b.reason}{left}{kept}")
 
     def departures_explained(self) -> Verdict | None:
         """Whether the HB explains every departure from the wave (an unstable wave or a coexisting branch): the
@@ -326,6 +376,7 @@ class RingTunedComparison:
     def verdicts(self) -> dict[str, Verdict | None]:
         return {"hb_agrees_where_on_wave": self.agreement([p for _, p in self.points()]),
                 "hb_stable_where_on_wave": self.stable_where_on_wave(),
+                THRESHOLD_VERDICT: self.threshold_bracketed(),
                 "departures_explained": self.departures_explained(),
                 "branch_agrees_with_points": self.branch_against_points(),
                 "fixed_neighbours_stand_in_for_ring": self.fixed_neighbours_for_ring()}
@@ -588,6 +639,8 @@ def draw_branch(ax, branch, colour: str, lw: float, label: str, alpha: float = 1
         ax.plot(branch.rpm, y, style, color=colour, lw=lw, alpha=alpha, label=label if k == 0 else None)
 
 
+# What a verdict's None says where "no such point" would not (nothing to judge)
+VACUOUS = {THRESHOLD_VERDICT: "no settled wave's stability is undecided: nothing to bracket"}
 OPEN_EXPLANATIONS = ("stability not decided", "stability not reached at 2 H", "stability not computed")
 
 
@@ -667,7 +720,8 @@ def report(result: RingTunedComparison, scene, files: list[str]) -> str:
     verdicts = {**result.verdicts(), **{f"hb_agrees_where_on_wave at {k}": v
                                         for k, v in result.agreement_by_speed().items()}}
     lines += ["## Conclusions\n"]
-    lines += [f"- `{name}`: {'no such point' if v is None else v.sentence()}" for name, v in verdicts.items()]
+    lines += [f"- `{name}`: {VACUOUS.get(name, 'no such point') if v is None else v.sentence()}"
+              for name, v in verdicts.items()]
     lines += ["- The branch's verdict at the time points, where the ring in time settled on the wave: "
               + ", ".join(f"{k} {v}" for k, v in concl["branch_against_time"]["on_wave"].items())
               + "; where it left the wave: "

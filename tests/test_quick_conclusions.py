@@ -367,8 +367,8 @@ def test_ring_mistuning_quick_agrees_with_full(tmp_path, held):
     assert held.decided >= 1
 
 
-VERDICTS_OVER_POINTS = ("hb_agrees_where_on_wave", "hb_stable_where_on_wave", "departures_explained",
-                        "branch_agrees_with_points", "fixed_neighbours_stand_in_for_ring")
+VERDICTS_OVER_POINTS = ("hb_agrees_where_on_wave", "hb_stable_where_on_wave", "stability_threshold_bracketed",
+                        "departures_explained", "branch_agrees_with_points", "fixed_neighbours_stand_in_for_ring")
 
 
 @pytest.mark.slow
@@ -386,7 +386,8 @@ def test_ring_tuned_quick_agrees_with_full(tmp_path, held):
         assert got["points"][point] == full["points"][point], point
     # Each verdict is read over the time points: the quick scene's are some of the full scene's, so a quick
     # "no" (a point the HB does not match, explain or call stable) is one the full scene has too and cannot
-    # answer "yes"; a quick "yes" over fewer points denies nothing.
+    # answer "yes"; a quick "yes" over fewer points denies nothing. A verdict with nothing to judge (None: no
+    # such point, no undecided wave to bracket) is no verdict and is not held.
     pairs = [(got[key], full[key]) for key in VERDICTS_OVER_POINTS if got[key] is not None]
     pairs += [(got["hb_agrees_on_wave_by_speed"][r], full["hb_agrees_on_wave_by_speed"][r])
               for r in got["hb_agrees_on_wave_by_speed"] if got["hb_agrees_on_wave_by_speed"][r] is not None]

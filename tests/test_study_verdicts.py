@@ -460,25 +460,73 @@ def test_a_departure_from_the_wave_is_named_by_what_the_hb_shows(kwargs, named):
     assert ring_point(0.02, period=2, **kwargs).explanation() == named
 
 
-@pytest.mark.parametrize("beside, named", [
-    ({9800.0: 0.91, 10200.0: 1.17}, "at the stability threshold"),
-    ({9800.0: 1.17, 10200.0: 0.91}, "at the stability threshold"),
-    ({9800.0: 0.91, 10200.0: 0.95}, "stability not decided"),     # stable on both sides
-    ({9800.0: 1.01, 10200.0: 1.17}, "stability not decided"),     # not decided on one side
-    ({9800.0: None, 10200.0: 1.17}, "stability not decided"),     # no wave reached on one side
-    ({}, "stability not decided")])
-def test_a_settled_wave_not_decided_is_at_its_threshold_only_between_stable_and_unstable_beside(beside, named):
-    """A wave the ring settled on whose |multiplier| is within its margin of 1 (1.0001 +- 0.02) is at the
-    stability threshold where the same verdict THRESHOLD_STEP either side is decided stable on one side and
-    unstable on the other; the study's verdict over the settled waves stays not decided and says so."""
+def ring_comparison(*points):
     from comparisons.ring_tuned import RingCase, RingTunedComparison
-    p = ring_point(0.0, stable=1.0001, beside=beside)
-    assert p.explanation() == named
-    v = RingTunedComparison(cases=[RingCase(label="gap 1 um", gap_um=1.0, fixed=None, sectors={}, failures={},
-                                            points=[p])], agree=0.005).stable_where_on_wave()
-    assert v.answer == NOT_DECIDED
-    assert ("at the wave's stability threshold" in v.reason) == (named == "at the stability threshold")
-    assert ("not shown at a threshold" in v.reason) == (bool(beside) and named != "at the stability threshold")
+    return RingTunedComparison(cases=[RingCase(label="gap 1 um", gap_um=1.0, fixed=None, sectors={}, failures={},
+                                               points=list(points))], agree=0.005)
+
+
+# A settled wave at |mu| 1.0001 +- 0.02 (not decided) beside one decided stable (0.9): the stability 200 r/min
+# either side decides whether it is at a bracketed threshold, (|mu| - 1) / 0.02 the smaller side's distance.
+@pytest.mark.parametrize("beside, named, bracketed, first", [
+    ({9800.0: 0.91, 10200.0: 1.17}, "at the stability threshold", True, True),       # +4.5 margins
+    ({9800.0: 1.17, 10200.0: 0.91}, "at the stability threshold", True, True),       # losing it downwards
+    ({9800.0: 0.91, 10200.0: 0.95}, "stability not decided", False, NOT_DECIDED),    # stable on both: -2.5
+    ({9800.0: 1.10, 10200.0: 1.17}, "stability not decided", False, NOT_DECIDED),    # unstable on both: -5
+    ({9800.0: 1.01, 10200.0: 1.17}, "stability not decided", NOT_DECIDED, NOT_DECIDED),  # one side undecided
+    ({9800.0: 0.91, 10200.0: 1.019}, "stability not decided", NOT_DECIDED, NOT_DECIDED),  # +0.95: within one
+    ({9800.0: None, 10200.0: 1.17}, "stability not decided", NOT_DECIDED, NOT_DECIDED),  # no wave on one side
+    ({9800.0: 0.91, 10200.0: None}, "stability not decided", NOT_DECIDED, NOT_DECIDED),
+    ({}, "stability not decided", NOT_DECIDED, NOT_DECIDED)])                        # sides not computed
+def test_a_settled_wave_at_a_bracketed_threshold_is_judged_apart_and_any_other_stays(beside, named, bracketed,
+                                                                                     first):
+    """A wave the ring settled on whose |multiplier| is within its margin of 1 is at its stability threshold
+    where the same verdict THRESHOLD_STEP either side is decided stable on one side and unstable on the
+    other: stability_threshold_bracketed says yes and hb_stable_where_on_wave, judged on the other waves,
+    decides (stable, 0.9) and names the one left out. Stable or unstable on both sides the threshold is not
+    bracketed (no), a side undecided or not reached decides nothing; either way the wave stays in
+    hb_stable_where_on_wave, which stays not decided."""
+    at, other = ring_point(0.0, stable=1.0001, beside=beside), ring_point(0.0, stable=0.9)
+    assert at.explanation() == named
+    result = ring_comparison(at, other)
+    b, v = result.threshold_bracketed(), result.stable_where_on_wave()
+    assert b.answer == bracketed and b.threshold == 0.0 and b.margin == 1.0
+    assert v.answer == first
+    assert v.value == (0.9 if first is True else 1.0001)
+    assert ("1 left to `stability_threshold_bracketed`" in v.reason) == (bracketed is True)
+    assert ("of the 1 waves" if bracketed is True else "of the 2 waves") in v.reason
+    assert "gap 1 um, 12 blades, 10000 r/min" in b.reason
+
+
+def test_the_bracket_reads_the_smaller_sides_distance_in_margins():
+    """(|mu| - 1) / margin on each side, the smaller of the two: 0.91 and 1.17 at +-0.02 are 4.5 and 8.5."""
+    b = ring_comparison(ring_point(0.0, stable=1.0001, beside={9800.0: 0.91, 10200.0: 1.17})).threshold_bracketed()
+    assert b.value == pytest.approx(4.5)
+    b = ring_comparison(ring_point(0.0, stable=1.0001, beside={9800.0: 0.91, 10200.0: 0.95})).threshold_bracketed()
+    assert b.value == pytest.approx(-2.5)
+
+
+def test_one_wave_not_bracketed_among_bracketed_ones_keeps_both_verdicts_open_to_it():
+    """Two undecided settled waves, one bracketed and one stable on both sides: the bracket verdict reads at
+    the one not bracketed (no), and hb_stable_where_on_wave keeps that one (not decided), leaving out only the
+    bracketed one."""
+    good = ring_point(0.0, stable=1.0001, beside={9800.0: 0.91, 10200.0: 1.17})
+    bad = ring_point(0.0, stable=0.999, beside={9800.0: 0.91, 10200.0: 0.95})
+    result = ring_comparison(good, bad, ring_point(0.0, stable=0.9))
+    assert result.threshold_bracketed().answer is False
+    v = result.stable_where_on_wave()
+    assert v.answer == NOT_DECIDED and v.value == 0.999
+    assert "of the 2 waves" in v.reason and "1 left to" in v.reason
+
+
+def test_no_undecided_settled_wave_leaves_nothing_to_bracket():
+    """Every settled wave decided: the bracket verdict is None (nothing to judge; not a decided verdict, so a
+    quick-against-full test skips it: tests/test_quick_conclusions.py) and hb_stable_where_on_wave reads every
+    wave."""
+    result = ring_comparison(ring_point(0.0, stable=0.9), ring_point(0.0, stable=0.95))
+    assert result.threshold_bracketed() is None
+    v = result.stable_where_on_wave()
+    assert v.answer is True and v.value == 0.95 and "left to" not in v.reason
 
 
 @pytest.mark.parametrize("gaps, preloads, refused", [([], [10.0], False), ([1.0], [-5.0], True), ([], [], True),
