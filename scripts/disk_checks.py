@@ -171,6 +171,9 @@ def _key(order: int, h: float, rpm: float, k: int, edge: float | None = None) ->
 # that edge: size = edge size + GRADING * distance to it (a gmsh Distance + Threshold field), up to the disk's.
 GRADED_EDGES = ((0.002, 2), (0.0014, 2), (0.001, 1))   # (edge size, m; nodal diameters per process: memory)
 GRADING = 0.5               # growth of the element size per unit distance from the edge (m/m)
+# The error the graded meshes keep away from the edge: the middle one again with the blade at 3.0 mm (disk
+# 6 mm), its change taken as that of a regular error of order FAR_ORDER (P3's chord and torsion, uniform ladder).
+FAR_SIZE, FAR_EDGE, FAR_ORDER = 0.003, 0.0014, 4.0
 
 
 def _rim_edges(model) -> list[int]:
@@ -290,10 +293,10 @@ def reference(out: str = "disk_reference.json") -> None:
     The converged reference, at k = 0 and N/2: P3 on the meshes graded towards the rim edge (GRADED_EDGES,
     :func:`_graded_sector`), Richardson in the edge size with the order fitted to the three; its own error
     per (speed, k, mode) is the step from the finest graded mesh to that limit plus the error the graded
-    meshes keep away from the edge (their 3.5 mm elements there): that of the regular modes, the largest
-    |P3 3.5 mm / limit - 1| of the chord and torsion modes of the uniform P3 ladder (3.5 / 3.0 / 2.7 mm,
-    order ~4 on them) at that speed and k. The uniform ladder is also shown against the graded limits (the
-    order ~1 of its flap modes was the question). The other k (twice the size as 2-copy forms): the reference
+    meshes keep away from the edge (their 3.5 mm elements there): the middle graded mesh's change when the
+    blade's elements go from 3.5 to 3.0 mm (FAR_SIZE), divided by 1 - (3.0 / 3.5)^FAR_ORDER. The uniform
+    P3 ladder (3.5 / 3.0 / 2.7 mm) is shown against the graded limits (the order ~1 of its flap modes was
+    the question). The other k (twice the size as 2-copy forms): the reference
     is P3 3.5 mm, every k, and a mode's margin is that of its label at k = 0 or N/2, the larger (every label of
     k = 1 .. 11 is a label of one of them): |P3 3.5 mm / graded limit - 1| plus the limit's own error.
     One verdict per (speed, k, mode): |P2 / reference - 1| (modes matched by label) within 0.5 % when below
@@ -307,9 +310,10 @@ def reference(out: str = "disk_reference.json") -> None:
         path.write_text(json.dumps({"runs": {}, "modes": {}}, indent=1))
     top = DISK["ring.blades"] // 2
     every, ends = [list(range(top + 1))[i:i + K_PER_PROCESS] for i in range(0, top + 1, K_PER_PROCESS)], [[0, top]]
-    runs = [(2, 0.0035, None, every), (3, P3_EVERY_K, None, every)] + [(3, h, None, ends) for h in P3_FINER]
-    runs += [(order, P3_EVERY_K, edge, ends if per > 1 else [[0], [top]])
-             for order in (3, 2) for edge, per in GRADED_EDGES]
+    graded = {order: [(order, P3_EVERY_K, edge, ends if per > 1 else [[0], [top]]) for edge, per in GRADED_EDGES]
+              for order in (3, 2)}
+    runs = [(2, 0.0035, None, every), (3, P3_EVERY_K, None, every)] + graded[3] + [(3, FAR_SIZE, FAR_EDGE, [[0], [top]])]
+    runs += [(3, h, None, ends) for h in P3_FINER] + graded[2]
     for order, h, edge, groups in runs:
         for rpm in SPEEDS:
             for group in groups:
@@ -318,24 +322,21 @@ def reference(out: str = "disk_reference.json") -> None:
     store = json.loads(path.read_text())
     modes = {key: dict(zip(v["labels"], v["f_hz"])) for key, v in store["modes"].items()}
     uniform, edges = (P3_EVERY_K,) + P3_FINER, tuple(e for e, _ in GRADED_EDGES)
-    regular = ("chord", "torsion")
     converged = {}      # (rpm, k, label): (graded limit, its own error), k = 0 and N/2
     own = {}            # (rpm, label): the P3 3.5 mm reference's own error (%), the larger of k = 0 and N/2
     ladders = []
     for rpm in SPEEDS:
         for k in (0, top):
             p3 = modes[_key(3, P3_EVERY_K, rpm, k)]
-            far = 0.0       # the error the graded meshes keep away from the edge: the regular modes' at 3.5 mm
-            for label in p3:
-                if label.startswith(regular):
-                    limit, _, _ = _limit(uniform, [modes[_key(3, h, rpm, k)][label] for h in uniform])
-                    far = max(far, abs(p3[label] / limit - 1))
+            middle, finer = modes[_key(3, P3_EVERY_K, rpm, k, FAR_EDGE)], modes[_key(3, FAR_SIZE, rpm, k, FAR_EDGE)]
             for label in p3:
                 f_u = [modes[_key(3, h, rpm, k)].get(label) for h in uniform]
                 f_g = [modes[_key(3, P3_EVERY_K, rpm, k, e)].get(label) for e in edges]
-                if None in f_u + f_g:
+                if None in f_u + f_g + [finer.get(label)]:
                     print(f"{rpm:g} r/min nd {k} {label}: not on every P3 mesh (labels changed order)")
                     continue
+                # the error the graded meshes keep away from the edge (their 3.5 mm blade), per mode
+                far = abs(middle[label] / finer[label] - 1) / (1 - (FAR_SIZE / P3_EVERY_K) ** FAR_ORDER)
                 limit_u, order_u, _ = _limit(uniform, f_u)
                 limit, order, step = _limit(edges, f_g)
                 dofs = [store["modes"][_key(3, P3_EVERY_K, rpm, k, e)]["dofs"] for e in edges]
@@ -346,11 +347,12 @@ def reference(out: str = "disk_reference.json") -> None:
                 ladders.append({"rpm": rpm, "nd": k, "label": label, "p3_uniform_hz": f_u, "uniform_limit_hz": limit_u,
                                 "uniform_order": order_u, "p3_graded_hz": f_g, "graded_dofs": dofs,
                                 "graded_limit_hz": limit, "graded_order_edge": order, "graded_order_dofs": order_dofs,
-                                "graded_step_pct": 100 * step, "far_field_pct": 100 * far})
+                                "graded_step_pct": 100 * step, "far_field_pct": 100 * far,
+                                "far_field_hz": [middle[label], finer[label]]})
                 line = (f"{rpm:g} r/min nd {k:2d} {label:9s} P3 graded " + " / ".join(f"{v:.3f}" for v in f_g)
                         + f" -> {limit:.3f} Hz (order {order:.2f} in the edge size, {order_dofs:.2f} in DOF^-1/3; "
                         f"steps {f_g[0] - f_g[1]:+.3f}, {f_g[1] - f_g[2]:+.3f} Hz), own error {100 * step:.3f} + "
-                        f"{100 * far:.3f} %; uniform P3 " + " / ".join(f"{v:.3f}" for v in f_u)
+                        f"{100 * far:.3f} % (blade 3.5 / 3.0 mm: {middle[label]:.3f} / {finer[label]:.3f}); uniform P3 " + " / ".join(f"{v:.3f}" for v in f_u)
                         + f" -> {limit_u:.3f} ({order_u:.2f}, {100 * (limit_u / limit - 1):+.3f} % from the graded "
                         f"limit), 3.5 mm {100 * (f_u[0] / limit - 1):+.3f} %; P2 3.5 mm {100 * (p2 / limit - 1):+.3f} %")
                 if rpm == SPEEDS[-1] and (k, label) in CCX_LIMITS:
