@@ -340,18 +340,18 @@ def reference(out: str = "disk_reference.json") -> None:
                 limit_u, order_u, _ = _limit(uniform, f_u)
                 limit, order, step = _limit(edges, f_g)
                 dofs = [store["modes"][_key(3, P3_EVERY_K, rpm, k, e)]["dofs"] for e in edges]
-                _, order_dofs, _ = _limit([n ** (-1.0 / 3.0) for n in dofs], f_g)
                 converged[(rpm, k, label)] = (limit, 100 * (step + far))
                 own[(rpm, label)] = max(own.get((rpm, label), 0.0), 100 * (abs(f_u[0] / limit - 1) + step + far))
                 p2 = modes[_key(2, 0.0035, rpm, k)].get(label, float("nan"))
                 ladders.append({"rpm": rpm, "nd": k, "label": label, "p3_uniform_hz": f_u, "uniform_limit_hz": limit_u,
                                 "uniform_order": order_u, "p3_graded_hz": f_g, "graded_dofs": dofs,
-                                "graded_limit_hz": limit, "graded_order_edge": order, "graded_order_dofs": order_dofs,
+                                "graded_limit_hz": limit, "graded_order_edge": order,
                                 "graded_step_pct": 100 * step, "far_field_pct": 100 * far,
                                 "far_field_hz": [middle[label], finer[label]]})
                 line = (f"{rpm:g} r/min nd {k:2d} {label:9s} P3 graded " + " / ".join(f"{v:.3f}" for v in f_g)
-                        + f" -> {limit:.3f} Hz (order {order:.2f} in the edge size, {order_dofs:.2f} in DOF^-1/3; "
-                        f"steps {f_g[0] - f_g[1]:+.3f}, {f_g[1] - f_g[2]:+.3f} Hz), own error {100 * step:.3f} + "
+                        + f" -> {limit:.3f} Hz (order {order:.2f} in the edge size; steps {f_g[0] - f_g[1]:+.3f}, "
+                        f"{f_g[1] - f_g[2]:+.3f} Hz; finest {100 * (f_g[-1] / limit - 1):+.3f} % on {dofs[-1]} DOF, "
+                        f"uniform {uniform[-1] * 1000:g} mm {100 * (f_u[-1] / limit - 1):+.3f} %), own error {100 * step:.3f} + "
                         f"{100 * far:.3f} % (blade 3.5 / 3.0 mm: {middle[label]:.3f} / {finer[label]:.3f}); uniform P3 " + " / ".join(f"{v:.3f}" for v in f_u)
                         + f" -> {limit_u:.3f} ({order_u:.2f}, {100 * (limit_u / limit - 1):+.3f} % from the graded "
                         f"limit), 3.5 mm {100 * (f_u[0] / limit - 1):+.3f} %; P2 3.5 mm {100 * (p2 / limit - 1):+.3f} %")
