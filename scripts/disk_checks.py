@@ -5,6 +5,7 @@
     python scripts/disk_checks.py calculix [out.json]   # against CalculiX's cyclic symmetry, k = 0 .. 12
     python scripts/disk_checks.py reference [out.json]  # against a converged P3 reference, k = 0 .. 12
     python scripts/disk_checks.py interference [out.json]   # the interference study's rigid-disk verdicts' error
+    python scripts/disk_checks.py sweep_cost [edge]     # the benchmark's sweep on a sector graded at the rim
 
 All without Coriolis, at 0 and 10000 r/min (reference_fe.cyclic.diameter_modes); on P2 tetrahedra but for
 the reference's cubic (P3) ones.
@@ -160,55 +161,149 @@ def _sector_params(order: int, h: float):
     return dataclasses.replace(params, fe=dataclasses.replace(params.fe, order=order))
 
 
-def _key(order: int, h: float, rpm: float, k: int) -> str:
-    return f"P{order} {h * 1000:g} mm {rpm:g} r/min k {k}"
+def _key(order: int, h: float, rpm: float, k: int, edge: float | None = None) -> str:
+    graded = "" if edge is None else f" edge {edge * 1000:g} mm"
+    return f"P{order} {h * 1000:g} mm{graded} {rpm:g} r/min k {k}"
 
 
-def reference_mesh(order: str, h: str, rpm: str, diameters: str, out: str) -> None:
+# The graded P3 reference. The flap modes of the uniform P3 ladder converge at order ~1: the blade's faces meet
+# the rim's at 270 deg inside the solid (its singular stress ~ r^(lambda - 1), lambda = 0.545, eigenvalue
+# error ~ h^(2 lambda)). These meshes keep the sector's sizes (blade 3.5 mm, disk 7 mm) and refine towards
+# that edge: size = edge size + GRADING * distance to it (a gmsh Distance + Threshold field), up to the disk's.
+GRADED_EDGES = ((0.002, 2), (0.0014, 2), (0.001, 1))   # (edge size, m; nodal diameters per process: memory)
+GRADING = 0.5               # growth of the element size per unit distance from the edge (m/m)
+# The error the graded meshes keep away from the edge: the middle one again with the blade at 3.0 mm (disk
+# 6 mm), its change taken as that of a regular error of order FAR_ORDER (P3's chord and torsion, uniform ladder).
+FAR_SIZE, FAR_EDGE, FAR_ORDER = 0.003, 0.0014, 4.0
+
+
+def _rim_edges(model) -> list[int]:
+    """The curves where the blade stands on the rim (the re-entrant edge): those bounding exactly one of the
+    faces shared by the disk's cells and the blade's (the interface on r = R_d; the curve splitting it in
+    two bounds two and is no edge of the solid)."""
+    from meshes.disk import DISK
+    from meshes.spec import BLADE
+
+    def faces(group: int) -> set[int]:
+        return {tag for v in model.getEntitiesForPhysicalGroup(3, group)
+                for _, tag in model.getBoundary([(3, v)], oriented=False)}
+    bounding = [tag for face in sorted(faces(DISK) & faces(BLADE))
+                for _, tag in model.getBoundary([(2, face)], oriented=False)]
+    return sorted(c for c in set(bounding) if bounding.count(c) == 1)
+
+
+def _write_graded_mesh(spec, edge: float, path: Path) -> None:
+    """meshes.disk's sector (same solid, periodic sides, tags and point sizes), its elements graded towards
+    the rim edge from ``edge`` (m) by GRADING, meshed and written as meshes.disk writes it (order spec.order,
+    high-order untangling)."""
+    import gmsh
+    from meshes.blade import write_tetrahedra
+    from meshes.disk import DISK_SIZE_RATIO, _build_sector
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("disk_sector_graded")
+        _build_sector(gmsh, spec)
+        fields, largest = gmsh.model.mesh.field, DISK_SIZE_RATIO * spec.size
+        distance = fields.add("Distance")
+        fields.setNumbers(distance, "CurvesList", _rim_edges(gmsh.model))
+        fields.setNumber(distance, "Sampling", 400)
+        ramp = fields.add("Threshold")
+        fields.setNumber(ramp, "InField", distance)
+        for name, value in (("SizeMin", edge), ("SizeMax", largest), ("DistMin", 0.0),
+                            ("DistMax", (largest - edge) / GRADING)):
+            fields.setNumber(ramp, name, value)
+        fields.setAsBackgroundMesh(ramp)
+        # the root's sliver between the plane X = R_d and the rim (tangent along Y = 0) has faces meeting at
+        # dihedral angles of h / R_d; finer than 3.5 mm gmsh's overlap check takes them for overlapping facets
+        gmsh.option.setNumber("Mesh.AngleToleranceFacetOverlap", 0.0)
+        write_tetrahedra(gmsh, largest, spec.order, path, untangle=True)
+    finally:
+        gmsh.finalize()
+
+
+def _graded_mesh_file(spec, edge: float) -> Path:
+    """The cached .msh of :func:`_write_graded_mesh` (the cache key: the spec, the grading and meshes' code)."""
+    from meshes.blade import check_geometry, check_msh_complete
+    from shroud.base.cache import cached
+    check_geometry(spec)
+    inputs = {k: round(v, 12) if isinstance(v, float) else v for k, v in dataclasses.asdict(spec).items()}
+    inputs.update(rim_edge_size=edge, rim_grading=GRADING, field="Distance+Threshold to the rim edge")
+    return cached("mesh", inputs, ".msh", lambda tmp: _write_graded_mesh(spec, edge, tmp),
+                  what="graded disk sector mesh", sources=("meshes.disk", "meshes.blade", "meshes.spec"),
+                  check=check_msh_complete)
+
+
+def _graded_sector(params, edge: float):
+    """reference_fe.cyclic's sector of ``params`` on the mesh graded towards the rim edge (its own periodicity
+    check, assembly and prestress unchanged): its mesh file's look-up is pointed at the graded one."""
+    import reference_fe.cyclic as cyclic
+    cyclic.sector_mesh_file = lambda spec: _graded_mesh_file(spec, edge)
+    cyclic._sector.cache_clear()
+    return cyclic.sector(params)
+
+
+def reference_mesh(order: str, h: str, rpm: str, diameters: str, out: str, edge: str = "") -> None:
     """One mesh, speed and group of nodal diameters (``diameters``: "0,1,2") of :func:`reference` in this
     process, its memory freed at exit (P3 3.5 mm, k = 0 .. 12 in one process: 11.3 GB with both speeds,
     9.2 GB with one; MUMPS's refactorizations grow it by about 0.35 GB per k): the diameters it owes, each
-    written to ``out`` as soon as solved (a rerun skips them)."""
-    order, h, rpm, path = int(order), float(h), float(rpm), Path(out)
+    written to ``out`` as soon as solved (a rerun skips them). ``edge`` (m): on the mesh graded towards the rim
+    edge from that size (:func:`_graded_sector`), else the uniform one."""
+    order, h, rpm, path, edge = int(order), float(h), float(rpm), Path(out), float(edge) if edge else None
     store = json.loads(path.read_text())
-    todo = [int(k) for k in diameters.split(",") if _key(order, h, rpm, int(k)) not in store["modes"]]
+    todo = [int(k) for k in diameters.split(",") if _key(order, h, rpm, int(k), edge) not in store["modes"]]
     if not todo:
         return
     from reference_fe.cyclic import diameter_modes, sector
     cpu, wall = time.process_time(), time.perf_counter()
-    sec = sector(_sector_params(order, h))
-    run = f"P{order} {h * 1000:g} mm {rpm:g} r/min k {todo[0]}-{todo[-1]}"
+    sec = sector(_sector_params(order, h)) if edge is None else _graded_sector(_sector_params(order, h), edge)
+    run = _key(order, h, rpm, todo[0], edge) + (f"-{todo[-1]}" if len(todo) > 1 else "")
     store["runs"][run] = {"dofs": sec.M.shape[0], "sector_cpu_s": time.process_time() - cpu,
                           "sector_wall_s": time.perf_counter() - wall}
     factors: dict = {}
     for k in todo:
         cpu, wall = time.process_time(), time.perf_counter()
         found = diameter_modes(sec, rpm, k, 6, coriolis=False, factors=factors)
-        store["modes"][_key(order, h, rpm, k)] = {"labels": list(found.labels), "f_hz": found.f_hz.tolist(),
-                                                  "cpu_s": time.process_time() - cpu,
-                                                  "wall_s": time.perf_counter() - wall}
+        store["modes"][_key(order, h, rpm, k, edge)] = {"labels": list(found.labels), "f_hz": found.f_hz.tolist(),
+                                                        "dofs": sec.M.shape[0], "cpu_s": time.process_time() - cpu,
+                                                        "wall_s": time.perf_counter() - wall}
         store["runs"][run]["peak_rss_gb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6   # kB
         path.write_text(json.dumps(store, indent=1))
-        print(f"P{order} {h * 1000:g} mm {rpm:g} r/min nd {k:2d}: " + " ".join(
+        print(f"{_key(order, h, rpm, k, edge)}: " + " ".join(
             f"{lab}={f:.3f}" for lab, f in zip(found.labels, found.f_hz))
             + f"  ({time.process_time() - cpu:.1f} s CPU)", flush=True)
     for factor in factors.values():
         factor.destroy()
 
 
+def _limit(sizes, f) -> tuple[float, float, float]:
+    """(limit, fitted order, step) of the values ``f`` on a ladder of three ``sizes`` (:func:`_richardson`), the
+    step |finest / limit - 1| the limit's own uncertainty; not monotone over the three: the finest value, NaN
+    and their largest relative change."""
+    try:
+        limit, order = _richardson(sizes, f)
+        return limit, order, abs(f[-1] / limit - 1)
+    except ValueError:
+        return f[-1], float("nan"), (max(f) - min(f)) / f[-1]
+
+
 def reference(out: str = "disk_reference.json") -> None:
     """Issue 35's must-show: the default sector (P2 3.5 mm) within 0.5 % of an independent converged
     reference, every k = 0 .. 12, 0 and 10000 r/min, six modes each, free interfaces, no Coriolis.
 
-    The reference: the same sector on cubic (P3) tetrahedra, 3.5 mm, every k. Its own mesh error, measured at
-    k = 0 and N/2 (P3 3.5 / 3.0 / 2.7 mm, Richardson with the order fitted to the three), per mode:
-    |P3 3.5 mm / limit - 1| + |P3 2.7 mm / limit - 1| (its distance to the limit plus the extrapolation's
-    step, the limit's own uncertainty); a mode's margin is that of its label, the larger of k = 0 and N/2
-    (every label of k = 1 .. 11 is a label of one of them; the other k are not on the finer meshes). One
-    verdict per (speed, k, mode): |P2 / P3 - 1| (modes matched by label) within 0.5 % when below 0.5 % -
-    margin; a (speed, k) holds when all six do, so its verdict is its mode with the largest error + margin.
-    The P3 limits are set beside CalculiX's (CCX_LIMITS), an independent code's assembly and convergence.
-    Each mesh, speed and group of K_PER_PROCESS nodal diameters is solved in its own process
+    The converged reference, at k = 0 and N/2: P3 on the meshes graded towards the rim edge (GRADED_EDGES,
+    :func:`_graded_sector`), Richardson in the edge size with the order fitted to the three; its own error
+    per (speed, k, mode) is the step from the finest graded mesh to that limit plus the error the graded
+    meshes keep away from the edge (their 3.5 mm elements there): the middle graded mesh's change when the
+    blade's elements go from 3.5 to 3.0 mm (FAR_SIZE), divided by 1 - (3.0 / 3.5)^FAR_ORDER. The uniform
+    P3 ladder (3.5 / 3.0 / 2.7 mm) is shown against the graded limits (the order ~1 of its flap modes was
+    the question). The other k (twice the size as 2-copy forms): the reference
+    is P3 3.5 mm, every k, and a mode's margin is that of its label at k = 0 or N/2, the larger (every label of
+    k = 1 .. 11 is a label of one of them): |P3 3.5 mm / graded limit - 1| plus the limit's own error.
+    One verdict per (speed, k, mode): |P2 / reference - 1| (modes matched by label) within 0.5 % when below
+    0.5 % - margin, beyond it when above 0.5 % + margin; a (speed, k)'s verdict is its mode decided beyond,
+    else its mode with the largest error + margin. The graded P2 sectors, k = 0 and N/2, are read the same way
+    (what meets 0.5 %). Each mesh, speed and group of nodal diameters is solved in its own process
     (:func:`reference_mesh`), results kept in ``out`` (JSON) after every k; a rerun resumes."""
     from shroud.core.verdict import Verdict
     path = Path(out)
@@ -216,63 +311,115 @@ def reference(out: str = "disk_reference.json") -> None:
         path.write_text(json.dumps({"runs": {}, "modes": {}}, indent=1))
     top = DISK["ring.blades"] // 2
     every, ends = [list(range(top + 1))[i:i + K_PER_PROCESS] for i in range(0, top + 1, K_PER_PROCESS)], [[0, top]]
-    for order, h, groups in ((2, 0.0035, every), (3, P3_EVERY_K, every)) + tuple((3, h, ends) for h in P3_FINER):
+    graded = {order: [(order, P3_EVERY_K, edge, ends if per > 1 else [[0], [top]]) for edge, per in GRADED_EDGES]
+              for order in (3, 2)}
+    runs = [(2, 0.0035, None, every), (3, P3_EVERY_K, None, every)] + graded[3] + [(3, FAR_SIZE, FAR_EDGE, [[0], [top]])]
+    runs += [(3, h, None, ends) for h in P3_FINER] + graded[2]
+    for order, h, edge, groups in runs:
         for rpm in SPEEDS:
             for group in groups:
                 subprocess.run([sys.executable, __file__, "reference_mesh", str(order), repr(h), repr(rpm),
-                                ",".join(map(str, group)), out], check=True)
+                                ",".join(map(str, group)), out] + ([repr(edge)] if edge else []), check=True)
     store = json.loads(path.read_text())
     modes = {key: dict(zip(v["labels"], v["f_hz"])) for key, v in store["modes"].items()}
-    ladder = (P3_EVERY_K,) + P3_FINER
-    own = {}        # (rpm, label): the P3 3.5 mm reference's own error (%), the larger of k = 0 and N/2
-    summary = {"runs": store["runs"], "speeds": {}}
+    uniform, edges = (P3_EVERY_K,) + P3_FINER, tuple(e for e, _ in GRADED_EDGES)
+    converged = {}      # (rpm, k, label): (graded limit, its own error), k = 0 and N/2
+    own = {}            # (rpm, label): the P3 3.5 mm reference's own error (%), the larger of k = 0 and N/2
+    ladders = []
     for rpm in SPEEDS:
         for k in (0, top):
-            for label in modes[_key(3, P3_EVERY_K, rpm, k)]:
-                f = [modes[_key(3, h, rpm, k)].get(label) for h in ladder]
-                if None in f:
+            p3 = modes[_key(3, P3_EVERY_K, rpm, k)]
+            middle, finer = modes[_key(3, P3_EVERY_K, rpm, k, FAR_EDGE)], modes[_key(3, FAR_SIZE, rpm, k, FAR_EDGE)]
+            for label in p3:
+                f_u = [modes[_key(3, h, rpm, k)].get(label) for h in uniform]
+                f_g = [modes[_key(3, P3_EVERY_K, rpm, k, e)].get(label) for e in edges]
+                if None in f_u + f_g + [finer.get(label)]:
                     print(f"{rpm:g} r/min nd {k} {label}: not on every P3 mesh (labels changed order)")
                     continue
-                try:
-                    limit, order = _richardson(ladder, f)
-                    step = abs(f[-1] / limit - 1)
-                except ValueError:      # not monotone over the three: their largest change is the step
-                    limit, order, step = f[-1], float("nan"), (max(f) - min(f)) / f[-1]
-                own[(rpm, label)] = max(own.get((rpm, label), 0.0), 100 * (abs(f[0] / limit - 1) + step))
+                # the error the graded meshes keep away from the edge (their 3.5 mm blade), per mode
+                far = abs(middle[label] / finer[label] - 1) / (1 - (FAR_SIZE / P3_EVERY_K) ** FAR_ORDER)
+                limit_u, order_u, _ = _limit(uniform, f_u)
+                limit, order, step = _limit(edges, f_g)
+                dofs = [store["modes"][_key(3, P3_EVERY_K, rpm, k, e)]["dofs"] for e in edges]
+                converged[(rpm, k, label)] = (limit, 100 * (step + far))
+                own[(rpm, label)] = max(own.get((rpm, label), 0.0), 100 * (abs(f_u[0] / limit - 1) + step + far))
                 p2 = modes[_key(2, 0.0035, rpm, k)].get(label, float("nan"))
-                line = (f"{rpm:g} r/min nd {k:2d} {label:9s} P3 " + " / ".join(f"{v:.3f}" for v in f)
-                        + f" -> {limit:.3f} Hz (order {order:.2f}); P3 3.5 mm {100 * (f[0] / limit - 1):+.3f} %, "
-                        f"2.7 mm to limit {100 * step:.3f} %; P2 3.5 mm {100 * (p2 / limit - 1):+.3f} %")
+                ladders.append({"rpm": rpm, "nd": k, "label": label, "p3_uniform_hz": f_u, "uniform_limit_hz": limit_u,
+                                "uniform_order": order_u, "p3_graded_hz": f_g, "graded_dofs": dofs,
+                                "graded_limit_hz": limit, "graded_order_edge": order,
+                                "graded_step_pct": 100 * step, "far_field_pct": 100 * far,
+                                "far_field_hz": [middle[label], finer[label]]})
+                line = (f"{rpm:g} r/min nd {k:2d} {label:9s} P3 graded " + " / ".join(f"{v:.3f}" for v in f_g)
+                        + f" -> {limit:.3f} Hz (order {order:.2f} in the edge size; steps {f_g[0] - f_g[1]:+.3f}, "
+                        f"{f_g[1] - f_g[2]:+.3f} Hz; finest {100 * (f_g[-1] / limit - 1):+.3f} % on {dofs[-1]} DOF, "
+                        f"uniform {uniform[-1] * 1000:g} mm {100 * (f_u[-1] / limit - 1):+.3f} %), own error {100 * step:.3f} + "
+                        f"{100 * far:.3f} % (blade 3.5 / 3.0 mm: {middle[label]:.3f} / {finer[label]:.3f}); uniform P3 " + " / ".join(f"{v:.3f}" for v in f_u)
+                        + f" -> {limit_u:.3f} ({order_u:.2f}, {100 * (limit_u / limit - 1):+.3f} % from the graded "
+                        f"limit), 3.5 mm {100 * (f_u[0] / limit - 1):+.3f} %; P2 3.5 mm {100 * (p2 / limit - 1):+.3f} %")
                 if rpm == SPEEDS[-1] and (k, label) in CCX_LIMITS:
                     ccx, ccx_step = CCX_LIMITS[(k, label)]
-                    line += (f"; CalculiX's limit {ccx:.3f} Hz ({100 * (limit / ccx - 1):+.3f} %, steps "
-                             f"{100 * step:.3f} + {ccx_step} %)")
+                    line += f"; CalculiX's limit {ccx:.3f} Hz ({100 * (limit / ccx - 1):+.3f} %, its step {ccx_step} %)"
                 print(line)
+
+    def verdict(value: float, margin: float, reason: str) -> Verdict:
+        return Verdict.of(value, threshold=0.5, margin=margin, below="within 0.5 %", above="beyond 0.5 %", unit="%",
+                          reason=reason)
+
+    def deciding(verdicts: dict) -> Verdict:
+        return max(verdicts.values(), key=lambda v: (v.answer == "beyond 0.5 %", v.value + v.margin))
+
+    summary = {"runs": store["runs"], "ladders": ladders, "speeds": {}, "graded": {"P2": [], "P3": []}}
     for rpm in SPEEDS:
         rows, fallback = [], max(m for (r, _), m in own.items() if r == rpm)
         for k in range(top + 1):
             ours, ref = modes[_key(2, 0.0035, rpm, k)], modes[_key(3, P3_EVERY_K, rpm, k)]
             if set(ours) != set(ref):
                 print(f"{rpm:g} r/min nd {k}: labels differ, P2 {list(ours)} P3 {list(ref)}")
-            verdicts = {label: Verdict.of(
-                100 * abs(f / ref[label] - 1), threshold=0.5, margin=own.get((rpm, label), fallback),
-                below="within 0.5 %", above="beyond 0.5 %", unit="%",
-                reason=f"{label}: the P2 3.5 mm sector against the P3 3.5 mm one; margin: the P3 value's own error "
-                       f"({'' if (rpm, label) in own else 'no such label at nd 0 or 12: the largest of all, '}"
-                       f"to its P3 3.5 / 3.0 / 2.7 mm limit plus the step to it, nd 0 and {top})")
-                for label, f in ours.items() if label in ref}
-            deciding = max(verdicts.values(), key=lambda v: (v.answer == "beyond 0.5 %", v.value + v.margin))
-            rows.append({"nd": k, "verdict": deciding.to_json(),
+            verdicts = {}
+            for label, f in ours.items():
+                if (rpm, k, label) in converged:
+                    limit, margin = converged[(rpm, k, label)]
+                    verdicts[label] = verdict(100 * abs(f / limit - 1), margin, f"{label}: the P2 3.5 mm sector "
+                                              "against the graded P3 limit; margin: that limit's own error")
+                elif label in ref:
+                    verdicts[label] = verdict(
+                        100 * abs(f / ref[label] - 1), own.get((rpm, label), fallback),
+                        f"{label}: the P2 3.5 mm sector against the P3 3.5 mm one; margin: the P3 value's own error "
+                        f"({'' if (rpm, label) in own else 'no such label at nd 0 or 12: the largest of all, '}"
+                        f"to the graded P3 limit plus that limit's own error, nd 0 and {top})")
+            worst = deciding(verdicts)
+            rows.append({"nd": k, "verdict": worst.to_json(),
                          "modes": {label: v.to_json() for label, v in verdicts.items()}})
             print(f"{rpm:g} r/min nd {k:2d}: " + " ".join(f"{label} {v.value:.3f}+-{v.margin:.3f}"
                                                           for label, v in verdicts.items())
-                  + f" %  -> {deciding.sentence()}")
+                  + f" %  -> {worst.sentence()}")
         summary["speeds"][f"{rpm:g}"] = {"nodal_diameters": rows}
-        worst = max((r["modes"][label] for r in rows for label in r["modes"]), key=lambda v: v["value"])
-        held = sorted({label for r in rows for label, v in r["modes"].items()} - {
+        held = sorted({label for r in rows for label in r["modes"]} - {
             label for r in rows for label, v in r["modes"].items() if v["answer"] != "within 0.5 %"})
-        print(f"{rpm:g} r/min: worst {worst['value']:.3f} % +- {worst['margin']:.3f} % ({worst['answer']}); "
-              f"nodal diameters: {[r['verdict']['answer'] for r in rows]}; within 0.5 % at every k: {held}")
+        beyond = sorted({label for r in rows for label, v in r["modes"].items() if v["answer"] == "beyond 0.5 %"})
+        print(f"{rpm:g} r/min: nodal diameters {[r['verdict']['answer'] for r in rows]}; within 0.5 % at every k: "
+              f"{held}; beyond 0.5 % at some k: {beyond}")
+    for order in (2, 3):        # the graded sectors themselves against the graded limits, k = 0 and N/2
+        for edge in edges:
+            verdicts = {(rpm, k, label): verdict(100 * abs(f / converged[(rpm, k, label)][0] - 1),
+                                                 converged[(rpm, k, label)][1],
+                                                 f"{label}: the P{order} sector graded from {edge * 1000:g} mm at the "
+                                                 "rim edge against the graded P3 limit; margin: that limit's own error")
+                        for rpm in SPEEDS for k in (0, top)
+                        for label, f in modes[_key(order, P3_EVERY_K, rpm, k, edge)].items()
+                        if (rpm, k, label) in converged}
+            worst = deciding(verdicts)
+            dofs = store["modes"][_key(order, P3_EVERY_K, SPEEDS[0], 0, edge)]["dofs"]
+            summary["graded"][f"P{order}"].append({"edge_m": edge, "dofs": dofs, "verdict": worst.to_json()})
+            print(f"P{order} graded from {edge * 1000:g} mm ({dofs} DOF), k = 0 and {top}, both speeds: "
+                  f"{sorted({v.answer for v in verdicts.values()})}; largest error + margin: "
+                  + " ".join(f"{lab}@{rpm:g}/{k}" for (rpm, k, lab), v in verdicts.items() if v is worst)
+                  + f" {worst.sentence()}")
+    for run, cost in store["runs"].items():
+        cpu = sum(m["cpu_s"] for key, m in store["modes"].items() if key.startswith(run.rsplit(" k ", 1)[0] + " k ")
+                  and int(key.rsplit(" ", 1)[1]) in _diameters(run))
+        print(f"{run}: {cost['dofs']} DOF, sector {cost['sector_cpu_s']:.1f} s CPU, its k {cpu:.1f} s CPU, "
+              f"peak {cost.get('peak_rss_gb', float('nan')):.2f} GB")
     store["summary"] = summary
     path.write_text(json.dumps(store, indent=1))
 
@@ -392,7 +539,28 @@ def interference(out: str = "disk_interference.json") -> None:
         print(f"{key}: {v['dofs']} DOF, {v['cpu_s']:.0f} s CPU, {v['peak_rss_gb']:.2f} GB peak")
 
 
+def sweep_cost(edge: str = "") -> None:
+    """benchmarks/bench_disk_sector.py's workload (its ``shroud modal`` sweep: assembly, the k = 0 prestress,
+    nodal diameters 0 .. 12, 6 modes each, 10000 r/min with Coriolis) on the P2 3.5 mm sector graded towards
+    the rim edge from ``edge`` (m), which ``shroud modal`` cannot mesh, or else on the uniform one (the
+    benchmark's own mesh, to set the two side by side). Time the whole process (/usr/bin/time -v); the
+    graded mesh is built beforehand by :func:`reference`."""
+    from reference_fe.cyclic import sector_modal
+    params = _sector_params(2, 0.0035)
+    if edge:
+        _graded_sector(params, float(edge))     # the mesh look-up pointed at the graded one, the sector cached
+    for nd, result in sector_modal(params, 10000.0, 6, coriolis=True):
+        print(f"nd {nd:2d} {result.dofs} DOF {result.elapsed_s:6.1f} s  "
+              + " ".join(f"{m.label}={m.f_hz:.2f}" for m in result.modes), flush=True)
+
+
+def _diameters(run: str) -> range:
+    """The nodal diameters of a run's key ("... k 0-6" or "... k 12")."""
+    first, _, last = run.rsplit(" k ", 1)[1].partition("-")
+    return range(int(first), int(last or first) + 1)
+
+
 if __name__ == "__main__":
     {"rigid": rigid, "convergence": convergence, "calculix": calculix, "reference": reference,
-     "reference_mesh": reference_mesh, "interference": interference,
-     "interference_mesh": interference_mesh}[sys.argv[1]](*sys.argv[2:])
+     "reference_mesh": reference_mesh, "interference": interference, "interference_mesh": interference_mesh,
+     "sweep_cost": sweep_cost}[sys.argv[1]](*sys.argv[2:])
