@@ -151,12 +151,16 @@ CCX_LIMITS = {(0, "flap1"): (297.663, 0.063), (0, "chord1"): (848.542, 0.052), (
 
 
 def _sector_params(order: int, h: float):
-    """The 24-blade sector's parameters on tetrahedra of ``order`` and size ``h`` (m). ``fe.order`` 3 is
-    set past its key's range (1 or 2: no command solves P3), and meshes.blade's size guard is told P3's
-    nodes per cell (it has none): both only here, for the reference."""
-    import meshes.blade
+    """The 24-blade sector's parameters on tetrahedra of ``order`` and size ``h`` (m) (:func:`_at_order`)."""
     from shroud.params import Parameters
-    params = Parameters().updated({**TETS, **DISK, "fe.mesh_size": h})
+    return _at_order(Parameters().updated({**TETS, **DISK, "fe.mesh_size": h}), order)
+
+
+def _at_order(params, order: int):
+    """``params`` on elements of ``order``. ``fe.order`` 3 is set past its key's range (1 or 2: no command
+    solves P3), and meshes.blade's size guard is told P3's nodes per cell (it has none): both only here, for
+    the references."""
+    import meshes.blade
     meshes.blade.NODES_PER_CELL.setdefault(("tet", 3), P3_NODES_PER_CELL)
     return dataclasses.replace(params, fe=dataclasses.replace(params.fe, order=order))
 
@@ -434,12 +438,9 @@ INTERFERENCE_NDS = (0, 12)
 def _interference_params(order: int, h: float, E_factor: float):
     """The full interference scene's parameters (its speed, contact springs, disk) on tetrahedra of ``order`` and
     size ``h`` (m), the disk's E x ``E_factor``."""
-    import meshes.blade
     from workbench.scene import load_scene
     params = load_scene(Path(__file__).resolve().parents[1] / "scenes" / "interference.toml", disk=True).params
-    params = params.updated({"fe.mesh_size": h, "disk.E_factor": E_factor * params.disk.E_factor})
-    meshes.blade.NODES_PER_CELL.setdefault(("tet", 3), P3_NODES_PER_CELL)
-    return dataclasses.replace(params, fe=dataclasses.replace(params.fe, order=order))
+    return _at_order(params.updated({"fe.mesh_size": h, "disk.E_factor": E_factor * params.disk.E_factor}), order)
 
 
 def interference_mesh(order: str, h: str, E_factor: str, out: str) -> None:
