@@ -163,8 +163,10 @@ def _sector_params(order: int, h: float):
     return dataclasses.replace(params, fe=dataclasses.replace(params.fe, order=order))
 
 
-def _key(order: int, h: float, rpm: float, k: int, edge: float | None = None) -> str:
-    graded = "" if edge is None else f" edge {edge * 1000:g} mm"
+def _key(order: int, h: float, rpm: float, k: int, edge: float | str | None = None) -> str:
+    """A solve's key in :func:`reference`'s JSON; ``edge``: the uniform mesh (None), graded from that size (m),
+    or meshes.disk's default ("default")."""
+    graded = "" if edge is None else " default" if edge == DEFAULT else f" edge {edge * 1000:g} mm"
     return f"P{order} {h * 1000:g} mm{graded} {rpm:g} r/min k {k}"
 
 
@@ -178,6 +180,7 @@ GRADING = 0.5               # growth of the element size per unit distance from 
 # The error the graded meshes keep away from the edge: the middle one again with the blade at 3.0 mm (disk
 # 6 mm), its change taken as that of a regular error of order FAR_ORDER (P3's chord and torsion, uniform ladder).
 FAR_SIZE, FAR_EDGE, FAR_ORDER = 0.003, 0.0014, 4.0
+DEFAULT = "default"         # the P2 3.5 mm sector as meshes.disk makes it (its own grading), read as the graded ones
 
 
 def _edge_sector(params, edge: float | None):
@@ -199,15 +202,16 @@ def reference_mesh(order: str, h: str, rpm: str, diameters: str, out: str, edge:
     process, its memory freed at exit (P3 3.5 mm, k = 0 .. 12 in one process: 11.3 GB with both speeds,
     9.2 GB with one; MUMPS's refactorizations grow it by about 0.35 GB per k): the diameters it owes, each
     written to ``out`` as soon as solved (a rerun skips them). ``edge`` (m): on the mesh graded towards the rim
-    edge from that size, else the uniform one (:func:`_edge_sector`)."""
-    order, h, rpm, path, edge = int(order), float(h), float(rpm), Path(out), float(edge) if edge else None
+    edge from that size, else the uniform one (:func:`_edge_sector`); "default": meshes.disk's own sector."""
+    order, h, rpm, path = int(order), float(h), float(rpm), Path(out)
+    edge = edge if edge == DEFAULT else float(edge) if edge else None
     store = json.loads(path.read_text())
     todo = [int(k) for k in diameters.split(",") if _key(order, h, rpm, int(k), edge) not in store["modes"]]
     if not todo:
         return
-    from reference_fe.cyclic import diameter_modes
+    from reference_fe.cyclic import diameter_modes, sector
     cpu, wall = time.process_time(), time.perf_counter()
-    sec = _edge_sector(_sector_params(order, h), edge)
+    sec = sector(_sector_params(order, h)) if edge == DEFAULT else _edge_sector(_sector_params(order, h), edge)
     run = _key(order, h, rpm, todo[0], edge) + (f"-{todo[-1]}" if len(todo) > 1 else "")
     store["runs"][run] = {"dofs": sec.M.shape[0], "sector_cpu_s": time.process_time() - cpu,
                           "sector_wall_s": time.perf_counter() - wall}
@@ -265,12 +269,12 @@ def reference(out: str = "disk_reference.json") -> None:
     graded = {order: [(order, P3_EVERY_K, edge, ends if per > 1 else [[0], [top]]) for edge, per in GRADED_EDGES]
               for order in (3, 2)}
     runs = [(2, 0.0035, None, every), (3, P3_EVERY_K, None, every)] + graded[3] + [(3, FAR_SIZE, FAR_EDGE, [[0], [top]])]
-    runs += [(3, h, None, ends) for h in P3_FINER] + graded[2]
+    runs += [(3, h, None, ends) for h in P3_FINER] + graded[2] + [(2, 0.0035, DEFAULT, ends)]
     for order, h, edge, groups in runs:
         for rpm in SPEEDS:
             for group in groups:
                 subprocess.run([sys.executable, __file__, "reference_mesh", str(order), repr(h), repr(rpm),
-                                ",".join(map(str, group)), out] + ([repr(edge)] if edge else []), check=True)
+                                ",".join(map(str, group)), out] + ([str(edge)] if edge else []), check=True)
     store = json.loads(path.read_text())
     modes = {key: dict(zip(v["labels"], v["f_hz"])) for key, v in store["modes"].items()}
     uniform, edges = (P3_EVERY_K,) + P3_FINER, tuple(e for e, _ in GRADED_EDGES)
@@ -351,18 +355,21 @@ def reference(out: str = "disk_reference.json") -> None:
         print(f"{rpm:g} r/min: nodal diameters {[r['verdict']['answer'] for r in rows]}; within 0.5 % at every k: "
               f"{held}; beyond 0.5 % at some k: {beyond}")
     for order in (2, 3):        # the graded sectors themselves against the graded limits, k = 0 and N/2
-        for edge in edges:
+        for edge in edges + ((DEFAULT,) if order == 2 else ()):
+            mesh = ("meshes.disk's default sector" if edge == DEFAULT
+                    else f"the P{order} sector graded from {edge * 1000:g} mm at the rim edge")
             verdicts = {(rpm, k, label): verdict(100 * abs(f / converged[(rpm, k, label)][0] - 1),
                                                  converged[(rpm, k, label)][1],
-                                                 f"{label}: the P{order} sector graded from {edge * 1000:g} mm at the "
-                                                 "rim edge against the graded P3 limit; margin: that limit's own error")
+                                                 f"{label}: {mesh} against the graded P3 limit; margin: that "
+                                                 "limit's own error")
                         for rpm in SPEEDS for k in (0, top)
                         for label, f in modes[_key(order, P3_EVERY_K, rpm, k, edge)].items()
                         if (rpm, k, label) in converged}
             worst = deciding(verdicts)
             dofs = store["modes"][_key(order, P3_EVERY_K, SPEEDS[0], 0, edge)]["dofs"]
             summary["graded"][f"P{order}"].append({"edge_m": edge, "dofs": dofs, "verdict": worst.to_json()})
-            print(f"P{order} graded from {edge * 1000:g} mm ({dofs} DOF), k = 0 and {top}, both speeds: "
+            print(f"P{order} {'default' if edge == DEFAULT else f'graded from {edge * 1000:g} mm'} ({dofs} DOF), "
+                  f"k = 0 and {top}, both speeds: "
                   f"{sorted({v.answer for v in verdicts.values()})}; largest error + margin: "
                   + " ".join(f"{lab}@{rpm:g}/{k}" for (rpm, k, lab), v in verdicts.items() if v is worst)
                   + f" {worst.sentence()}")
