@@ -60,6 +60,11 @@ IDENTITY = 1e-6          # an identity of the stuck ring holds to this relative 
 SECTOR_ERROR = {"free": 0.0034, "stuck": 0.0061}
 RIGID = 1000.0       # disk.E_factor of the rigid-disk sector (docs/disk.md, (b): the rigid-disk limit)
 SECTOR_MESH = {"fe.cell": "tet", "fe.mesh_size": 0.0035, "fe.order": 2}   # the mesh SECTOR_ERROR was measured for
+
+
+def sector_error_words() -> str:
+    """SECTOR_ERROR in words, per interface ('free 0.34%, stuck 0.61%')."""
+    return ", ".join(f"{i} {e:.2%}" for i, e in SECTOR_ERROR.items())
 OPTIONS = {"rpm_from": 2000.0, "rpm_to": 16000.0, "speeds": 29, "n_modes": 3, "engine_orders": 12,
            "model": "reduced"}
 
@@ -74,8 +79,7 @@ def check(scene) -> None:
         raise InputError("options.rpm_from", "allowed: 0 < rpm_from < rpm_to and speeds >= 2")
     fe = scene.params.fe
     if scene.params.disk.thickness > 0 and (fe.cell, fe.mesh_size, fe.order) != tuple(SECTOR_MESH.values()):
-        errors = ", ".join(f"{i} {e:.2%}" for i, e in SECTOR_ERROR.items())
-        raise InputError("fe.mesh_size", f"the rigid-disk verdicts' error ({errors}) was measured on "
+        raise InputError("fe.mesh_size", f"the rigid-disk verdicts' error ({sector_error_words()}) was measured on "
                                          f"{SECTOR_MESH['fe.mesh_size']} m P2 tetrahedra; allowed with a disk: "
                                          + ", ".join(f"{k} = {v!r}" for k, v in SECTOR_MESH.items()))
 
@@ -358,9 +362,9 @@ def _sector_report(result: InterferenceComparison) -> list[str]:
              "difference (the ring over the rigid-disk sector, less 1) and the disk's effect (the rigid-disk "
              "sector over the flexible one, less 1). The rigid disk stops holding for the beams' ring where the "
              "disk's effect exceeds the beam's own difference by more than the measured error of that difference "
-             "on the sectors' mesh (" + ", ".join(f"{i} {e:.2%}" for i, e in SECTOR_ERROR.items())
-             + "; against the sectors' P3 limits, docs/disk.md); \"holds\" says the disk moves flap1 less than the "
-             "beams' ring already misses the solid by there, not that the ring is near the sector.\n",
+             f"on the sectors' mesh ({sector_error_words()}; against the sectors' P3 limits, docs/disk.md); "
+             "\"holds\" says the disk moves flap1 less than the beams' ring already misses the solid by there, "
+             "not that the ring is near the sector.\n",
              markdown_table(["nd"] + [f"flap1 {i}" for i in INTERFACES], rows), ""]
     for iface in INTERFACES:
         answers = result.rigid_disk_answers(iface)

@@ -310,7 +310,7 @@ class RingTunedComparison:
         """Whether every wave the ring in time settled on whose stability is not decided sits at a stability
         threshold bracketed THRESHOLD_STEP either side (RingPoint.threshold_bracket), read at the least
         bracketed one; None where no settled wave's stability is undecided (nothing to bracket)."""
-        open_ = [(c, p, p.threshold_bracket()) for c, p in self.settled_waves() if p.threshold_bracket() is not None]
+        open_ = [(c, p, b) for c, p in self.settled_waves() if (b := p.threshold_bracket()) is not None]
         if not open_:
             return None
         c, p, b = min(open_, key=lambda t: t[2].value if math.isfinite(t[2].value) else 0.0)
