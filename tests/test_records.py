@@ -84,6 +84,24 @@ def test_record_check_warns_of_a_record_a_physics_change_left_behind(tmp_path, m
     assert main(["record", "--check", "stability"]) == 3
 
 
+def test_record_stale_makes_again_the_records_a_physics_change_left_behind(tmp_path, monkeypatch):
+    """`shroud record --stale` takes what `--check` warns of: a physics change stales no record's sources,
+    but its conclusions may no longer be what the code gives."""
+    fresh, behind = _fresh_record(), _fresh_record()
+    behind["physics"]["shroud/core/newmark.py"] = "0" * 64
+    behind["digest"] = records.digest(behind)
+    for rec, name in ((fresh, "stability"), (behind, "fig3")):
+        rec["scene"] = name
+        rec["digest"] = records.digest(rec)
+        (tmp_path / f"{name}.json").write_text(json.dumps(rec))
+    sources, physics = list(fresh["sources"]), list(fresh["physics"])
+    monkeypatch.setattr(records, "RECORDS", tmp_path)
+    monkeypatch.setattr(records, "sources_of", lambda scene: sources)      # fig3 as stability's study
+    monkeypatch.setattr(records, "physics_of", lambda scene: physics)
+    assert records.check(behind).current and not records.due("stability")
+    assert records.due("fig3") and records.due("table1")            # behind; and one with no record at all
+
+
 def test_record_check_counts_the_verdicts_left_undecided(tmp_path, monkeypatch, capsys):
     """Issue 33: a record says how many of its verdicts stay not decided, those of run times apart, and
     flags more than 10 %: here 3 of 5 nested verdicts, one of them a run time."""

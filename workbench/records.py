@@ -301,14 +301,14 @@ def make(scene: str, commit: str, folder: Path = RECORDS) -> Path:
 
 
 def record(scenes: list[str] | None = None, stale_only: bool = False, jobs: int = 1) -> list[Path]:
-    """Make the records of ``scenes`` (default: every recorded scene; ``stale_only``: those not current)."""
+    """Make the records of ``scenes`` (default: every recorded scene; ``stale_only``: those :func:`due`)."""
     unknown = [s for s in scenes or () if s not in RECORDED]
     if unknown:
         raise InputError("record", f"{', '.join(unknown)} has no record; recorded scenes: {', '.join(RECORDED)}")
     commit = clean_commit()
     todo = list(scenes or RECORDED)
     if stale_only:
-        todo = [s for s in todo if not (RECORDS / f"{s}.json").is_file() or not check(load(s)).current]
+        todo = [s for s in todo if due(s)]
     from concurrent.futures import ThreadPoolExecutor      # each scene is its own process: threads only wait
     # longest first (by the last record's run time), so that side by side the last to finish is not a long
     # scene started late: hb_fig7, 40 min, is fourteenth of 28 in name order
@@ -320,6 +320,15 @@ def record(scenes: list[str] | None = None, stale_only: bool = False, jobs: int 
     if failed:                     # every other scene's record is made all the same
         raise RuntimeError("records not made:\n" + "\n".join(failed))
     return outcomes
+
+
+def due(scene: str) -> bool:
+    """Whether the record of ``scene`` must be made again: missing, not current (its sources changed), or left
+    behind by a change of the physics it imports (its conclusions may no longer be what the code gives)."""
+    if not (RECORDS / f"{scene}.json").is_file():
+        return True
+    record = load(scene)
+    return not check(record).current or physics_changes(record) != ()
 
 
 def _last_elapsed(scene: str) -> float:
