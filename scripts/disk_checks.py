@@ -136,12 +136,11 @@ def calculix(out: str = "disk_calculix.json") -> None:
               + min(verdicts, key=lambda v: v.distance).sentence())
 
 
-# The P3 reference. The sector's P3 meshes: 3.5 mm (the coarsest the blade's thickness allows, 2 cells
-# through it) for every k; 3.0 and 2.7 mm at k = 0 and N/2 only (the 2-copy form of 0 < k < N/2 on 3.0 mm,
-# 1.4 times 3.5 mm's DOF, would pass 9 GB: 3.5 mm's held 8.2 GB for 7 k), which give the reference's own
-# mesh error (Richardson).
-P3_EVERY_K, P3_FINER = 0.0035, (0.003, 0.0027)
-K_PER_PROCESS = 7           # nodal diameters solved per process (memory, reference_mesh)
+# The P3 reference. The sector's uniform P3 meshes: 3.5 mm (the coarsest the blade's thickness allows, 2 cells
+# through it), 3.0 and 2.7 mm, at k = 0 and N/2 (Richardson: their order ~1 in h was the question that led to
+# the graded ladder below).
+SIZE, P3_FINER = 0.0035, (0.003, 0.0027)   # the sector's element size (m; the default's) and finer uniform ones
+K_PER_PROCESS = 7           # nodal diameters solved per process on P2 (memory, reference_mesh)
 P3_NODES_PER_CELL = 5.5     # measured on the sector's P3 meshes (153 396 DOF on 9218 cells at 3.5 mm)
 # CalculiX's limits at 10000 r/min (Hz; 3.5 / 2.8 / 2.2 mm, Richardson, ``calculix`` above, docs/disk.md) and
 # its step from 2.2 mm to the limit (%): the independent reference the P3 one is checked against.
@@ -181,6 +180,10 @@ def _key(order: int, h: float, rpm: float, k: int, edge: float | str | None = No
 # edge size in place of the default's (RIM_EDGE_RATIO * fe.mesh_size, RIM_GRADING).
 GRADED_EDGES = ((0.002, 2), (0.0014, 2), (0.001, 1))   # (edge size, m; nodal diameters per process: memory)
 GRADING = 0.5               # growth of the element size per unit distance from the edge (m/m)
+# The reference at 0 < k < N/2, where the 2-copy form (twice the DOF) puts the three-mesh ladder out of reach:
+# the middle graded mesh, every k, its own error that of its label at k = 0 or N/2 (the larger).
+EVERY_K_EDGE = 0.0014
+COMPLEX_K_PER_PROCESS = 4   # 2-copy nodal diameters per process on it (memory: MUMPS's factors of 450 480 DOF)
 # The error the graded meshes keep away from the edge: the middle one again with the blade at 3.0 mm (disk
 # 6 mm), its change taken as that of a regular error of order FAR_ORDER (P3's chord and torsion, uniform ladder).
 FAR_SIZE, FAR_EDGE, FAR_ORDER = 0.003, 0.0014, 4.0
@@ -247,8 +250,9 @@ def _limit(sizes, f) -> tuple[float, float, float]:
 
 
 def reference(out: str = "disk_reference.json") -> None:
-    """Issue 35's must-show: the default sector (P2 3.5 mm) within 0.5 % of an independent converged
-    reference, every k = 0 .. 12, 0 and 10000 r/min, six modes each, free interfaces, no Coriolis.
+    """Issue 35's must-show: the default sector (P2 3.5 mm, meshes.disk's grading) within 0.5 % of an
+    independent converged reference, every k = 0 .. 12, 0 and 10000 r/min, six modes each, free interfaces,
+    no Coriolis; the uniform P2 3.5 mm sector (the default before it was graded) read the same way.
 
     The converged reference, at k = 0 and N/2: P3 on the meshes graded towards the rim edge (GRADED_EDGES,
     :func:`_edge_sector`), Richardson in the edge size with the order fitted to the three; its own error
@@ -256,24 +260,27 @@ def reference(out: str = "disk_reference.json") -> None:
     meshes keep away from the edge (their 3.5 mm elements there): the middle graded mesh's change when the
     blade's elements go from 3.5 to 3.0 mm (FAR_SIZE), divided by 1 - (3.0 / 3.5)^FAR_ORDER. The uniform
     P3 ladder (3.5 / 3.0 / 2.7 mm) is shown against the graded limits (the order ~1 of its flap modes was
-    the question). The other k (twice the size as 2-copy forms): the reference
-    is P3 3.5 mm, every k, and a mode's margin is that of its label at k = 0 or N/2, the larger (every label of
-    k = 1 .. 11 is a label of one of them): |P3 3.5 mm / graded limit - 1| plus the limit's own error.
+    the question). At the other k (twice the size as 2-copy forms) the reference is the P3 sector graded
+    from EVERY_K_EDGE, and a mode's margin is that of its label at k = 0 or N/2, the larger (every label of
+    k = 1 .. 11 is a label of one of them): |that sector / graded limit - 1| plus the limit's own error.
     One verdict per (speed, k, mode): |P2 / reference - 1| (modes matched by label) within 0.5 % when below
     0.5 % - margin, beyond it when above 0.5 % + margin; a (speed, k)'s verdict is its mode decided beyond,
-    else its mode with the largest error + margin. The graded P2 sectors, k = 0 and N/2, are read the same way
-    (what meets 0.5 %). Each mesh, speed and group of nodal diameters is solved in its own process
+    else its mode with the largest error + margin. The graded P2 and P3 sectors, k = 0 and N/2, are read the
+    same way against the limits. Each mesh, speed and group of nodal diameters is solved in its own process
     (:func:`reference_mesh`), results kept in ``out`` (JSON) after every k; a rerun resumes."""
     from shroud.core.verdict import Verdict
     path = Path(out)
     if not path.exists():
         path.write_text(json.dumps({"runs": {}, "modes": {}}, indent=1))
     top = DISK["ring.blades"] // 2
-    every, ends = [list(range(top + 1))[i:i + K_PER_PROCESS] for i in range(0, top + 1, K_PER_PROCESS)], [[0, top]]
-    graded = {order: [(order, P3_EVERY_K, edge, ends if per > 1 else [[0], [top]]) for edge, per in GRADED_EDGES]
-              for order in (3, 2)}
-    runs = [(2, 0.0035, None, every), (3, P3_EVERY_K, None, every)] + graded[3] + [(3, FAR_SIZE, FAR_EDGE, [[0], [top]])]
-    runs += [(3, h, None, ends) for h in P3_FINER] + graded[2] + [(2, 0.0035, DEFAULT, ends)]
+    every = [list(range(top + 1))[i:i + K_PER_PROCESS] for i in range(0, top + 1, K_PER_PROCESS)]
+    ends, inner = [[0, top]], list(range(1, top))
+    complex_groups = [inner[i:i + COMPLEX_K_PER_PROCESS] for i in range(0, len(inner), COMPLEX_K_PER_PROCESS)]
+    graded = {order: [(order, SIZE, edge, (ends if per > 1 else [[0], [top]])
+                       + (complex_groups if (order, edge) == (3, EVERY_K_EDGE) else []))
+                      for edge, per in GRADED_EDGES] for order in (3, 2)}
+    runs = [(2, SIZE, None, every), (3, SIZE, None, ends)] + graded[3] + [(3, FAR_SIZE, FAR_EDGE, [[0], [top]])]
+    runs += [(3, h, None, ends) for h in P3_FINER] + graded[2] + [(2, SIZE, DEFAULT, every)]
     for order, h, edge, groups in runs:
         for rpm in SPEEDS:
             for group in groups:
@@ -281,28 +288,28 @@ def reference(out: str = "disk_reference.json") -> None:
                                 ",".join(map(str, group)), out] + ([str(edge)] if edge else []), check=True)
     store = json.loads(path.read_text())
     modes = {key: dict(zip(v["labels"], v["f_hz"])) for key, v in store["modes"].items()}
-    uniform, edges = (P3_EVERY_K,) + P3_FINER, tuple(e for e, _ in GRADED_EDGES)
+    uniform, edges = (SIZE,) + P3_FINER, tuple(e for e, _ in GRADED_EDGES)
     converged = {}      # (rpm, k, label): (graded limit, its own error), k = 0 and N/2
-    own = {}            # (rpm, label): the P3 3.5 mm reference's own error (%), the larger of k = 0 and N/2
+    own = {}            # (rpm, label): the every-k reference's own error (%), the larger of k = 0 and N/2
     ladders = []
     for rpm in SPEEDS:
         for k in (0, top):
-            p3 = modes[_key(3, P3_EVERY_K, rpm, k)]
-            middle, finer = modes[_key(3, P3_EVERY_K, rpm, k, FAR_EDGE)], modes[_key(3, FAR_SIZE, rpm, k, FAR_EDGE)]
+            p3 = modes[_key(3, SIZE, rpm, k)]
+            middle, finer = modes[_key(3, SIZE, rpm, k, FAR_EDGE)], modes[_key(3, FAR_SIZE, rpm, k, FAR_EDGE)]
             for label in p3:
                 f_u = [modes[_key(3, h, rpm, k)].get(label) for h in uniform]
-                f_g = [modes[_key(3, P3_EVERY_K, rpm, k, e)].get(label) for e in edges]
+                f_g = [modes[_key(3, SIZE, rpm, k, e)].get(label) for e in edges]
                 if None in f_u + f_g + [finer.get(label)]:
                     print(f"{rpm:g} r/min nd {k} {label}: not on every P3 mesh (labels changed order)")
                     continue
                 # the error the graded meshes keep away from the edge (their 3.5 mm blade), per mode
-                far = abs(middle[label] / finer[label] - 1) / (1 - (FAR_SIZE / P3_EVERY_K) ** FAR_ORDER)
+                far = abs(middle[label] / finer[label] - 1) / (1 - (FAR_SIZE / SIZE) ** FAR_ORDER)
                 limit_u, order_u, _ = _limit(uniform, f_u)
                 limit, order, step = _limit(edges, f_g)
-                dofs = [store["modes"][_key(3, P3_EVERY_K, rpm, k, e)]["dofs"] for e in edges]
+                dofs = [store["modes"][_key(3, SIZE, rpm, k, e)]["dofs"] for e in edges]
                 converged[(rpm, k, label)] = (limit, 100 * (step + far))
-                own[(rpm, label)] = max(own.get((rpm, label), 0.0), 100 * (abs(f_u[0] / limit - 1) + step + far))
-                p2 = modes[_key(2, 0.0035, rpm, k)].get(label, float("nan"))
+                f_every = f_g[edges.index(EVERY_K_EDGE)]
+                own[(rpm, label)] = max(own.get((rpm, label), 0.0), 100 * (abs(f_every / limit - 1) + step + far))
                 ladders.append({"rpm": rpm, "nd": k, "label": label, "p3_uniform_hz": f_u, "uniform_limit_hz": limit_u,
                                 "uniform_order": order_u, "p3_graded_hz": f_g, "graded_dofs": dofs,
                                 "graded_limit_hz": limit, "graded_order_edge": order,
@@ -311,10 +318,14 @@ def reference(out: str = "disk_reference.json") -> None:
                 line = (f"{rpm:g} r/min nd {k:2d} {label:9s} P3 graded " + " / ".join(f"{v:.3f}" for v in f_g)
                         + f" -> {limit:.3f} Hz (order {order:.2f} in the edge size; steps {f_g[0] - f_g[1]:+.3f}, "
                         f"{f_g[1] - f_g[2]:+.3f} Hz; finest {100 * (f_g[-1] / limit - 1):+.3f} % on {dofs[-1]} DOF, "
-                        f"uniform {uniform[-1] * 1000:g} mm {100 * (f_u[-1] / limit - 1):+.3f} %), own error {100 * step:.3f} + "
-                        f"{100 * far:.3f} % (blade 3.5 / 3.0 mm: {middle[label]:.3f} / {finer[label]:.3f}); uniform P3 " + " / ".join(f"{v:.3f}" for v in f_u)
+                        f"uniform {uniform[-1] * 1000:g} mm {100 * (f_u[-1] / limit - 1):+.3f} %), own error "
+                        f"{100 * step:.3f} + {100 * far:.3f} % (blade 3.5 / 3.0 mm: {middle[label]:.3f} / "
+                        f"{finer[label]:.3f}); uniform P3 " + " / ".join(f"{v:.3f}" for v in f_u)
                         + f" -> {limit_u:.3f} ({order_u:.2f}, {100 * (limit_u / limit - 1):+.3f} % from the graded "
-                        f"limit), 3.5 mm {100 * (f_u[0] / limit - 1):+.3f} %; P2 3.5 mm {100 * (p2 / limit - 1):+.3f} %")
+                        f"limit), 3.5 mm {100 * (f_u[0] / limit - 1):+.3f} %")
+                for name, edge in (("P2 uniform", None), ("P2 default", DEFAULT)):
+                    p2 = modes[_key(2, SIZE, rpm, k, edge)].get(label, float("nan"))
+                    line += f"; {name} {100 * (p2 / limit - 1):+.3f} %"
                 if rpm == SPEEDS[-1] and (k, label) in CCX_LIMITS:
                     ccx, ccx_step = CCX_LIMITS[(k, label)]
                     line += f"; CalculiX's limit {ccx:.3f} Hz ({100 * (limit / ccx - 1):+.3f} %, its step {ccx_step} %)"
@@ -327,37 +338,42 @@ def reference(out: str = "disk_reference.json") -> None:
     def deciding(verdicts: dict) -> Verdict:
         return max(verdicts.values(), key=lambda v: (v.answer == "beyond 0.5 %", v.value + v.margin))
 
-    summary = {"runs": store["runs"], "ladders": ladders, "speeds": {}, "graded": {"P2": [], "P3": []}}
-    for rpm in SPEEDS:
-        rows, fallback = [], max(m for (r, _), m in own.items() if r == rpm)
-        for k in range(top + 1):
-            ours, ref = modes[_key(2, 0.0035, rpm, k)], modes[_key(3, P3_EVERY_K, rpm, k)]
-            if set(ours) != set(ref):
-                print(f"{rpm:g} r/min nd {k}: labels differ, P2 {list(ours)} P3 {list(ref)}")
-            verdicts = {}
-            for label, f in ours.items():
-                if (rpm, k, label) in converged:
-                    limit, margin = converged[(rpm, k, label)]
-                    verdicts[label] = verdict(100 * abs(f / limit - 1), margin, f"{label}: the P2 3.5 mm sector "
-                                              "against the graded P3 limit; margin: that limit's own error")
-                elif label in ref:
-                    verdicts[label] = verdict(
-                        100 * abs(f / ref[label] - 1), own.get((rpm, label), fallback),
-                        f"{label}: the P2 3.5 mm sector against the P3 3.5 mm one; margin: the P3 value's own error "
-                        f"({'' if (rpm, label) in own else 'no such label at nd 0 or 12: the largest of all, '}"
-                        f"to the graded P3 limit plus that limit's own error, nd 0 and {top})")
-            worst = deciding(verdicts)
-            rows.append({"nd": k, "verdict": worst.to_json(),
-                         "modes": {label: v.to_json() for label, v in verdicts.items()}})
-            print(f"{rpm:g} r/min nd {k:2d}: " + " ".join(f"{label} {v.value:.3f}+-{v.margin:.3f}"
-                                                          for label, v in verdicts.items())
-                  + f" %  -> {worst.sentence()}")
-        summary["speeds"][f"{rpm:g}"] = {"nodal_diameters": rows}
-        held = sorted({label for r in rows for label in r["modes"]} - {
-            label for r in rows for label, v in r["modes"].items() if v["answer"] != "within 0.5 %"})
-        beyond = sorted({label for r in rows for label, v in r["modes"].items() if v["answer"] == "beyond 0.5 %"})
-        print(f"{rpm:g} r/min: nodal diameters {[r['verdict']['answer'] for r in rows]}; within 0.5 % at every k: "
-              f"{held}; beyond 0.5 % at some k: {beyond}")
+    every_k = f"the P3 sector graded from {EVERY_K_EDGE * 1000:g} mm"
+    summary = {"runs": store["runs"], "ladders": ladders, "sectors": {}, "graded": {"P2": [], "P3": []}}
+    for name, edge in (("P2 uniform 3.5 mm (the default before the grading)", None),
+                       ("P2 3.5 mm, meshes.disk's default", DEFAULT)):
+        print(f"{name}, every k:")
+        summary["sectors"][name] = {}
+        for rpm in SPEEDS:
+            rows, fallback = [], max(m for (r, _), m in own.items() if r == rpm)
+            for k in range(top + 1):
+                ours, ref = modes[_key(2, SIZE, rpm, k, edge)], modes[_key(3, SIZE, rpm, k, EVERY_K_EDGE)]
+                if set(ours) != set(ref):
+                    print(f"{rpm:g} r/min nd {k}: labels differ, P2 {list(ours)} P3 {list(ref)}")
+                verdicts = {}
+                for label, f in ours.items():
+                    if (rpm, k, label) in converged:
+                        limit, margin = converged[(rpm, k, label)]
+                        verdicts[label] = verdict(100 * abs(f / limit - 1), margin, f"{label}: {name} against the "
+                                                  "graded P3 limit; margin: that limit's own error")
+                    elif label in ref:
+                        verdicts[label] = verdict(
+                            100 * abs(f / ref[label] - 1), own.get((rpm, label), fallback),
+                            f"{label}: {name} against {every_k}; margin: that sector's own error "
+                            f"({'' if (rpm, label) in own else 'no such label at nd 0 or 12: the largest of all, '}"
+                            f"to the graded P3 limit plus that limit's own error, the larger of nd 0 and {top})")
+                worst = deciding(verdicts)
+                rows.append({"nd": k, "verdict": worst.to_json(),
+                             "modes": {label: v.to_json() for label, v in verdicts.items()}})
+                print(f"{rpm:g} r/min nd {k:2d}: " + " ".join(f"{label} {v.value:.3f}+-{v.margin:.3f}"
+                                                              for label, v in verdicts.items())
+                      + f" %  -> {worst.sentence()}")
+            summary["sectors"][name][f"{rpm:g}"] = {"nodal_diameters": rows}
+            held = sorted({label for r in rows for label in r["modes"]} - {
+                label for r in rows for label, v in r["modes"].items() if v["answer"] != "within 0.5 %"})
+            beyond = sorted({label for r in rows for label, v in r["modes"].items() if v["answer"] == "beyond 0.5 %"})
+            print(f"{rpm:g} r/min: nodal diameters {[r['verdict']['answer'] for r in rows]}; within 0.5 % at every "
+                  f"k: {held}; beyond 0.5 % at some k: {beyond}")
     for order in (2, 3):        # the graded sectors themselves against the graded limits, k = 0 and N/2
         for edge in edges + ((DEFAULT,) if order == 2 else ()):
             mesh = ("meshes.disk's default sector" if edge == DEFAULT
@@ -367,10 +383,10 @@ def reference(out: str = "disk_reference.json") -> None:
                                                  f"{label}: {mesh} against the graded P3 limit; margin: that "
                                                  "limit's own error")
                         for rpm in SPEEDS for k in (0, top)
-                        for label, f in modes[_key(order, P3_EVERY_K, rpm, k, edge)].items()
+                        for label, f in modes[_key(order, SIZE, rpm, k, edge)].items()
                         if (rpm, k, label) in converged}
             worst = deciding(verdicts)
-            dofs = store["modes"][_key(order, P3_EVERY_K, SPEEDS[0], 0, edge)]["dofs"]
+            dofs = store["modes"][_key(order, SIZE, SPEEDS[0], 0, edge)]["dofs"]
             summary["graded"][f"P{order}"].append({"edge_m": edge, "dofs": dofs, "verdict": worst.to_json()})
             print(f"P{order} {'default' if edge == DEFAULT else f'graded from {edge * 1000:g} mm'} ({dofs} DOF), "
                   f"k = 0 and {top}, both speeds: "
