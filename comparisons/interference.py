@@ -60,13 +60,13 @@ IDENTITY = 1e-6          # an identity of the stuck ring holds to this relative 
 SECTOR_ERROR = {"free": 0.0034, "stuck": 0.0061}
 RIGID = 1000.0       # disk.E_factor of the rigid-disk sector (docs/disk.md, (b): the rigid-disk limit)
 SECTOR_MESH = {"fe.cell": "tet", "fe.mesh_size": 0.0035, "fe.order": 2}   # the mesh SECTOR_ERROR was measured for
+OPTIONS = {"rpm_from": 2000.0, "rpm_to": 16000.0, "speeds": 29, "n_modes": 3, "engine_orders": 12,
+           "model": "reduced"}
 
 
 def sector_error_words() -> str:
     """SECTOR_ERROR in words, per interface ('free 0.34%, stuck 0.61%')."""
     return ", ".join(f"{i} {e:.2%}" for i, e in SECTOR_ERROR.items())
-OPTIONS = {"rpm_from": 2000.0, "rpm_to": 16000.0, "speeds": 29, "n_modes": 3, "engine_orders": 12,
-           "model": "reduced"}
 
 
 def check(scene) -> None:
