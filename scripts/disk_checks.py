@@ -512,7 +512,8 @@ def interference(out: str = "disk_interference.json") -> None:
             for o, h, default in [(o, h, False) for o, h in INTERFERENCE_MESHES] + [(2, 0.0035, True)]:
                 r, s = flap1(o, h, RIGID, case, default), flap1(o, h, 1.0, case, default)
                 error = abs(number(r, s) - number(r_lim, s_lim)) + own
-                print(f"    P{o} {h * 1000:g} mm{' default (graded)' if default else ''}: disk effect {abs(r / s - 1):.5f}, threshold {abs(ring / r - 1):.5f}, "
+                mesh = f"P{o} {h * 1000:g} mm" + (" default (graded)" if default else "")
+                print(f"    {mesh}: disk effect {abs(r / s - 1):.5f}, threshold {abs(ring / r - 1):.5f}, "
                       f"value - threshold {number(r, s):+.5f}, its error {error:.5f} (rigid {100 * (r / r_lim - 1):+.3f} %"
                       f", sector {100 * (s / s_lim - 1):+.3f} %)")
                 if default:

@@ -130,7 +130,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("record", help="make again the records of full scenes that the quick-against-full tests "
                                       "hold (tests/data/records), on a clean tree")
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names (default: every recorded scene)")
-    p.add_argument("--stale", action="store_true", help="only the records that are missing, not current, or left behind by a physics change")
+    p.add_argument("--stale", action="store_true", help="only the records that are missing, not current, or "
+                                                        "left behind by a physics change")
     p.add_argument("--check", action="store_true", help="run nothing: say which records are current; "
                                                         "exit 3 if any is not; warn of those a change "
                                                         "of the physics they import has left behind")
